@@ -1,0 +1,35 @@
+//! `pendulab`: the command-line face of the pendulab control laboratory.
+
+mod bench;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// pendulab — a control-engineering laboratory for the cart-type and arm-type inverted
+/// pendulums of 「倒立振子で学ぶ制御工学」.
+#[derive(Debug, Parser)]
+#[command(name = "pendulab", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run a performance workload and report its headline figure.
+    Bench(bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Bench(args) => bench::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,2 @@
+//! (Crate documentation follows with its contents.)
+#![warn(missing_docs)]

@@ -1,0 +1,1 @@
+//! Extended-pencil (QZ) solvers for the CARE and DARE.
