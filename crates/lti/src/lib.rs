@@ -16,12 +16,21 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod analysis;
+pub mod design;
+pub mod discretization;
 pub mod domain;
 pub mod equations;
 pub mod error;
+pub mod frequency_response;
+pub mod interconnect;
 pub mod linalg;
+pub mod matrix_functions;
+pub mod polynomial;
+pub mod response;
 pub mod state_space;
 pub mod trajectory;
+pub mod transfer_function;
 
 pub use domain::{Continuous, Discrete, TimeDomain};
 pub use error::{LtiError, Result};
