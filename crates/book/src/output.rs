@@ -1,0 +1,95 @@
+//! What an example returns: named values, the book's values beside them, figure paths.
+
+use pendulab_lti::Complex64;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// A value reported by an example.
+///
+/// Serialised to JSON as a number, a boolean, an array or an array of arrays; complex numbers
+/// (poles, eigenvalues) as `[re, im]` pairs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// A yes/no result (e.g. `stable`, `feasible`).
+    Bool(bool),
+    /// A real number.
+    Number(f64),
+    /// A real vector (e.g. a row gain).
+    Vector(Vec<f64>),
+    /// A real matrix, row by row.
+    Matrix(Vec<Vec<f64>>),
+    /// A list of complex numbers (poles, eigenvalues), serialised as `[[re, im], ...]`.
+    Complex(Vec<Complex64>),
+}
+
+impl Serialize for Value {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Value::Bool(b) => s.serialize_bool(*b),
+            Value::Number(x) => s.serialize_f64(*x),
+            Value::Vector(v) => v.serialize(s),
+            Value::Matrix(m) => m.serialize(s),
+            Value::Complex(c) => c
+                .iter()
+                .map(|z| [z.re, z.im])
+                .collect::<Vec<_>>()
+                .serialize(s),
+        }
+    }
+}
+
+impl Value {
+    /// A matrix value from a `pendulab_lti::Mat`.
+    pub fn matrix(m: &pendulab_lti::Mat) -> Self {
+        Value::Matrix((0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect())
+    }
+    /// A vector value from a row or column matrix, or any slice.
+    pub fn vector(v: &[f64]) -> Self {
+        Value::Vector(v.to_vec())
+    }
+}
+
+/// A value printed in the book (or given in `examples.md`), shown beside pendulab's.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Reference {
+    /// Name of the value, as in [`ExampleOutput::values`].
+    pub name: String,
+    /// The printed value.
+    pub value: Value,
+    /// Where it is printed (e.g. "book p. 74", "examples.md").
+    pub source: String,
+}
+
+/// The result of running one example.
+#[derive(Debug, Clone, Default)]
+pub struct ExampleOutput {
+    /// Named values, in the order the example reports them.
+    pub values: Vec<(String, Value)>,
+    /// The book's printed values for comparison.
+    pub references: Vec<Reference>,
+    /// Paths of the figures written (SVG, PNG, GIF).
+    pub figures: Vec<PathBuf>,
+    /// Short remarks for the report (what the figure shows, differences from the book).
+    pub notes: Vec<String>,
+}
+
+impl ExampleOutput {
+    /// Adds a value.
+    pub fn value(&mut self, name: &str, value: Value) -> &mut Self {
+        self.values.push((name.to_string(), value));
+        self
+    }
+    /// Adds the book's value for `name`.
+    pub fn reference(&mut self, name: &str, value: Value, source: &str) -> &mut Self {
+        self.references.push(Reference {
+            name: name.to_string(),
+            value,
+            source: source.to_string(),
+        });
+        self
+    }
+    /// Looks a value up by name.
+    pub fn get(&self, name: &str) -> Option<&Value> {
+        self.values.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+}
