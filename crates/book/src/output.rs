@@ -41,7 +41,11 @@ impl Serialize for Value {
 impl Value {
     /// A matrix value from a `pendulab_lti::Mat`.
     pub fn matrix(m: &pendulab_lti::Mat) -> Self {
-        Value::Matrix((0..m.nrows()).map(|i| m.row(i).iter().copied().collect()).collect())
+        Value::Matrix(
+            (0..m.nrows())
+                .map(|i| m.row(i).iter().copied().collect())
+                .collect(),
+        )
     }
     /// A vector value from a row or column matrix, or any slice.
     pub fn vector(v: &[f64]) -> Self {

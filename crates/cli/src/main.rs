@@ -1,6 +1,7 @@
 //! `pendulab`: the command-line face of the pendulab control laboratory.
 
 mod bench;
+mod book;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -16,6 +17,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// List and run the book's examples.
+    Book(book::BookArgs),
     /// Run a performance workload and report its headline figure.
     Bench(bench::BenchArgs),
 }
@@ -23,6 +26,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Book(args) => book::run(&args),
         Command::Bench(args) => bench::run(&args),
     };
     match result {

@@ -70,7 +70,8 @@ pub fn time<F: FnMut()>(budget: &Budget, mut f: F) -> Timing {
     let start = Instant::now();
     f();
     let once = start.elapsed().max(Duration::from_nanos(20));
-    let batch = ((Duration::from_millis(10).as_secs_f64() / once.as_secs_f64()).ceil() as u64).max(1);
+    let batch =
+        ((Duration::from_millis(10).as_secs_f64() / once.as_secs_f64()).ceil() as u64).max(1);
     let mut per_call = Vec::new();
     let mut iterations = 0;
     let t0 = Instant::now();
@@ -114,7 +115,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         bail!(
             "unknown workload '{}'; known workloads: {}",
             args.workload,
-            if names.is_empty() { "(none yet)".to_string() } else { names.join(", ") }
+            if names.is_empty() {
+                "(none yet)".to_string()
+            } else {
+                names.join(", ")
+            }
         );
     };
     let budget = Budget {
