@@ -52,7 +52,13 @@ impl<D: TimeDomain> StateSpace<D> {
     /// [`LtiError::NonFinite`](crate::LtiError::NonFinite).
     pub fn static_gain(d: Mat, domain: D) -> Result<Self> {
         let (ny, nu) = d.shape();
-        Self::new(Mat::zeros(0, 0), Mat::zeros(0, nu), Mat::zeros(ny, 0), d, domain)
+        Self::new(
+            Mat::zeros(0, 0),
+            Mat::zeros(0, nu),
+            Mat::zeros(ny, 0),
+            d,
+            domain,
+        )
     }
 
     /// State matrix `A` (`nx × nx`).

@@ -185,7 +185,11 @@ impl Trajectory {
 }
 
 fn column(m: &Mat, j: usize) -> &[f64] {
-    assert!(j < m.ncols(), "signal index {j} out of range ({} signals)", m.ncols());
+    assert!(
+        j < m.ncols(),
+        "signal index {j} out of range ({} signals)",
+        m.ncols()
+    );
     let n = m.nrows();
     &m.as_slice()[j * n..(j + 1) * n]
 }
@@ -212,11 +216,26 @@ mod tests {
 
     #[test]
     fn rejects_bad_time_and_shapes() {
-        let e = Trajectory::new(vec![0.0, -1.0], Mat::zeros(2, 1), Mat::zeros(2, 0), Mat::zeros(2, 0));
+        let e = Trajectory::new(
+            vec![0.0, -1.0],
+            Mat::zeros(2, 1),
+            Mat::zeros(2, 0),
+            Mat::zeros(2, 0),
+        );
         assert!(matches!(e, Err(LtiError::InvalidArgument(m)) if m.contains("decreases")));
-        let e = Trajectory::new(vec![0.0, 1.0], Mat::zeros(3, 1), Mat::zeros(2, 0), Mat::zeros(2, 0));
+        let e = Trajectory::new(
+            vec![0.0, 1.0],
+            Mat::zeros(3, 1),
+            Mat::zeros(2, 0),
+            Mat::zeros(2, 0),
+        );
         assert!(matches!(e, Err(LtiError::InvalidArgument(m)) if m.contains("3 rows")));
-        let e = Trajectory::new(vec![0.0, f64::NAN], Mat::zeros(2, 1), Mat::zeros(2, 0), Mat::zeros(2, 0));
+        let e = Trajectory::new(
+            vec![0.0, f64::NAN],
+            Mat::zeros(2, 1),
+            Mat::zeros(2, 0),
+            Mat::zeros(2, 0),
+        );
         assert!(e.is_err());
     }
 }

@@ -167,7 +167,11 @@ pub fn symmetric_eigenvalues(m: &Mat) -> Vec<f64> {
     if m.nrows() == 0 {
         return Vec::new();
     }
-    let mut ev: Vec<f64> = symmetrize(m).symmetric_eigenvalues().iter().copied().collect();
+    let mut ev: Vec<f64> = symmetrize(m)
+        .symmetric_eigenvalues()
+        .iter()
+        .copied()
+        .collect();
     ev.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
     ev
 }

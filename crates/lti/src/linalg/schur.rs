@@ -72,7 +72,10 @@ pub fn real_schur(a: &Mat) -> Result<RealSchur> {
     crate::linalg::check_finite("A", a)?;
     let n = a.nrows();
     if n == 0 {
-        return Ok(RealSchur { t: a.clone(), z: a.clone() });
+        return Ok(RealSchur {
+            t: a.clone(),
+            z: a.clone(),
+        });
     }
     let s = nalgebra::linalg::Schur::try_new(a.clone(), f64::EPSILON, 100 * n.max(10)).ok_or(
         LtiError::NoConvergence {

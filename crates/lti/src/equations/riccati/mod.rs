@@ -110,7 +110,9 @@ pub(crate) fn validate(
     check_symmetric("Q", q, 1e-12)?;
     check_symmetric("R", r, 1e-12)?;
     if require_r_pd && m > 0 {
-        let min = crate::linalg::symmetric_eigenvalues(r).into_iter().fold(f64::INFINITY, f64::min);
+        let min = crate::linalg::symmetric_eigenvalues(r)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
         if min.is_nan() || min <= r.norm() * f64::EPSILON * (m as f64) {
             return Err(LtiError::NotPositiveDefinite {
                 what: "R".into(),
@@ -132,7 +134,9 @@ pub fn care_residual(a: &Mat, b: &Mat, q: &Mat, r: &Mat, n: Option<&Mat>, x: &Ma
     // (XB + N) R⁻¹ (XB + N)ᵀ through a Cholesky factor of R when possible.
     let g = match r.clone().cholesky() {
         Some(ch) => &xbn * ch.solve(&xbn.transpose()),
-        None => &xbn * r.clone().pseudo_inverse(0.0).unwrap_or_else(|_| r.clone()) * xbn.transpose(),
+        None => {
+            &xbn * r.clone().pseudo_inverse(0.0).unwrap_or_else(|_| r.clone()) * xbn.transpose()
+        }
     };
     let res = &atx + &xa - &g + q;
     super::relative_residual(&res, &[atx.norm(), xa.norm(), g.norm(), q.norm()])
