@@ -1,0 +1,810 @@
+//! Ready-made figures of the book: time responses of trajectories, Bode diagrams, pole–zero
+//! maps with design regions, gain-scheduling curves, identification fits and region-of-attraction
+//! maps. Each builder returns a [`Figure`] (or its [`Axes`]) that can still be changed before it
+//! is saved.
+
+use pendulab_lti::{Complex64, Trajectory};
+
+use crate::axes::{Axes, LegendPos, RegionBound, Scale};
+use crate::color::{Color, palette};
+use crate::error::{PlotError, Result};
+use crate::figure::{Figure, Panel};
+use crate::style::Dash;
+
+/// A signal of a [`Trajectory`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Channel {
+    /// State `x[i]`.
+    State(usize),
+    /// Input `u[i]`.
+    Input(usize),
+    /// Output `y[i]`.
+    Output(usize),
+}
+
+impl Channel {
+    fn get<'a>(&self, tr: &'a Trajectory) -> Option<&'a [f64]> {
+        match *self {
+            Channel::State(i) if i < tr.x().ncols() => Some(tr.x_signal(i)),
+            Channel::Input(i) if i < tr.u().ncols() => Some(tr.u_signal(i)),
+            Channel::Output(i) if i < tr.y().ncols() => Some(tr.y_signal(i)),
+            _ => None,
+        }
+    }
+    fn describe(&self) -> String {
+        match self {
+            Channel::State(i) => format!("state x[{i}]"),
+            Channel::Input(i) => format!("input u[{i}]"),
+            Channel::Output(i) => format!("output y[{i}]"),
+        }
+    }
+}
+
+/// One panel of a [`TimeResponse`]: the channels it shows, its axis label and how values are
+/// drawn.
+#[derive(Debug, Clone)]
+pub struct SignalPanel {
+    channels: Vec<(Channel, Option<String>)>,
+    ylabel: String,
+    scale: f64,
+    stairs: bool,
+    references: Vec<(f64, Option<String>)>,
+}
+
+impl SignalPanel {
+    /// A panel showing one channel, labelled `ylabel` (with its unit).
+    pub fn new(channel: Channel, ylabel: impl Into<String>) -> Self {
+        Self {
+            channels: vec![(channel, None)],
+            ylabel: ylabel.into(),
+            scale: 1.0,
+            stairs: false,
+            references: Vec::new(),
+        }
+    }
+    /// Adds another channel to the same panel; `name` appears in the legend.
+    pub fn with(mut self, channel: Channel, name: impl Into<String>) -> Self {
+        self.channels.push((channel, Some(name.into())));
+        self
+    }
+    /// Names the first channel in the legend.
+    pub fn named(mut self, name: impl Into<String>) -> Self {
+        if let Some(c) = self.channels.first_mut() {
+            c.1 = Some(name.into());
+        }
+        self
+    }
+    /// Multiplies every value by `factor` before drawing (e.g. `180/π` for degrees).
+    pub fn scaled(mut self, factor: f64) -> Self {
+        self.scale = factor;
+        self
+    }
+    /// Draws the channels as staircases (sampled or zero-order-hold signals).
+    pub fn stairs(mut self) -> Self {
+        self.stairs = true;
+        self
+    }
+    /// Adds a horizontal reference line (e.g. the target r = 0.5 m), in drawn units.
+    pub fn reference(mut self, value: f64, label: Option<&str>) -> Self {
+        self.references.push((value, label.map(str::to_string)));
+        self
+    }
+}
+
+/// Time responses of one or several runs, one panel per [`SignalPanel`], stacked over a common
+/// time axis. Runs get the palette colours in turn (the first panel carries the legend); with a
+/// single run, channels sharing a panel get the colours instead.
+///
+/// ```
+/// use pendulab_lti::{Mat, Trajectory};
+/// use pendulab_plot::{Channel, SignalPanel, TimeResponse};
+/// let t: Vec<f64> = (0..100).map(|k| k as f64 * 0.01).collect();
+/// let x = Mat::from_fn(100, 2, |k, i| if i == 0 { t[k] } else { t[k].sin() });
+/// let tr = Trajectory::new(t.clone(), x, Mat::zeros(100, 0), Mat::zeros(100, 0)).unwrap();
+/// let fig = TimeResponse::new()
+///     .run("LQR", &tr)
+///     .panel(SignalPanel::new(Channel::State(0), "z [m]"))
+///     .panel(SignalPanel::new(Channel::State(1), "θ [deg]").scaled(180.0 / std::f64::consts::PI))
+///     .figure()
+///     .unwrap();
+/// assert!(fig.to_svg().unwrap().contains("θ [deg]"));
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct TimeResponse<'a> {
+    runs: Vec<(String, &'a Trajectory)>,
+    panels: Vec<SignalPanel>,
+    title: Option<String>,
+    xlabel: Option<String>,
+}
+
+impl<'a> TimeResponse<'a> {
+    /// An empty builder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// Adds a run (a simulated or measured trajectory) with its legend label.
+    pub fn run(mut self, label: impl Into<String>, traj: &'a Trajectory) -> Self {
+        self.runs.push((label.into(), traj));
+        self
+    }
+    /// Adds a panel (top to bottom in call order).
+    pub fn panel(mut self, panel: SignalPanel) -> Self {
+        self.panels.push(panel);
+        self
+    }
+    /// Figure title.
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+    /// Time axis label (default `time [s]`).
+    pub fn xlabel(mut self, label: impl Into<String>) -> Self {
+        self.xlabel = Some(label.into());
+        self
+    }
+
+    /// Builds the figure.
+    ///
+    /// # Errors
+    /// [`PlotError::Empty`] without runs or panels or for an empty trajectory;
+    /// [`PlotError::InvalidArgument`] if a panel asks for a channel a run does not have.
+    pub fn figure(&self) -> Result<Figure> {
+        if self.runs.is_empty() || self.panels.is_empty() {
+            return Err(PlotError::Empty {
+                what: "time response (needs at least one run and one panel)".into(),
+            });
+        }
+        let multi = self.runs.len() > 1;
+        let mut axes = Vec::new();
+        for (p, panel) in self.panels.iter().enumerate() {
+            let mut ax = Axes::new();
+            ax.ylabel(panel.ylabel.clone());
+            if p + 1 == self.panels.len() {
+                ax.xlabel(self.xlabel.clone().unwrap_or_else(|| "time [s]".into()));
+            }
+            for (r, (label, tr)) in self.runs.iter().enumerate() {
+                if tr.is_empty() {
+                    return Err(PlotError::Empty {
+                        what: format!("run \"{label}\""),
+                    });
+                }
+                for (c, (ch, name)) in panel.channels.iter().enumerate() {
+                    let data = ch.get(tr).ok_or_else(|| {
+                        PlotError::InvalidArgument(format!(
+                            "panel {p} asks for {} but run \"{label}\" has {} states, {} inputs, {} outputs",
+                            ch.describe(),
+                            tr.x().ncols(),
+                            tr.u().ncols(),
+                            tr.y().ncols()
+                        ))
+                    })?;
+                    let v: Vec<f64> = data.iter().map(|v| v * panel.scale).collect();
+                    let s = if panel.stairs {
+                        ax.step(tr.t(), &v)
+                    } else {
+                        ax.plot(tr.t(), &v)
+                    };
+                    if multi {
+                        s.color(palette(r)).dash(dash_cycle(c));
+                        let legend = match name {
+                            Some(n) if panel.channels.len() > 1 => Some(format!("{label}: {n}")),
+                            _ if p == 0 && c == 0 => Some(label.clone()),
+                            _ => None,
+                        };
+                        if let Some(l) = legend {
+                            s.label(l);
+                        }
+                    } else {
+                        s.color(palette(c));
+                        if let Some(n) = name {
+                            s.label(n.clone());
+                        }
+                    }
+                }
+            }
+            for (v, l) in &panel.references {
+                let s = ax.hline(*v);
+                s.dashed().color(Color::DARK_GREY);
+                if let Some(l) = l {
+                    s.label(l.clone());
+                }
+            }
+            axes.push(ax);
+        }
+        let mut fig = Figure::column(axes);
+        if let Some(t) = &self.title {
+            fig = fig.title(t.clone());
+        }
+        Ok(fig)
+    }
+}
+
+fn dash_cycle(k: usize) -> Dash {
+    [Dash::Solid, Dash::Dashed, Dash::Dotted, Dash::DashDot][k % 4]
+}
+
+/// Frequency unit of a Bode diagram's horizontal axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrequencyUnit {
+    /// ω in rad/s (MATLAB's default).
+    #[default]
+    RadPerSec,
+    /// f in Hz; frequencies given in rad/s are divided by 2π.
+    Hertz,
+}
+
+#[derive(Debug, Clone)]
+struct BodeCurve {
+    label: String,
+    w: Vec<f64>,
+    mag_db: Vec<f64>,
+    phase_deg: Vec<f64>,
+    dash: Dash,
+}
+
+/// A Bode diagram: gain in dB over phase in degrees against a logarithmic frequency axis
+/// (MATLAB `bode`), several systems overlaid.
+///
+/// ```
+/// use pendulab_lti::Complex64;
+/// use pendulab_plot::Bode;
+/// // P(s) = 4.36 / (s (s + 6.25)) on 10⁻¹ … 10³ rad/s.
+/// let w: Vec<f64> = (0..=200).map(|k| 10f64.powf(-1.0 + 4.0 * k as f64 / 200.0)).collect();
+/// let h: Vec<Complex64> = w
+///     .iter()
+///     .map(|&w| { let s = Complex64::new(0.0, w); 4.36 / (s * (s + 6.25)) })
+///     .collect();
+/// let fig = Bode::new().response("P(s)", &w, &h).figure();
+/// assert!(fig.to_svg().unwrap().contains("phase [deg]"));
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct Bode {
+    curves: Vec<BodeCurve>,
+    unit: FrequencyUnit,
+    title: Option<String>,
+}
+
+impl Bode {
+    /// An empty diagram.
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// Adds a frequency response `h[k] = G(jω_k)` at frequencies `w` in rad/s. The gain is
+    /// 20 log₁₀|h| dB; the phase arg h is unwrapped along the frequency axis (jumps larger
+    /// than 180° between neighbours are removed by adding multiples of 360°, MATLAB's
+    /// convention) and starts in (−180°, 180°]. Lengths are checked when the figure is
+    /// rendered; zero gains are gaps.
+    pub fn response(mut self, label: impl Into<String>, w: &[f64], h: &[Complex64]) -> Self {
+        let mag_db = h.iter().map(|c| 20.0 * c.norm().log10()).collect();
+        let mut phase: Vec<f64> = h.iter().map(|c| c.arg().to_degrees()).collect();
+        unwrap_degrees(&mut phase);
+        let dash = dash_cycle(self.curves.len() / crate::color::PALETTE.len());
+        self.curves.push(BodeCurve {
+            label: label.into(),
+            w: w.to_vec(),
+            mag_db,
+            phase_deg: phase,
+            dash,
+        });
+        self
+    }
+    /// Adds precomputed gain (dB) and phase (degrees) at frequencies `w` in rad/s, drawn as given.
+    pub fn magnitude_phase(
+        mut self,
+        label: impl Into<String>,
+        w: &[f64],
+        mag_db: &[f64],
+        phase_deg: &[f64],
+    ) -> Self {
+        let dash = dash_cycle(self.curves.len() / crate::color::PALETTE.len());
+        self.curves.push(BodeCurve {
+            label: label.into(),
+            w: w.to_vec(),
+            mag_db: mag_db.to_vec(),
+            phase_deg: phase_deg.to_vec(),
+            dash,
+        });
+        self
+    }
+    /// Frequency unit of the axis.
+    pub fn unit(mut self, unit: FrequencyUnit) -> Self {
+        self.unit = unit;
+        self
+    }
+    /// Figure title.
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+    /// The two-panel figure (checked when rendered).
+    pub fn figure(&self) -> Figure {
+        let (f, xl) = match self.unit {
+            FrequencyUnit::RadPerSec => (1.0, "frequency ω [rad/s]"),
+            FrequencyUnit::Hertz => (1.0 / (2.0 * std::f64::consts::PI), "frequency f [Hz]"),
+        };
+        let mut mag = Axes::new();
+        mag.ylabel("gain [dB]")
+            .xscale(Scale::Log)
+            .legend(LegendPos::Best);
+        let mut ph = Axes::new();
+        ph.ylabel("phase [deg]")
+            .xlabel(xl)
+            .xscale(Scale::Log)
+            .y_tick_step(90.0);
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for (k, c) in self.curves.iter().enumerate() {
+            let w: Vec<f64> = c.w.iter().map(|w| w * f).collect();
+            for v in w.iter().filter(|v| v.is_finite() && **v > 0.0) {
+                lo = lo.min(*v);
+                hi = hi.max(*v);
+            }
+            mag.plot(&w, &c.mag_db)
+                .label(c.label.clone())
+                .color(palette(k))
+                .dash(c.dash);
+            ph.plot(&w, &c.phase_deg).color(palette(k)).dash(c.dash);
+        }
+        let mut span = 0.0;
+        for c in &self.curves {
+            let (a, b) = finite_span(&c.phase_deg);
+            span = f64::max(span, b - a);
+        }
+        if span > 720.0 {
+            ph.y_tick_step(180.0);
+        } else if span < 100.0 {
+            ph.y_tick_step(45.0);
+        }
+        if lo.is_finite() && hi > lo {
+            mag.xlim(lo, hi);
+            ph.xlim(lo, hi);
+        }
+        let mut fig = Figure::column([mag, ph]).size(crate::figure::DEFAULT_WIDTH, 520.0);
+        if let Some(t) = &self.title {
+            fig = fig.title(t.clone());
+        }
+        fig
+    }
+}
+
+fn finite_span(v: &[f64]) -> (f64, f64) {
+    let mut a = f64::INFINITY;
+    let mut b = f64::NEG_INFINITY;
+    for x in v.iter().filter(|x| x.is_finite()) {
+        a = a.min(*x);
+        b = b.max(*x);
+    }
+    if a <= b { (a, b) } else { (0.0, 0.0) }
+}
+
+/// Removes jumps of more than 180° between neighbouring finite phases (degrees).
+pub(crate) fn unwrap_degrees(p: &mut [f64]) {
+    let mut prev: Option<f64> = None;
+    let mut offset = 0.0;
+    for v in p.iter_mut() {
+        if !v.is_finite() {
+            continue;
+        }
+        let mut x = *v + offset;
+        if let Some(q) = prev {
+            while x - q > 180.0 {
+                x -= 360.0;
+                offset -= 360.0;
+            }
+            while x - q < -180.0 {
+                x += 360.0;
+                offset += 360.0;
+            }
+        }
+        *v = x;
+        prev = Some(x);
+    }
+}
+
+/// A pole–zero map (MATLAB `pzmap`) with optional design regions, in equal scales.
+///
+/// ```
+/// use pendulab_lti::Complex64;
+/// use pendulab_plot::{PoleZeroMap, RegionBound};
+/// let p = [Complex64::new(-3.0, 2.0), Complex64::new(-3.0, -2.0), Complex64::new(-8.0, 0.0)];
+/// let fig = PoleZeroMap::new()
+///     .region("design region", &[RegionBound::DecayRate(2.0), RegionBound::SpeedLimit(16.0),
+///                                RegionBound::Sector(std::f64::consts::FRAC_PI_4)])
+///     .poles("closed loop", &p)
+///     .figure();
+/// assert!(fig.to_svg().unwrap().contains("closed loop"));
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct PoleZeroMap {
+    axes: Axes,
+    sets: usize,
+    title: Option<String>,
+}
+
+impl PoleZeroMap {
+    /// An empty map of the s-plane (axes "real axis", "imaginary axis").
+    pub fn new() -> Self {
+        let mut axes = Axes::new();
+        axes.xlabel("real axis [1/s]")
+            .ylabel("imaginary axis [1/s]")
+            .equal_aspect();
+        Self {
+            axes,
+            sets: 0,
+            title: None,
+        }
+    }
+    /// A map of the z-plane: the unit disk (stability region) is shaded and outlined, and the
+    /// axes have no unit.
+    pub fn discrete() -> Self {
+        let mut m = Self::new();
+        m.axes.xlabel("real axis").ylabel("imaginary axis");
+        m.axes
+            .region(&[RegionBound::UNIT_DISK])
+            .label("|z| < 1")
+            .dash(Dash::Dashed);
+        m
+    }
+    /// Adds poles (× markers) in the next palette colour.
+    pub fn poles(mut self, label: impl Into<String>, poles: &[Complex64]) -> Self {
+        let c = palette(self.sets);
+        self.sets += 1;
+        self.axes.poles(poles).label(label).color(c);
+        self
+    }
+    /// Adds zeros (○ markers) in the next palette colour.
+    pub fn zeros(mut self, label: impl Into<String>, zeros: &[Complex64]) -> Self {
+        let c = palette(self.sets);
+        self.sets += 1;
+        self.axes.zeros(zeros).label(label).color(c);
+        self
+    }
+    /// Adds a shaded design region (intersection of the bounds) with dashed boundaries.
+    pub fn region(mut self, label: impl Into<String>, bounds: &[RegionBound]) -> Self {
+        self.axes.region(bounds).label(label);
+        self
+    }
+    /// Figure title.
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+    /// The panel, for further additions.
+    pub fn axes(&mut self) -> &mut Axes {
+        &mut self.axes
+    }
+    /// The figure (checked when rendered).
+    pub fn figure(&self) -> Figure {
+        let mut ax = self.axes.clone();
+        ax.hline(0.0).color(Color::GREY).width(0.8);
+        ax.vline(0.0).color(Color::GREY).width(0.8);
+        // Draw the axis lines first so markers stay on top of them.
+        let n = ax.series.len();
+        ax.series.rotate_right(2);
+        debug_assert!(n >= 2);
+        let mut fig = Figure::new(ax).size(crate::figure::DEFAULT_WIDTH, 480.0);
+        if let Some(t) = &self.title {
+            fig = fig.title(t.clone());
+        }
+        fig
+    }
+}
+
+/// Gain-scheduling curves K(θ) beside constant reference gains (book part 2 fig. 1.16): one
+/// panel per gain entry, the scheduled gain as a solid line and the constant gain as a dashed
+/// horizontal line, in a grid of two columns.
+///
+/// ```
+/// use pendulab_plot::GainCurves;
+/// let th: Vec<f64> = (0..=65).map(|k| k as f64).collect();
+/// let k11: Vec<f64> = th.iter().map(|t| 1.0 + 0.01 * t).collect();
+/// let fig = GainCurves::new("θ₁ [deg]", &th).gain("K₁₁", &k11, Some(1.2)).figure().unwrap();
+/// assert!(fig.to_svg().unwrap().contains("K₁₁"));
+/// ```
+#[derive(Debug, Clone)]
+pub struct GainCurves {
+    xlabel: String,
+    x: Vec<f64>,
+    gains: Vec<(String, Vec<f64>, Option<f64>)>,
+    names: (String, String),
+    title: Option<String>,
+}
+
+impl GainCurves {
+    /// Curves over the scheduling variable `x` (e.g. θ₁ in degrees).
+    pub fn new(xlabel: impl Into<String>, x: &[f64]) -> Self {
+        Self {
+            xlabel: xlabel.into(),
+            x: x.to_vec(),
+            gains: Vec::new(),
+            names: ("gain scheduling".into(), "LQ (constant)".into()),
+            title: None,
+        }
+    }
+    /// Adds a gain entry: its name, its scheduled values over `x`, and the constant gain to
+    /// compare with.
+    pub fn gain(mut self, name: impl Into<String>, values: &[f64], constant: Option<f64>) -> Self {
+        self.gains.push((name.into(), values.to_vec(), constant));
+        self
+    }
+    /// Legend names of the scheduled and of the constant gains.
+    pub fn legend_names(
+        mut self,
+        scheduled: impl Into<String>,
+        constant: impl Into<String>,
+    ) -> Self {
+        self.names = (scheduled.into(), constant.into());
+        self
+    }
+    /// Figure title.
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+    /// Builds the figure.
+    ///
+    /// # Errors
+    /// [`PlotError::Empty`] without gains; data errors are reported when rendering.
+    pub fn figure(&self) -> Result<Figure> {
+        if self.gains.is_empty() {
+            return Err(PlotError::Empty {
+                what: "gain curves (no gain)".into(),
+            });
+        }
+        let n = self.gains.len();
+        let cols = if n > 2 { 2 } else { 1 };
+        let mut rows: Vec<Vec<Panel>> = Vec::new();
+        for (k, (name, v, c)) in self.gains.iter().enumerate() {
+            let mut ax = Axes::new();
+            ax.ylabel(name.clone());
+            if k + cols >= n {
+                ax.xlabel(self.xlabel.clone());
+            }
+            let s = ax.plot(&self.x, v).color(Color::BLUE);
+            if k == 0 {
+                s.label(self.names.0.clone());
+            }
+            if let Some(c) = c {
+                let s = ax.hline(*c).color(Color::RED).dashed().width(1.5);
+                if k == 0 {
+                    s.label(self.names.1.clone());
+                }
+            }
+            if k % cols == 0 {
+                rows.push(Vec::new());
+            }
+            if let Some(r) = rows.last_mut() {
+                r.push(ax.into());
+            }
+        }
+        if let Some(r) = rows.last_mut() {
+            while r.len() < cols {
+                r.push(Panel::Empty);
+            }
+        }
+        let h = 210.0 * rows.len() as f64 + 20.0;
+        let w = if cols == 2 {
+            900.0
+        } else {
+            crate::figure::DEFAULT_WIDTH
+        };
+        let mut fig = Figure::grid(rows).size(w, h + if self.title.is_some() { 26.0 } else { 0.0 });
+        if let Some(t) = &self.title {
+            fig = fig.title(t.clone());
+        }
+        Ok(fig)
+    }
+}
+
+/// Identification fits: measured signals (grey) against model outputs (coloured), one panel per
+/// signal, with the fit percentage 100 (1 − ‖y − ŷ‖ / ‖y − mean y‖) of each model in its legend
+/// entry (MATLAB `compare`; computed over the samples where both are finite).
+///
+/// ```
+/// use pendulab_plot::IdentFit;
+/// let t: Vec<f64> = (0..50).map(|k| k as f64 * 0.1).collect();
+/// let y: Vec<f64> = t.iter().map(|t| 1.0 - (-t).exp()).collect();
+/// let fig = IdentFit::new(&t).signal("z [m]", &y, &[("model", &y)]).figure().unwrap();
+/// assert!(fig.to_svg().unwrap().contains("fit 100.0 %"));
+/// ```
+#[derive(Debug, Clone)]
+pub struct IdentFit {
+    t: Vec<f64>,
+    signals: Vec<(String, Vec<f64>, Vec<(String, Vec<f64>)>)>,
+    measured_name: String,
+    title: Option<String>,
+    xlabel: String,
+}
+
+impl IdentFit {
+    /// Fits over the common sample times `t`.
+    pub fn new(t: &[f64]) -> Self {
+        Self {
+            t: t.to_vec(),
+            signals: Vec::new(),
+            measured_name: "measured".into(),
+            title: None,
+            xlabel: "time [s]".into(),
+        }
+    }
+    /// Adds a panel: the measured signal and one or more model outputs `(name, values)`.
+    pub fn signal(
+        mut self,
+        ylabel: impl Into<String>,
+        measured: &[f64],
+        models: &[(&str, &[f64])],
+    ) -> Self {
+        self.signals.push((
+            ylabel.into(),
+            measured.to_vec(),
+            models
+                .iter()
+                .map(|(n, v)| (n.to_string(), v.to_vec()))
+                .collect(),
+        ));
+        self
+    }
+    /// Legend name of the measured data (default "measured").
+    pub fn measured_name(mut self, name: impl Into<String>) -> Self {
+        self.measured_name = name.into();
+        self
+    }
+    /// Horizontal axis label (default "time [s]").
+    pub fn xlabel(mut self, label: impl Into<String>) -> Self {
+        self.xlabel = label.into();
+        self
+    }
+    /// Figure title.
+    pub fn title(mut self, title: impl Into<String>) -> Self {
+        self.title = Some(title.into());
+        self
+    }
+    /// Builds the figure.
+    ///
+    /// # Errors
+    /// [`PlotError::Empty`] without signals; [`PlotError::LengthMismatch`] if a model output and
+    /// its measured signal differ in length (other data errors are reported when rendering).
+    pub fn figure(&self) -> Result<Figure> {
+        if self.signals.is_empty() {
+            return Err(PlotError::Empty {
+                what: "identification fit (no signal)".into(),
+            });
+        }
+        let mut axes = Vec::new();
+        let n = self.signals.len();
+        for (p, (ylabel, y, models)) in self.signals.iter().enumerate() {
+            let mut ax = Axes::new();
+            ax.ylabel(ylabel.clone());
+            if p + 1 == n {
+                ax.xlabel(self.xlabel.clone());
+            }
+            ax.plot(&self.t, y)
+                .label(self.measured_name.clone())
+                .color(Color::rgb(150, 150, 150))
+                .width(1.3);
+            for (k, (name, yh)) in models.iter().enumerate() {
+                if yh.len() != y.len() {
+                    return Err(PlotError::LengthMismatch {
+                        what: format!(
+                            "identification fit, panel {p}: model \"{name}\" vs measured"
+                        ),
+                        left: yh.len(),
+                        right: y.len(),
+                    });
+                }
+                let label = match fit_percent(y, yh) {
+                    Some(f) => format!("{name} (fit {f:.1} %)"),
+                    None => name.clone(),
+                };
+                ax.plot(&self.t, yh)
+                    .label(label)
+                    .color(palette(k))
+                    .dash(dash_cycle(k))
+                    .width(1.6);
+            }
+            axes.push(ax);
+        }
+        let mut fig = Figure::column(axes);
+        if let Some(t) = &self.title {
+            fig = fig.title(t.clone());
+        }
+        Ok(fig)
+    }
+}
+
+/// NRMSE fit in percent, `None` if undefined (fewer than two finite pairs or constant data).
+pub fn fit_percent(y: &[f64], yh: &[f64]) -> Option<f64> {
+    let pairs: Vec<(f64, f64)> = y
+        .iter()
+        .zip(yh)
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .map(|(a, b)| (*a, *b))
+        .collect();
+    if pairs.len() < 2 {
+        return None;
+    }
+    let mean = pairs.iter().map(|p| p.0).sum::<f64>() / pairs.len() as f64;
+    let num = pairs
+        .iter()
+        .map(|p| (p.0 - p.1).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let den = pairs
+        .iter()
+        .map(|p| (p.0 - mean).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    if den == 0.0 {
+        return None;
+    }
+    Some(100.0 * (1.0 - num / den))
+}
+
+/// A region-of-attraction map: which initial conditions on an `nx × ny` grid were stabilised
+/// (`cells[j * nx + i]`, column `i` from `x_range.0`, row `j` from `y_range.0` at the bottom).
+/// Returns the panel so that boundaries or trajectories can be drawn over it.
+///
+/// ```
+/// use pendulab_plot::{region_of_attraction, Figure};
+/// let n = 20;
+/// let cells: Vec<bool> = (0..n * n)
+///     .map(|k| { let (i, j) = (k % n, k / n); (i as f64 - 9.5).hypot(j as f64 - 9.5) < 7.0 })
+///     .collect();
+/// let ax = region_of_attraction((-1.0, 1.0), (-4.0, 4.0), n, n, &cells, "θ(0) [rad]", "θ'(0) [rad/s]");
+/// assert!(Figure::new(ax).to_svg().unwrap().contains("stabilised"));
+/// ```
+pub fn region_of_attraction(
+    x_range: (f64, f64),
+    y_range: (f64, f64),
+    nx: usize,
+    ny: usize,
+    cells: &[bool],
+    xlabel: &str,
+    ylabel: &str,
+) -> Axes {
+    let mut ax = Axes::new();
+    ax.xlabel(xlabel).ylabel(ylabel).grid(false);
+    ax.bool_map(
+        x_range,
+        y_range,
+        nx,
+        ny,
+        cells,
+        ["stabilised", "not stabilised"],
+    );
+    ax
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unwrapping_removes_branch_jumps() {
+        // arg of 1/(s+1)^3 passes −180° at ω = √3: atan2 jumps from −180 to +180 there.
+        let w: Vec<f64> = (0..200)
+            .map(|k| 10f64.powf(-1.0 + 3.0 * k as f64 / 199.0))
+            .collect();
+        let mut p: Vec<f64> = w
+            .iter()
+            .map(|&w| {
+                let s = Complex64::new(1.0, w);
+                (1.0 / (s * s * s)).arg().to_degrees()
+            })
+            .collect();
+        unwrap_degrees(&mut p);
+        for (k, &w) in w.iter().enumerate() {
+            // Closed form: phase = −3 atan(ω).
+            assert!((p[k] - (-3.0 * w.atan().to_degrees())).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn fit_of_perfect_and_mean_models() {
+        let y = [1.0, 2.0, 3.0, 4.0];
+        assert_eq!(fit_percent(&y, &y), Some(100.0));
+        // Predicting the mean leaves ‖y − ŷ‖ = ‖y − ȳ‖: fit 0 %.
+        assert_eq!(fit_percent(&y, &[2.5; 4]), Some(0.0));
+        assert_eq!(fit_percent(&[1.0; 3], &[1.0; 3]), None);
+    }
+}
