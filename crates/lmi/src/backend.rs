@@ -210,6 +210,26 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
     }
     let m = b.len();
 
+    // Homogeneous problems (no constant term in any constraint: only the margins ε_j shift
+    // the cones) are invariant under x ↦ x / s; solving with margins ε_j / s, s = max ε_j,
+    // and scaling x back is exact and spares the solver a feasible set at distance ε ≈ 1e-6
+    // from a cone's apex, where its infeasibility detection stalls.
+    let homogeneous = problem
+        .constraints
+        .iter()
+        .all(|c| c.expr.constant.iter().all(|v| *v == 0.0));
+    let margin_scale = problem
+        .constraints
+        .iter()
+        .map(|c| c.relation.margin())
+        .fold(0.0, f64::max);
+    let x_scale = if homogeneous && margin_scale > 0.0 {
+        b.iter_mut().for_each(|v| *v /= margin_scale);
+        margin_scale
+    } else {
+        1.0
+    };
+
     // CSC by counting sort on the variable (column), rows ascending within a column.
     let mut colptr = vec![0usize; n + 1];
     for t in &trip {
@@ -262,6 +282,14 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         .chordal_decomposition_enable(settings.chordal_decomposition)
         .build()
         .map_err(|e| LmiError::Solver(format!("settings: {e}")))?;
+    if let Ok(path) = std::env::var("EXP_DUMP") {
+        let cones_s: Vec<String> = cones.iter().map(|c| format!("{c:?}")).collect();
+        let txt = format!(
+            "{{\"m\":{},\"n\":{},\"colptr\":{:?},\"rowval\":{:?},\"nzval\":{:?},\"b\":{:?},\"q\":{:?},\"cones\":{:?}}}",
+            a.m, a.n, a.colptr, a.rowval, a.nzval, b, q, cones_s
+        );
+        std::fs::write(path, txt).unwrap();
+    }
     let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, clarabel_settings)
         .map_err(|e| LmiError::Solver(format!("{e:?}")))?;
     let setup_seconds = setup_start.elapsed().as_secs_f64();
@@ -326,10 +354,10 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
 
     let solved = matches!(status, RawStatus::Solved | RawStatus::AlmostSolved);
     let objective = (solved && problem.objective.is_some())
-        .then(|| obj_sign * sol.obj_val * obj_scale + obj_offset);
+        .then(|| obj_sign * sol.obj_val * obj_scale * x_scale + obj_offset);
     Ok(RawSolution {
         status,
-        x: sol.x.clone(),
+        x: sol.x.iter().map(|v| v * x_scale).collect(),
         duals,
         objective,
         iterations: sol.iterations,

@@ -44,7 +44,9 @@ pub struct SolveOptions {
     /// Solver stopping tolerances.
     pub tolerances: Tolerances,
     /// Scale each constraint block and the objective to unit largest coefficient before
-    /// handing them to the solver. Default true.
+    /// handing them to the solver (on top of Clarabel's own Ruiz equilibration). Default
+    /// false: on the textbook's LQ-type LMIs this extra scaling made Clarabel stop with
+    /// numerical errors where the unscaled data solve cleanly.
     pub scale_rows: bool,
     /// Let Clarabel decompose sparse PSD cones along their chordal sparsity. Default true.
     pub chordal_decomposition: bool,
@@ -65,7 +67,7 @@ impl Default for SolveOptions {
             max_iterations: 200,
             time_limit: None,
             tolerances: Tolerances::default(),
-            scale_rows: true,
+            scale_rows: false,
             chordal_decomposition: true,
             check_tolerance: 1e-7,
             sos_tolerance: 1e-6,

@@ -23,8 +23,8 @@ pub use gain_schedule::{
 };
 pub use stability::{AlphaStability, DecayRate, alpha_stability, max_decay_rate};
 pub use state_feedback::{
-    Feedback, InputBound, LqWeights, Refinement, StateFeedbackDesign, StateFeedbackSpec, Vertex,
-    lq_state_feedback, multiobjective_state_feedback, robust_state_feedback,
+    Feedback, InputBound, LqWeights, Refinement, StateFeedbackDesign, StateFeedbackSpec,
+    StateScaling, Vertex, lq_state_feedback, multiobjective_state_feedback, robust_state_feedback,
     saturated_state_feedback, state_feedback,
 };
 

@@ -38,10 +38,9 @@ pub struct InputBound {
 }
 
 /// What to do after the optimisation (maximise `tr X`) has been solved.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Refinement {
     /// Return the optimiser's solution.
-    #[default]
     None,
     /// Re-solve as a feasibility problem with `tr X ≥ (1 − relax) · tr X*`: the
     /// interior-point method then returns a point well inside the feasible set, with
@@ -50,6 +49,31 @@ pub enum Refinement {
         /// Relative relaxation of the optimal objective (e.g. 0.06).
         relax: f64,
     },
+    /// [`Refinement::Feasibility`] only when the optimisation did not end cleanly (status
+    /// other than [`Status::Solved`], or a recheck failing): maximising `tr X` under pole
+    /// regions or several vertices typically drives `X` to the margin `X ⪰ εI` (an optimum
+    /// on the boundary with `κ(X) ~ 10⁹`), which double-precision interior-point methods
+    /// reach only to reduced accuracy.
+    WhenInaccurate {
+        /// Relative relaxation of the optimal objective (e.g. 0.01).
+        relax: f64,
+    },
+}
+
+/// Coordinates the LMIs are solved in: `x = T x̂`, `T = diag(t)`. This is a congruence of
+/// every LMI (margins included), so the feasible set and the optimum are unchanged; results
+/// are returned in the plant's coordinates.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum StateScaling {
+    /// The plant's coordinates.
+    #[default]
+    None,
+    /// The given positive `t` (one per state).
+    Diagonal(Vec<f64>),
+    /// `t_i = √X_ii` of the plain LQ design at the first vertex (so that `X̂` has unit
+    /// diagonal), computed by a first LMI solve when the specification has pole regions,
+    /// several vertices or input bounds; no scaling otherwise or without LQ weights.
+    Auto,
 }
 
 /// Specification of [`state_feedback`].
@@ -61,8 +85,10 @@ pub struct StateFeedbackSpec {
     pub regions: Vec<Region>,
     /// Input bounds by invariant ellipsoids. Default None.
     pub input_bound: Option<InputBound>,
-    /// Post-optimisation re-solve. Default [`Refinement::None`].
+    /// Post-optimisation re-solve. Default `WhenInaccurate { relax: 0.01 }`.
     pub refinement: Refinement,
+    /// Coordinates to solve in. Default [`StateScaling::None`].
+    pub scaling: StateScaling,
     /// Margin `ε` of the strict inequalities (`≺ 0` imposed as `⪯ −εI`). Default 1e-6.
     pub margin: f64,
 }
@@ -73,7 +99,8 @@ impl Default for StateFeedbackSpec {
             lq: None,
             regions: Vec::new(),
             input_bound: None,
-            refinement: Refinement::None,
+            refinement: Refinement::WhenInaccurate { relax: 0.01 },
+            scaling: StateScaling::None,
             margin: 1e-6,
         }
     }
@@ -234,7 +261,9 @@ fn validate(vertices: &[Vertex], spec: &StateFeedbackSpec) -> Result<(usize, usi
             }
         }
     }
-    if let Refinement::Feasibility { relax } = spec.refinement {
+    if let Refinement::Feasibility { relax } | Refinement::WhenInaccurate { relax } =
+        spec.refinement
+    {
         if !(relax.is_finite() && (0.0..1.0).contains(&relax)) {
             return Err(LmiError::InvalidArgument {
                 what: "refinement relax".into(),
@@ -284,19 +313,121 @@ pub fn state_feedback(
     spec: &StateFeedbackSpec,
     options: &SolveOptions,
 ) -> Result<StateFeedbackDesign> {
-    let (n, m) = validate(vertices, spec)?;
+    let (n, _) = validate(vertices, spec)?;
+    let t = match &spec.scaling {
+        StateScaling::None => vec![1.0; n],
+        StateScaling::Diagonal(t) => {
+            if t.len() != n {
+                return Err(LmiError::ShapeMismatch {
+                    op: "state scaling".into(),
+                    left: (n, 1),
+                    right: (t.len(), 1),
+                });
+            }
+            if let Some(v) = t.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+                return Err(LmiError::InvalidArgument {
+                    what: "state scaling".into(),
+                    reason: format!("entries must be finite and > 0, got {v}"),
+                });
+            }
+            t.clone()
+        }
+        StateScaling::Auto => auto_scaling(vertices, spec, options)?,
+    };
+    design_in_scaled_coordinates(vertices, spec, &t, options)
+}
+
+/// `t_i = √X_ii` of the LQ-optimal `X` at the first vertex, when the specification has
+/// constraints beyond the plain LQ condition (for the plain LQ problem that first solve
+/// would be the problem itself). Falls back to no scaling if that solve fails.
+fn auto_scaling(
+    vertices: &[Vertex],
+    spec: &StateFeedbackSpec,
+    options: &SolveOptions,
+) -> Result<Vec<f64>> {
+    let n = vertices[0].a.nrows();
+    let plain_lq = vertices.len() == 1 && spec.regions.is_empty() && spec.input_bound.is_none();
+    let Some(lq) = &spec.lq else {
+        return Ok(vec![1.0; n]);
+    };
+    if plain_lq {
+        return Ok(vec![1.0; n]);
+    }
+    let nominal = StateFeedbackSpec {
+        lq: Some(lq.clone()),
+        margin: spec.margin,
+        ..StateFeedbackSpec::default()
+    };
+    let d = design_in_scaled_coordinates(&vertices[..1], &nominal, &vec![1.0; n], options)?;
+    Ok(match d.feedback {
+        Some(fb) => (0..n)
+            .map(|i| {
+                let v = fb.x[(i, i)];
+                if v.is_finite() && v > 0.0 {
+                    v.sqrt()
+                } else {
+                    1.0
+                }
+            })
+            .collect(),
+        None => vec![1.0; n],
+    })
+}
+
+/// The design in the coordinates `x = T x̂`, `T = diag(t)`; results mapped back.
+fn design_in_scaled_coordinates(
+    vertices: &[Vertex],
+    spec: &StateFeedbackSpec,
+    t: &[f64],
+    options: &SolveOptions,
+) -> Result<StateFeedbackDesign> {
+    let n = vertices[0].a.nrows();
+    let m = vertices[0].b.ncols();
+    let tm = Mat::from_diagonal(&pendulab_lti::Vector::from_column_slice(t));
+    let tinv = Mat::from_diagonal(&pendulab_lti::Vector::from_iterator(
+        n,
+        t.iter().map(|v| 1.0 / v),
+    ));
     let eps = spec.margin;
+    let scaled = t.iter().any(|v| *v != 1.0);
+    // Strict inequalities: in the plant's coordinates `F ≻ 0` is `F ⪰ εI`. In the scaled
+    // coordinates the congruence maps εI to ε·D (D = T⁻² on the state blocks, I elsewhere),
+    // which keeps the feasible set exactly that of the unscaled problem.
+    let t2inv = &tinv * &tinv;
+    let margin_blocks = |k: usize, extra: usize| -> Expr {
+        let mut d = Mat::zeros(k * n + extra, k * n + extra);
+        for b in 0..k {
+            d.view_mut((b * n, b * n), (n, n)).copy_from(&t2inv);
+        }
+        for i in k * n..k * n + extra {
+            d[(i, i)] = 1.0;
+        }
+        Expr::constant(&(d * eps))
+    };
     let mut p = Problem::new();
     let x = p.symmetric("X", n);
     let l = p.matrix("L", m, n);
-    p.positive_definite("X ≻ 0", &x, eps)?;
+    let negative = |p: &mut Problem, name: &str, f: &Expr, k: usize, extra: usize| {
+        if scaled {
+            p.negative_semidefinite(name, &(f + &margin_blocks(k, extra)))
+        } else {
+            p.negative_definite(name, f, eps)
+        }
+    };
+    if scaled {
+        p.positive_semidefinite("X ≻ 0", &(&x - &margin_blocks(1, 0)))?;
+    } else {
+        p.positive_definite("X ≻ 0", &x, eps)?;
+    }
     let weights = match &spec.lq {
-        Some(lq) => Some((weight_factor("Q", &lq.q)?, psd_sqrt("R", &lq.r)?)),
+        Some(lq) => Some((weight_factor("Q", &lq.q)? * &tm, psd_sqrt("R", &lq.r)?)),
         None => None,
     };
     let needs_stability = weights.is_none() && !spec.regions.iter().any(implies_stability);
     for (k, v) in vertices.iter().enumerate() {
-        let y = &v.a * &x + &v.b * &l;
+        let a_hat = &tinv * &v.a * &tm;
+        let b_hat = &tinv * &v.b;
+        let y = &a_hat * &x + &b_hat * &l;
         if let Some((cq, rh)) = &weights {
             let rq = cq.nrows();
             let xc = &x * &Expr::constant(&cq.transpose());
@@ -310,13 +441,15 @@ pub fn state_feedback(
                 ],
                 &[&lr.t(), &Expr::zeros(m, rq), &Expr::identity(m).scale(-1.0)],
             ]);
-            p.negative_definite(&format!("LQ cost, vertex {k}"), &lmi, eps)?;
+            negative(&mut p, &format!("LQ cost, vertex {k}"), &lmi, 1, rq + m)?;
         }
         for (j, r) in spec.regions.iter().enumerate() {
-            p.negative_definite(&format!("region {j}, vertex {k}"), &r.lmi(&x, &y)?, eps)?;
+            let d = r.lmi(&x, &y)?;
+            let blocks = d.nrows() / n;
+            negative(&mut p, &format!("region {j}, vertex {k}"), &d, blocks, 0)?;
         }
         if needs_stability {
-            p.negative_definite(&format!("stability, vertex {k}"), &y.he(), eps)?;
+            negative(&mut p, &format!("stability, vertex {k}"), &y.he(), 1, 0)?;
         }
     }
     if let Some(ib) = &spec.input_bound {
@@ -326,20 +459,27 @@ pub fn state_feedback(
             p.positive_semidefinite(&format!("|u_{i}| ≤ {umax} on the ellipsoid"), &e)?;
         }
         for (k, x0) in ib.initial_states.iter().enumerate() {
-            let x0e = Expr::constant(&Mat::from_column_slice(n, 1, x0));
+            let x0h = &tinv * Mat::from_column_slice(n, 1, x0);
+            let x0e = Expr::constant(&x0h);
             let e = Expr::block(&[&[&Expr::scalar(1.0), &x0e.t()], &[&x0e, &x]]);
             p.positive_semidefinite(&format!("initial state {k} in the ellipsoid"), &e)?;
         }
     }
-    let tr = x.trace();
+    // tr X = tr(T X̂ T) = tr(T² X̂).
+    let tr = (&(&tm * &tm) * &x).trace();
     if weights.is_some() {
         p.maximize(&tr)?;
     }
     let solution = p.solve(options)?;
+    let relax = match spec.refinement {
+        Refinement::None => None,
+        Refinement::Feasibility { relax } => Some(relax),
+        Refinement::WhenInaccurate { relax } => {
+            (!(solution.status == Status::Solved && solution.all_checks_pass())).then_some(relax)
+        }
+    };
     let mut refined = None;
-    let mut final_sol = &solution;
-    if let (Refinement::Feasibility { relax }, Some(t_star)) = (spec.refinement, solution.objective)
-    {
+    if let (Some(relax), Some(t_star)) = (relax, solution.objective) {
         if solution.status.is_solved() && t_star > 0.0 {
             let mut q = p.clone();
             q.clear_objective();
@@ -351,13 +491,13 @@ pub fn state_feedback(
             refined = Some(q.solve(options)?);
         }
     }
-    if let Some(r) = &refined {
-        final_sol = r;
-    }
+    let final_sol = refined.as_ref().unwrap_or(&solution);
     let status = final_sol.status.clone();
     let feedback = if final_sol.all_checks_pass() {
-        let xv = crate::linalg::sym(&final_sol.value(&x)?);
-        let lv = final_sol.value(&l)?;
+        let xh = crate::linalg::sym(&final_sol.value(&x)?);
+        let lh = final_sol.value(&l)?;
+        let xv = crate::linalg::sym(&(&tm * &xh * &tm));
+        let lv = &lh * &tm;
         let chol = xv.clone().cholesky().ok_or(LmiError::InvalidArgument {
             what: "X".into(),
             reason: "returned X is not positive definite".into(),
