@@ -282,14 +282,6 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         .chordal_decomposition_enable(settings.chordal_decomposition)
         .build()
         .map_err(|e| LmiError::Solver(format!("settings: {e}")))?;
-    if let Ok(path) = std::env::var("EXP_DUMP") {
-        let cones_s: Vec<String> = cones.iter().map(|c| format!("{c:?}")).collect();
-        let txt = format!(
-            "{{\"m\":{},\"n\":{},\"colptr\":{:?},\"rowval\":{:?},\"nzval\":{:?},\"b\":{:?},\"q\":{:?},\"cones\":{:?}}}",
-            a.m, a.n, a.colptr, a.rowval, a.nzval, b, q, cones_s
-        );
-        std::fs::write(path, txt).unwrap();
-    }
     let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, clarabel_settings)
         .map_err(|e| LmiError::Solver(format!("{e:?}")))?;
     let setup_seconds = setup_start.elapsed().as_secs_f64();
