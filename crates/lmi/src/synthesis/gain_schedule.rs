@@ -109,8 +109,12 @@ pub struct GainSchedule {
     /// The minimised cost bound `γ*` (None if the minimisation did not solve).
     pub gamma_star: Option<f64>,
     /// The schedule from the feasibility re-solve (`γ ≤ (1 + relax) γ*`), when it solved
-    /// and every constraint and SOS decomposition passed its recheck.
+    /// and every constraint and SOS decomposition passed its recheck: the design to use.
     pub schedule: Option<ScheduledGain>,
+    /// The schedule at the γ minimum itself (solved, possibly to reduced accuracy; not
+    /// rechecked). On the boundary of the feasible set: `K(ρ_hi)` is well determined there,
+    /// `K(ρ_lo)` is not (solutions within 0.5 % of `γ*` differ there by a factor of ten).
+    pub optimum: Option<ScheduledGain>,
     /// The γ minimisation.
     pub optimization: Solution,
     /// The feasibility re-solve.
@@ -304,16 +308,13 @@ pub fn gain_scheduled_lq(
     }
     let final_sol = refined.as_ref().unwrap_or(&optimization);
     let status = final_sol.status.clone();
-    let schedule = if final_sol.all_checks_pass() {
-        // Back to the ρ basis: X(ρ) = X̂(s) with s = (ρ − off)/scale.
+    // Back to the ρ basis: X(ρ) = X̂(s) with s = (ρ − off)/scale.
+    let extract = |sol: &Solution| -> Result<ScheduledGain> {
         let xh: Vec<Mat> = xs
             .iter()
-            .map(|e| final_sol.value(e).map(|v| crate::linalg::sym(&v)))
+            .map(|e| sol.value(e).map(|v| crate::linalg::sym(&v)))
             .collect::<Result<_>>()?;
-        let lh: Vec<Mat> = ls
-            .iter()
-            .map(|e| final_sol.value(e))
-            .collect::<Result<_>>()?;
+        let lh: Vec<Mat> = ls.iter().map(|e| sol.value(e)).collect::<Result<_>>()?;
         let to_rho = |c: &[Mat]| -> [Mat; 3] {
             // c0 + c1 (ρ − o)/h + c2 (ρ − o)²/h².
             let (o, h) = (off_s, scale_s);
@@ -323,12 +324,20 @@ pub fn gain_scheduled_lq(
                 &c[2] / (h * h),
             ]
         };
-        Some(ScheduledGain {
+        Ok(ScheduledGain {
             x_coefficients: to_rho(&xh),
             l_coefficients: to_rho(&lh),
-            gamma: final_sol.value(&gamma)?[(0, 0)],
+            gamma: sol.value(&gamma)?[(0, 0)],
             rho_range: spec.rho_range,
         })
+    };
+    let schedule = if refined.is_some() && final_sol.all_checks_pass() {
+        Some(extract(final_sol)?)
+    } else {
+        None
+    };
+    let optimum = if optimization.status.is_solved() {
+        Some(extract(&optimization)?)
     } else {
         None
     };
@@ -336,6 +345,7 @@ pub fn gain_scheduled_lq(
         status,
         gamma_star,
         schedule,
+        optimum,
         optimization,
         refined,
     })
