@@ -185,24 +185,30 @@ pub(crate) fn syevr<T: Real>(
     if m.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    let eig = SymmetricEigen::try_new(m, T::default_epsilon(), iteration_cap(n))?;
+    // Eigenvalues only: nalgebra's value-only path skips accumulating the rotations (the
+    // input is finite, on which the implicit symmetric QR iteration always converges).
+    let (vals, vecs) = if want_vectors {
+        let eig = SymmetricEigen::try_new(m, T::default_epsilon(), iteration_cap(n))?;
+        (eig.eigenvalues, Some(eig.eigenvectors))
+    } else {
+        (m.symmetric_eigenvalues(), None)
+    };
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| {
-        eig.eigenvalues[i]
-            .partial_cmp(&eig.eigenvalues[j])
+        vals[i]
+            .partial_cmp(&vals[j])
             .unwrap_or(std::cmp::Ordering::Equal)
     });
     let selected: Vec<usize> = match range {
         EigRange::All => order,
         EigRange::Values(vl, vu) => order
             .into_iter()
-            .filter(|&i| eig.eigenvalues[i] > vl && eig.eigenvalues[i] <= vu)
+            .filter(|&i| vals[i] > vl && vals[i] <= vu)
             .collect(),
         EigRange::Indices(il, iu) => order[il - 1..iu].to_vec(),
     };
-    let values = selected.iter().map(|&i| eig.eigenvalues[i]).collect();
-    let vectors = want_vectors
-        .then(|| DMatrix::from_fn(n, selected.len(), |r, c| eig.eigenvectors[(r, selected[c])]));
+    let values = selected.iter().map(|&i| vals[i]).collect();
+    let vectors = vecs.map(|v| DMatrix::from_fn(n, selected.len(), |r, c| v[(r, selected[c])]));
     Some(SymEig { values, vectors })
 }
 

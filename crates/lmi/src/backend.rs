@@ -346,7 +346,7 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
 
     let solved = matches!(status, RawStatus::Solved | RawStatus::AlmostSolved);
     let objective = (solved && problem.objective.is_some())
-        .then(|| obj_sign * sol.obj_val * obj_scale * x_scale + obj_offset);
+        .then_some(obj_sign * sol.obj_val * obj_scale * x_scale + obj_offset);
     Ok(RawSolution {
         status,
         x: sol.x.iter().map(|v| v * x_scale).collect(),

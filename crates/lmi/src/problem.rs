@@ -298,19 +298,12 @@ impl Problem {
     /// Validates an expression for use in this problem.
     pub(crate) fn own(&self, e: &Expr, what: &str) -> Result<()> {
         e.check()?;
-        if let Some(o) = e.owner() {
-            if o != self.id {
-                return Err(LmiError::ForeignExpression {
-                    op: what.to_string(),
-                });
-            }
-        }
-        if let Some(v) = e.max_var() {
-            if v as usize >= self.nvars {
-                return Err(LmiError::ForeignExpression {
-                    op: what.to_string(),
-                });
-            }
+        let foreign = e.owner().is_some_and(|o| o != self.id)
+            || e.max_var().is_some_and(|v| v as usize >= self.nvars);
+        if foreign {
+            return Err(LmiError::ForeignExpression {
+                op: what.to_string(),
+            });
         }
         Ok(())
     }

@@ -15,6 +15,7 @@
 //! with `K̃ = L X⁻¹`, i.e. `K̃ = −K`).
 
 mod gain_schedule;
+mod scaling;
 mod stability;
 mod state_feedback;
 
