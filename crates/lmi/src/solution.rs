@@ -297,6 +297,9 @@ fn min_eigenvalue(m: &Mat) -> f64 {
     if m.nrows() == 0 {
         return f64::INFINITY;
     }
+    if m.iter().any(|v| !v.is_finite()) {
+        return f64::NAN;
+    }
     m.clone()
         .symmetric_eigenvalues()
         .iter()

@@ -386,6 +386,8 @@ pub(crate) fn check(record: &SosRecord, x: &[f64]) -> (f64, f64, f64) {
     }
     let min_eig = if q.nrows() == 0 {
         0.0
+    } else if q.iter().any(|v| !v.is_finite()) {
+        f64::NAN
     } else {
         q.clone()
             .symmetric_eigenvalues()

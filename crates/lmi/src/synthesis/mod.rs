@@ -148,6 +148,9 @@ impl Region {
         let Ok((l, m)) = self.matrices() else {
             return false;
         };
+        if !(z.re.is_finite() && z.im.is_finite()) {
+            return false;
+        }
         // Hermitian H = L + z M + z̄ Mᵀ = Hr + i Hi; H ≺ 0 iff [[Hr, −Hi], [Hi, Hr]] ≺ 0.
         let hr = &l + &m * z.re + m.transpose() * z.re;
         let hi = &m * z.im - m.transpose() * z.im;

@@ -217,6 +217,8 @@ fn validate(vertices: &[Vertex], spec: &StateFeedbackSpec) -> Result<(usize, usi
     if let Some(lq) = &spec.lq {
         check_shape("Q", &lq.q, n, n)?;
         check_shape("R", &lq.r, m, m)?;
+        check_finite("Q", &lq.q)?;
+        check_finite("R", &lq.r)?;
         let rmin = crate::linalg::sym(&lq.r)
             .symmetric_eigenvalues()
             .iter()
