@@ -8,6 +8,8 @@ use anyhow::{Result, bail};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
+mod lmi;
+
 /// Arguments of `pendulab bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
@@ -92,7 +94,9 @@ pub fn time<F: FnMut()>(budget: &Budget, mut f: F) -> Timing {
 }
 
 fn workloads() -> Vec<Workload> {
-    Vec::new()
+    let mut all = Vec::new();
+    all.extend(lmi::workloads());
+    all
 }
 
 /// Runs `pendulab bench`.
