@@ -513,7 +513,7 @@ impl Axes {
             values: cells.iter().map(|&b| if b { 1.0 } else { 0.0 }).collect(),
             kind: CellKind::Boolean {
                 labels: [labels[0].to_string(), labels[1].to_string()],
-                colors: [Color::rgb(120, 180, 235), Color::rgb(250, 250, 250)],
+                colors: [Color::rgb(120, 180, 235), Color::rgb(252, 232, 226)],
             },
         }))
     }
@@ -731,7 +731,7 @@ impl Axes {
     // ----- limits -----------------------------------------------------------------------------
 
     /// Data limits before layout: (x, y), each tight or padded.
-    fn auto_limits(&self) -> ((f64, f64), (f64, f64), bool, bool) {
+    fn auto_limits(&self) -> ((f64, f64), (f64, f64), bool, bool, bool) {
         let (xlog, ylog) = (self.xscale == Scale::Log, self.yscale == Scale::Log);
         let mut bx: Option<(f64, f64)> = None;
         let mut by: Option<(f64, f64)> = None;
@@ -815,9 +815,14 @@ impl Axes {
         if has_region {
             x_tight = false;
         }
+        // Bars standing on zero keep zero as the frame's edge.
+        let bars_floor = self.series.iter().any(|s| matches!(&s.kind, Kind::Bars { h, .. } if h.iter().all(|v| !v.is_finite() || *v >= 0.0)));
+        if bars_floor && let Some((lo, _)) = by.as_mut() {
+            *lo = lo.max(0.0);
+        }
         let bx = bx.unwrap_or((0.0, 1.0));
         let by = by.unwrap_or((0.0, 1.0));
-        (bx, by, x_tight, y_tight)
+        (bx, by, x_tight, y_tight, bars_floor)
     }
 
     fn finish_limits(
@@ -859,7 +864,7 @@ impl Axes {
 
     fn limits(&self, rect: &Rect) -> ((f64, f64), (f64, f64)) {
         let (xlog, ylog) = (self.xscale == Scale::Log, self.yscale == Scale::Log);
-        let (bx, by, xt, yt) = self.auto_limits();
+        let (bx, by, xt, yt, floor) = self.auto_limits();
         let tx = x_target(rect.w());
         let ty = y_target(rect.h());
         let pad = if self.equal_aspect { 0.08 } else { 0.025 };
@@ -869,6 +874,9 @@ impl Axes {
         let mut y = self
             .ylim
             .unwrap_or_else(|| Self::finish_limits(by, yt, ylog, pad, ty));
+        if floor && self.ylim.is_none() && !ylog && by.0 >= 0.0 {
+            y.0 = y.0.max(0.0);
+        }
         if let (Some(st), None, Scale::Linear) = (self.y_step, self.ylim, self.yscale) {
             y = crate::ticks::snap_limits(by.0, by.1, st);
             if y.1 - y.0 < st {
@@ -1348,14 +1356,10 @@ fn draw_piece(
     st: &LineStyle,
     occupied: &mut Vec<(f64, f64)>,
 ) {
-    // Map, decimate to the pixel grid (at the raster's finest scale a quarter pixel suffices),
+    // Map, keep the envelope of each pixel column, drop points within 0.1 px of the line,
     // clip, draw.
     let px: Vec<(f64, f64)> = data.iter().map(|&(a, b)| map.p(a, b)).collect();
-    let scaled: Vec<(f64, f64)> = px.iter().map(|p| (p.0 * 4.0, p.1)).collect();
-    let dec: Vec<(f64, f64)> = decimate(&scaled)
-        .into_iter()
-        .map(|p| (p.0 / 4.0, p.1))
-        .collect();
+    let dec = crate::geometry::simplify(&decimate(&px), 0.1);
     // Clip against a slightly larger rectangle so line caps at the frame are not cut short.
     let r = map.rect;
     let clip = Rect {

@@ -599,8 +599,10 @@ impl Canvas for RasterCanvas {
         let ye: Vec<f32> = (0..=ny)
             .map(|j| ((y + h * j as f64 / ny as f64) * s).round() as f32)
             .collect();
-        let mut p = Paint::default();
-        p.anti_alias = false;
+        let mut p = Paint {
+            anti_alias: false,
+            ..Paint::default()
+        };
         for j in 0..ny {
             for i in 0..nx {
                 let c = colors[j * nx + i];

@@ -596,6 +596,9 @@ impl GainCurves {
     }
 }
 
+/// One panel of an [`IdentFit`]: axis label, measured values, named model outputs.
+type FitSignal = (String, Vec<f64>, Vec<(String, Vec<f64>)>);
+
 /// Identification fits: measured signals (grey) against model outputs (coloured), one panel per
 /// signal, with the fit percentage 100 (1 − ‖y − ŷ‖ / ‖y − mean y‖) of each model in its legend
 /// entry (MATLAB `compare`; computed over the samples where both are finite).
@@ -610,7 +613,7 @@ impl GainCurves {
 #[derive(Debug, Clone)]
 pub struct IdentFit {
     t: Vec<f64>,
-    signals: Vec<(String, Vec<f64>, Vec<(String, Vec<f64>)>)>,
+    signals: Vec<FitSignal>,
     measured_name: String,
     title: Option<String>,
     xlabel: String,
@@ -649,7 +652,7 @@ impl IdentFit {
         self.measured_name = name.into();
         self
     }
-    /// Horizontal axis label (default "time [s]").
+    /// Horizontal axis label (default "time \[s\]").
     pub fn xlabel(mut self, label: impl Into<String>) -> Self {
         self.xlabel = label.into();
         self

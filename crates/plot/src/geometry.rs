@@ -197,6 +197,52 @@ pub(crate) fn decimate(pts: &[(f64, f64)]) -> Vec<(f64, f64)> {
     out
 }
 
+/// Douglas–Peucker simplification (Douglas & Peucker 1973): drops points closer than `eps` to
+/// the chord of the points kept around them, so the result stays within `eps` of the input.
+pub(crate) fn simplify(pts: &[(f64, f64)], eps: f64) -> Vec<(f64, f64)> {
+    let n = pts.len();
+    if n < 3 {
+        return pts.to_vec();
+    }
+    let mut keep = vec![false; n];
+    keep[0] = true;
+    keep[n - 1] = true;
+    let mut stack = vec![(0usize, n - 1)];
+    let eps2 = eps * eps;
+    while let Some((a, b)) = stack.pop() {
+        if b <= a + 1 {
+            continue;
+        }
+        let (p, q) = (pts[a], pts[b]);
+        let (dx, dy) = (q.0 - p.0, q.1 - p.1);
+        let len2 = dx * dx + dy * dy;
+        let mut best = (0.0, a);
+        for (i, r) in pts.iter().enumerate().take(b).skip(a + 1) {
+            let d2 = if len2 > 0.0 {
+                let t = ((r.0 - p.0) * dx + (r.1 - p.1) * dy) / len2;
+                let t = t.clamp(0.0, 1.0);
+                let (ex, ey) = (p.0 + t * dx - r.0, p.1 + t * dy - r.1);
+                ex * ex + ey * ey
+            } else {
+                (r.0 - p.0).powi(2) + (r.1 - p.1).powi(2)
+            };
+            if d2 > best.0 {
+                best = (d2, i);
+            }
+        }
+        if best.0 > eps2 {
+            keep[best.1] = true;
+            stack.push((a, best.1));
+            stack.push((best.1, b));
+        }
+    }
+    pts.iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -234,6 +280,29 @@ mod tests {
             let mn = |v: &[f64]| v.iter().cloned().fold(f64::MAX, f64::min);
             assert_eq!(mx(&full), mx(&kept));
             assert_eq!(mn(&full), mn(&kept));
+        }
+    }
+
+    #[test]
+    fn simplification_stays_within_tolerance() {
+        let pts: Vec<(f64, f64)> = (0..5000)
+            .map(|k| (k as f64 * 0.1, 100.0 * (k as f64 * 0.002).sin()))
+            .collect();
+        let s = simplify(&pts, 0.1);
+        assert!(s.len() < 500, "{} points kept", s.len());
+        // Every input point lies within 0.1 of the kept polyline (checked against its segments).
+        for p in pts.iter().step_by(7) {
+            let d = s
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                    let t = (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / (dx * dx + dy * dy))
+                        .clamp(0.0, 1.0);
+                    ((a.0 + t * dx - p.0).powi(2) + (a.1 + t * dy - p.1).powi(2)).sqrt()
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(d <= 0.1 + 1e-9, "point {p:?} is {d} away");
         }
     }
 

@@ -9,6 +9,9 @@ use crate::geometry::Rect;
 use crate::style::LineStyle;
 use crate::ticks::linear_ticks;
 
+/// A projected face: depth, corners in pixels, colour.
+type Face = (f64, [(f64, f64); 4], Color);
+
 /// A surface over a rectangular grid: `z[j * nx + i]` is the height at `(x[i], y[j])`.
 ///
 /// The view follows MATLAB's `view(az, el)`: azimuth measured from the −y axis, positive
@@ -281,7 +284,7 @@ impl Surface {
         }
 
         // Faces, far to near (painter's algorithm).
-        let mut faces: Vec<(f64, [(f64, f64); 4], Color)> = Vec::with_capacity((nx - 1) * (ny - 1));
+        let mut faces: Vec<Face> = Vec::with_capacity((nx - 1) * (ny - 1));
         for j in 0..ny - 1 {
             for i in 0..nx - 1 {
                 let idx = [

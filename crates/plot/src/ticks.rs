@@ -160,7 +160,7 @@ pub(crate) fn log_ticks(lo: f64, hi: f64, max_labels: usize) -> Ticks {
     let every = decades.len().div_ceil(max_labels.max(2)).max(1);
     let mut major: Vec<(f64, String)> = decades
         .iter()
-        .filter(|k| (**k - decades[0]) as usize % every == 0)
+        .filter(|k| ((**k - decades[0]) as usize).is_multiple_of(every))
         .map(|&k| (10f64.powi(k), power_of_ten(k)))
         .collect();
     let mut minor = Vec::new();
@@ -207,7 +207,8 @@ mod tests {
 
     #[test]
     fn limits_cover_the_data_on_tick_multiples() {
-        let (a, b) = nice_limits(-0.0312, 0.2374, 5);
+        // Range 0.2686 over 10 intervals: raw step 0.02686, next nice step 0.05.
+        let (a, b) = nice_limits(-0.0312, 0.2374, 10);
         assert!(a <= -0.0312 && b >= 0.2374);
         assert!((a - -0.05).abs() < 1e-12 && (b - 0.25).abs() < 1e-12);
     }
