@@ -9,6 +9,7 @@ use serde::Serialize;
 use std::time::{Duration, Instant};
 
 mod lmi;
+mod plot;
 
 /// Arguments of `pendulab bench`.
 #[derive(Debug, clap::Args)]
@@ -96,6 +97,7 @@ pub fn time<F: FnMut()>(budget: &Budget, mut f: F) -> Timing {
 fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
+    all.extend(plot::workloads());
     all
 }
 
