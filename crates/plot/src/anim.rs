@@ -298,16 +298,20 @@ impl Animation {
         let o = &self.opts;
         let t0 = self.t[0];
         let dur = self.t[self.t.len() - 1] - t0;
-        let mut delay = (100.0 / o.fps).round().max(2.0) as u16;
-        loop {
-            let dt = delay as f64 / 100.0 * o.speed;
-            let n = (dur / dt + 1e-9).floor() as usize + 1;
-            if n <= o.max_frames || delay >= 1000 {
-                let times = (0..n).map(|k| t0 + k as f64 * dt).collect();
-                return (delay, times);
-            }
-            delay += 1;
-        }
+        // GIF delays are whole hundredths of a second; browsers treat delays below 2 as 10.
+        let base = (100.0 / o.fps).round().max(2.0);
+        let need = (dur / o.speed * 100.0 / (o.max_frames - 1) as f64).ceil();
+        let delay = base.max(need).min(u16::MAX as f64);
+        // Frame spacing in simulation time; the second bound only matters when the delay is
+        // clamped (runs of many hours), where playback then goes faster than `speed`.
+        let dt = (delay / 100.0 * o.speed).max(dur / (o.max_frames - 1) as f64);
+        let n = if dur > 0.0 {
+            (dur / dt + 1e-9).floor() as usize + 1
+        } else {
+            1
+        };
+        let n = n.min(o.max_frames);
+        (delay as u16, (0..n).map(|k| t0 + k as f64 * dt).collect())
     }
 
     /// Simulation times at which frames are drawn.

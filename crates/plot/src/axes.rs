@@ -1358,8 +1358,8 @@ fn draw_piece(
 ) {
     // Map, keep the envelope of each pixel column, drop points within 0.1 px of the line,
     // clip, draw.
+    // Values so far outside the limits that their pixel coordinate overflows are gaps too.
     let px: Vec<(f64, f64)> = data.iter().map(|&(a, b)| map.p(a, b)).collect();
-    let dec = crate::geometry::simplify(&decimate(&px), 0.1);
     // Clip against a slightly larger rectangle so line caps at the frame are not cut short.
     let r = map.rect;
     let clip = Rect {
@@ -1368,15 +1368,18 @@ fn draw_piece(
         x1: r.x1 + 0.5,
         y1: r.y1 + 0.5,
     };
-    if dec.len() == 1 {
-        if clip.contains(dec[0]) {
-            c.circle(dec[0], st.width * 0.6, Some(st.color), None);
+    for run in px.split(|p| !(p.0.is_finite() && p.1.is_finite())) {
+        let dec = crate::geometry::simplify(&decimate(run), 0.1);
+        if dec.len() == 1 {
+            if clip.contains(dec[0]) {
+                c.circle(dec[0], st.width * 0.6, Some(st.color), None);
+            }
+            continue;
         }
-        return;
-    }
-    for p in clip_polyline(&dec, &clip) {
-        c.polyline(&p, st);
-        sample_segments(&p, occupied);
+        for p in clip_polyline(&dec, &clip) {
+            c.polyline(&p, st);
+            sample_segments(&p, occupied);
+        }
     }
 }
 

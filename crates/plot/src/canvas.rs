@@ -178,7 +178,11 @@ fn svg_fill_attrs(fill: Option<Color>) -> String {
 
 fn points_attr(pts: &[(f64, f64)]) -> String {
     let mut s = String::with_capacity(pts.len() * 12);
-    for (i, (x, y)) in pts.iter().enumerate() {
+    for (i, (x, y)) in pts
+        .iter()
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .enumerate()
+    {
         if i > 0 {
             s.push(' ');
         }
@@ -237,6 +241,9 @@ impl Canvas for SvgCanvas {
         );
     }
     fn circle(&mut self, c: (f64, f64), r: f64, fill: Option<Color>, stroke: Option<&LineStyle>) {
+        if !(c.0.is_finite() && c.1.is_finite() && r.is_finite()) {
+            return;
+        }
         let _ = writeln!(
             self.out,
             r#"<circle cx="{}" cy="{}" r="{}"{}{}/>"#,
@@ -248,7 +255,7 @@ impl Canvas for SvgCanvas {
         );
     }
     fn text(&mut self, text: &str, at: (f64, f64), style: &TextStyle) {
-        if text.is_empty() {
+        if text.is_empty() || !(at.0.is_finite() && at.1.is_finite()) {
             return;
         }
         let (_, dy) = style.baseline_offset(0.0);

@@ -90,7 +90,7 @@ pub(crate) fn linear_ticks(lo: f64, hi: f64, target: usize) -> Ticks {
     let first = (lo / step - 1e-9).ceil() as i64;
     let last = (hi / step + 1e-9).floor() as i64;
     let mut values = Vec::new();
-    for k in first..=last.min(first + 200) {
+    for k in first..=last.min(first.saturating_add(200)) {
         values.push(k as f64 * step);
     }
     let max_abs = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -114,7 +114,7 @@ pub(crate) fn linear_ticks(lo: f64, hi: f64, target: usize) -> Ticks {
     let mut minor = Vec::new();
     let mf = (lo / minor_step).ceil() as i64;
     let ml = (hi / minor_step).floor() as i64;
-    if ml - mf < 400 {
+    if ml.saturating_sub(mf) < 400 {
         for k in mf..=ml {
             minor.push(k as f64 * minor_step);
         }

@@ -538,6 +538,29 @@ fn bad_data_gives_typed_errors() {
 }
 
 #[test]
+fn values_far_outside_fixed_limits_do_not_break_the_output() {
+    // 1e307 maps to a pixel coordinate that overflows f64: it becomes a gap, the SVG stays
+    // numeric and well formed.
+    let mut ax = Axes::new();
+    ax.ylim(0.0, 1.0);
+    ax.plot(&[0.0, 1.0, 2.0, 3.0], &[0.5, 1e307, -1e307, 0.5])
+        .label("wild");
+    ax.fill(&[0.0, 1.0, 2.0], &[0.0, 1e307, 0.0]);
+    let fig = Figure::new(ax);
+    let svg = fig.to_svg().unwrap();
+    assert_well_formed(&svg);
+    assert!(!svg.contains("NaN") && !svg.contains("inf"));
+    assert!(fig.to_png().is_ok());
+}
+
+#[test]
+fn figures_are_send_and_sync() {
+    fn check<T: Send + Sync>() {}
+    check::<Figure>();
+    check::<Animation>();
+}
+
+#[test]
 fn figures_render_from_many_threads() {
     let handles: Vec<_> = (0..4)
         .map(|k| {
