@@ -478,10 +478,6 @@ impl PoleZeroMap {
         let mut ax = self.axes.clone();
         ax.hline(0.0).color(Color::GREY).width(0.8);
         ax.vline(0.0).color(Color::GREY).width(0.8);
-        // Draw the axis lines first so markers stay on top of them.
-        let n = ax.series.len();
-        ax.series.rotate_right(2);
-        debug_assert!(n >= 2);
         let mut fig = Figure::new(ax).size(crate::figure::DEFAULT_WIDTH, 480.0);
         if let Some(t) = &self.title {
             fig = fig.title(t.clone());

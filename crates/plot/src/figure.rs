@@ -290,6 +290,12 @@ impl Figure {
         self.check()?;
         let (w, h) = self.dimensions();
         let mut c = SvgCanvas::new(w, h)?;
+        if let Some(t) = &self.title {
+            c.out.push_str(&format!(
+                "<title>{}</title>\n",
+                crate::canvas::xml_escape(t)
+            ));
+        }
         self.draw(&mut c)?;
         Ok(c.finish())
     }
