@@ -138,7 +138,7 @@ pub fn feedback<D: TimeDomain>(
     let m = sys1.nu();
     let loop_m = Mat::identity(m, m) - sys2.d() * sys1.d() * s;
     let rcond = 1.0 / crate::analysis::cond2(&loop_m);
-    if m > 0 && !(rcond > m as f64 * f64::EPSILON) {
+    if m > 0 && (rcond.is_nan() || rcond <= m as f64 * f64::EPSILON) {
         return Err(LtiError::Singular {
             what: "feedback algebraic loop I ∓ D2 D1".into(),
             rcond,
