@@ -10,6 +10,8 @@ use anyhow::{Result, bail};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
+mod lmi;
+
 /// Arguments of `pendulab bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
@@ -94,11 +96,14 @@ pub fn time<F: FnMut()>(budget: &Budget, mut f: F) -> Timing {
 }
 
 fn workloads() -> Vec<Workload> {
-    vec![Workload {
+    let mut all = Vec::new();
+    all.extend(lmi::workloads());
+    all.push(Workload {
         name: "lsim-1e6",
         description: "10^6 samples of a 5-state closed loop at 1 ms, FOH (samples/s)",
         run: lsim::run,
-    }]
+    });
+    all
 }
 
 /// Runs `pendulab bench`.

@@ -1,0 +1,142 @@
+//! LMI / SOS workloads: the book's LMI LQ servo (`lmi-servo`) and the gain-scheduled servo
+//! SOS program (`sos-gain-schedule`), each timed build + solve.
+
+use super::{BenchReport, Budget, Workload, time};
+use anyhow::{Result, bail};
+use pendulab_lmi::SolveOptions;
+use pendulab_lmi::synthesis::{
+    GainScheduleSpec, LpvPlant, LqWeights, gain_scheduled_lq, lq_state_feedback,
+};
+use pendulab_lti::{Mat, Vector};
+use serde_json::json;
+
+/// The workloads of this file.
+pub fn workloads() -> Vec<Workload> {
+    vec![
+        Workload {
+            name: "lmi-servo",
+            description: "p2c122_ex4 LMI LQ servo (arm pendulum, 5 states): build + solve",
+            run: lmi_servo,
+        },
+        Workload {
+            name: "sos-gain-schedule",
+            description: "p2c15_ex7 gain-scheduled servo SOS program: build + γ minimisation + re-solve",
+            run: sos_gain_schedule,
+        },
+    ]
+}
+
+/// Arm-type pendulum at θ1e = 0 (SPEC.md §1.2, table 3.7), augmented with ∫(r − θ1);
+/// returns (Ã0, Ã1, B̃0, B̃1) of the LPV form ρ = 1 − cos θ1.
+fn arm_servo() -> (Mat, Mat, Mat, Mat) {
+    let (a1, b1, l1, m2, l2, j2, mu2, g) =
+        (6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81);
+    let (al2, al3, al5) = (j2 + m2 * l2 * l2, m2 * l1 * l2, m2 * l2 * g);
+    let mut a0 = Mat::zeros(5, 5);
+    a0[(0, 2)] = 1.0;
+    a0[(1, 3)] = 1.0;
+    a0[(2, 2)] = -a1;
+    a0[(3, 1)] = al5 / al2;
+    a0[(3, 2)] = (mu2 + a1 * al3) / al2;
+    a0[(3, 3)] = -mu2 / al2;
+    a0[(4, 0)] = -1.0;
+    let mut b0 = Mat::zeros(5, 1);
+    b0[(2, 0)] = b1;
+    b0[(3, 0)] = -b1 * al3 / al2;
+    let mut a_1 = Mat::zeros(5, 5);
+    a_1[(3, 2)] = -a1 * al3 / al2;
+    let mut b_1 = Mat::zeros(5, 1);
+    b_1[(3, 0)] = b1 * al3 / al2;
+    (a0, a_1, b0, b_1)
+}
+
+fn weights() -> (Mat, Mat) {
+    (
+        Mat::from_diagonal(&Vector::from_vec(vec![0.1, 1.0, 0.001, 0.001, 4.0])),
+        Mat::from_element(1, 1, 1.0),
+    )
+}
+
+fn lmi_servo(budget: &Budget) -> Result<BenchReport> {
+    let (a, _, b, _) = arm_servo();
+    let (q, r) = weights();
+    let opts = SolveOptions::default();
+    let design = lq_state_feedback(&a, &b, &q, &r, &opts)?;
+    let Some(fb) = design.feedback.clone() else {
+        bail!("the LMI LQ design did not solve: {:?}", design.status);
+    };
+    let timing = time(budget, || {
+        let d = lq_state_feedback(&a, &b, &q, &r, &opts).expect("valid data");
+        std::hint::black_box(d);
+    });
+    Ok(BenchReport {
+        workload: "lmi-servo".into(),
+        figure: timing.median_s * 1e3,
+        unit: "ms/design".into(),
+        check: json!({
+            "status": format!("{:?}", design.status),
+            "all_checks_pass": design.solution.all_checks_pass(),
+            "gain_u_eq_minus_Kx": fb.gain.iter().copied().collect::<Vec<f64>>(),
+            "trace_X": fb.x.trace(),
+            "iterations": design.solution.iterations,
+            "clarabel_solve_ms": design.solution.solver_seconds * 1e3,
+            "setup_ms": design.solution.setup_seconds * 1e3,
+            "closed_loop_max_real_pole": fb.closed_loop_poles[0].iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max),
+            "timing": timing,
+        }),
+    })
+}
+
+fn sos_gain_schedule(budget: &Budget) -> Result<BenchReport> {
+    let (a0, a1, b0, b1) = arm_servo();
+    let (q, r) = weights();
+    let rho_bar = 1.0 - 65f64.to_radians().cos();
+    let spec = GainScheduleSpec {
+        rho_range: (0.0, rho_bar),
+        rho0_range: (0.0, rho_bar),
+        rho_dot_bound: 0.75,
+        lq: LqWeights { q, r },
+        margin: 1e-6,
+        gamma_relax: 0.06,
+        balance: true,
+    };
+    let plant = LpvPlant { a0, a1, b0, b1 };
+    let opts = SolveOptions::default();
+    let gs = gain_scheduled_lq(&plant, &spec, &opts)?;
+    let Some(schedule) = gs.schedule.clone() else {
+        bail!("the gain-scheduling design did not solve: {:?}", gs.status);
+    };
+    let opt = &gs.optimization;
+    let refined = gs.refined.as_ref();
+    let solver_s = opt.solver_seconds + refined.map_or(0.0, |s| s.solver_seconds);
+    let timing = time(budget, || {
+        let d = gain_scheduled_lq(&plant, &spec, &opts).expect("valid data");
+        std::hint::black_box(d);
+    });
+    Ok(BenchReport {
+        workload: "sos-gain-schedule".into(),
+        figure: timing.median_s * 1e3,
+        unit: "ms/design".into(),
+        check: json!({
+            "gamma_star": gs.gamma_star,
+            "gamma_star_reference_256bit": 222.0,
+            "gamma_of_design": schedule.gamma,
+            "status": format!("{:?}", gs.status),
+            "all_checks_pass": refined.is_some_and(|s| s.all_checks_pass()),
+            "sos_relative_residual_max": refined.map(|s| s.sos_checks.iter().map(|c| c.relative_residual).fold(0.0, f64::max)),
+            "K_at_rho_max": schedule.gain(rho_bar)?.iter().copied().collect::<Vec<f64>>(),
+            "K_at_0": schedule.gain(0.0)?.iter().copied().collect::<Vec<f64>>(),
+            "iterations": [opt.iterations, refined.map_or(0, |s| s.iterations)],
+            "clarabel_solve_ms_total": solver_s * 1e3,
+            "setup_ms_total": (opt.setup_seconds + refined.map_or(0.0, |s| s.setup_seconds)) * 1e3,
+            "total_over_solver_time": timing.median_s / solver_s,
+            "dims": {
+                "variables": opt.dims.variables,
+                "equalities": opt.dims.equalities,
+                "psd_sizes": opt.dims.psd_sizes,
+                "nonzeros": opt.dims.nonzeros,
+            },
+            "timing": timing,
+        }),
+    })
+}

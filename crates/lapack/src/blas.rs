@@ -1,0 +1,379 @@
+//! Safe kernels of the five BLAS routines (level 2: `gemv`, `symv`; level 3: `gemm`, `syrk`,
+//! `syr2k`).
+//!
+//! Every function here takes column-major matrices as slices with a leading dimension, exactly
+//! like the Fortran routines, but with arguments already validated by the symbol layer
+//! ([`crate::ffi`]): flags decoded, dimensions non-negative, leading dimensions large enough,
+//! slices long enough. They follow the reference BLAS semantics (netlib BLAS 3.x):
+//!
+//! - `beta = 0` means the output is *not read* (NaN or garbage in it is overwritten);
+//! - `alpha = 0` means the inputs are *not read*;
+//! - `syrk`/`syr2k`/`symv` read and write only the triangle named by `uplo`.
+//!
+//! All five are the textbook loop orderings of the reference BLAS (column-oriented `axpy`
+//! updates for untransposed operands, dot products down columns for transposed ones), which
+//! keep the innermost loop on contiguous memory. (nalgebra's own `gemm` is not used: for
+//! small sizes it walks strided views by their underlying slice length, which is wrong for
+//! the transposed operands BLAS callers pass.)
+
+use crate::Real;
+
+/// Whether an operand is used as stored or transposed (`'N'` or `'T'`/`'C'` in BLAS).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Trans {
+    /// `op(A) = A`.
+    No,
+    /// `op(A) = Aᵀ` (`'T'`, and `'C'` which is the same for real data).
+    Yes,
+}
+
+/// Which triangle of a symmetric matrix is referenced (`'U'` or `'L'`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Uplo {
+    /// Upper triangle (including the diagonal).
+    Upper,
+    /// Lower triangle (including the diagonal).
+    Lower,
+}
+
+/// A strided vector as BLAS sees it: `n` elements `x[k0 + i·inc]`, where a negative increment
+/// starts from the end (`k0 = (n − 1)·|inc|`), as in the reference BLAS.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Stride {
+    start: usize,
+    inc: isize,
+}
+
+impl Stride {
+    /// Describes `n` elements with increment `inc ≠ 0`.
+    pub(crate) fn new(n: usize, inc: isize) -> Self {
+        let start = if inc < 0 {
+            (n.saturating_sub(1)) * inc.unsigned_abs()
+        } else {
+            0
+        };
+        Self { start, inc }
+    }
+
+    /// Position of element `i` in the underlying slice.
+    #[inline]
+    pub(crate) fn at(&self, i: usize) -> usize {
+        (self.start as isize + i as isize * self.inc) as usize
+    }
+}
+
+/// Length a slice must have to hold `n` elements at increment `inc`.
+pub(crate) fn strided_len(n: usize, inc: isize) -> usize {
+    if n == 0 {
+        0
+    } else {
+        1 + (n - 1) * inc.unsigned_abs()
+    }
+}
+
+/// Length a column-major array must have to hold `rows × cols` with leading dimension `ld`.
+pub(crate) fn matrix_len(rows: usize, cols: usize, ld: usize) -> usize {
+    if rows == 0 || cols == 0 {
+        0
+    } else {
+        (cols - 1) * ld + rows
+    }
+}
+
+/// `y ← β y` over a strided vector, without reading `y` when `β = 0`.
+fn scale_vector<T: Real>(beta: T, y: &mut [T], ys: Stride, n: usize) {
+    if beta == T::one() {
+        return;
+    }
+    for i in 0..n {
+        let k = ys.at(i);
+        y[k] = if beta == T::zero() {
+            T::zero()
+        } else {
+            beta * y[k]
+        };
+    }
+}
+
+/// `C ← α op(A) op(B) + β C`, `C` is `m × n`, `op(A)` is `m × k`, `op(B)` is `k × n` (xGEMM).
+pub(crate) fn gemm<T: Real>(
+    ta: Trans,
+    tb: Trans,
+    (m, n, k): (usize, usize, usize),
+    alpha: T,
+    (a, lda): (&[T], usize),
+    (b, ldb): (&[T], usize),
+    beta: T,
+    (c, ldc): (&mut [T], usize),
+) {
+    if m == 0 || n == 0 || ((alpha == T::zero() || k == 0) && beta == T::one()) {
+        return;
+    }
+    if alpha == T::zero() || k == 0 {
+        for j in 0..n {
+            for i in 0..m {
+                let v = &mut c[i + j * ldc];
+                *v = if beta == T::zero() {
+                    T::zero()
+                } else {
+                    beta * *v
+                };
+            }
+        }
+        return;
+    }
+    for j in 0..n {
+        let cj = &mut c[j * ldc..j * ldc + m];
+        if beta == T::zero() {
+            cj.fill(T::zero());
+        } else if beta != T::one() {
+            cj.iter_mut().for_each(|v| *v = beta * *v);
+        }
+        match (ta, tb) {
+            (Trans::No, _) => {
+                // C(:, j) += Σ_l α op(B)(l, j) A(:, l): contiguous column updates.
+                for l in 0..k {
+                    let blj = match tb {
+                        Trans::No => b[l + j * ldb],
+                        Trans::Yes => b[j + l * ldb],
+                    };
+                    let t = alpha * blj;
+                    if t != T::zero() {
+                        let al = &a[l * lda..l * lda + m];
+                        cj.iter_mut()
+                            .zip(al)
+                            .for_each(|(cij, ail)| *cij += t * *ail);
+                    }
+                }
+            }
+            (Trans::Yes, _) => {
+                // C(i, j) += α A(:, i)ᵀ op(B)(:, j): dot products down the columns of A.
+                for (i, cij) in cj.iter_mut().enumerate() {
+                    let ai = &a[i * lda..i * lda + k];
+                    let s = match tb {
+                        Trans::No => {
+                            let bj = &b[j * ldb..j * ldb + k];
+                            ai.iter().zip(bj).fold(T::zero(), |s, (p, q)| s + *p * *q)
+                        }
+                        Trans::Yes => ai
+                            .iter()
+                            .enumerate()
+                            .fold(T::zero(), |s, (l, p)| s + *p * b[j + l * ldb]),
+                    };
+                    *cij += alpha * s;
+                }
+            }
+        }
+    }
+}
+
+/// `y ← α op(A) x + β y`, `A` is `m × n` (xGEMV).
+pub(crate) fn gemv<T: Real>(
+    trans: Trans,
+    (m, n): (usize, usize),
+    alpha: T,
+    (a, lda): (&[T], usize),
+    (x, incx): (&[T], isize),
+    beta: T,
+    (y, incy): (&mut [T], isize),
+) {
+    if m == 0 || n == 0 || (alpha == T::zero() && beta == T::one()) {
+        return;
+    }
+    let (lenx, leny) = match trans {
+        Trans::No => (n, m),
+        Trans::Yes => (m, n),
+    };
+    let xs = Stride::new(lenx, incx);
+    let ys = Stride::new(leny, incy);
+    scale_vector(beta, y, ys, leny);
+    if alpha == T::zero() {
+        return;
+    }
+    match trans {
+        Trans::No => {
+            // y += α Σ_j A(:, j) x_j, one column at a time.
+            for j in 0..n {
+                let t = alpha * x[xs.at(j)];
+                if t != T::zero() {
+                    let col = &a[j * lda..j * lda + m];
+                    for (i, aij) in col.iter().enumerate() {
+                        y[ys.at(i)] += t * *aij;
+                    }
+                }
+            }
+        }
+        Trans::Yes => {
+            // y_j += α A(:, j)ᵀ x.
+            for j in 0..n {
+                let col = &a[j * lda..j * lda + m];
+                let mut s = T::zero();
+                for (i, aij) in col.iter().enumerate() {
+                    s += *aij * x[xs.at(i)];
+                }
+                y[ys.at(j)] += alpha * s;
+            }
+        }
+    }
+}
+
+/// `y ← α A x + β y`, `A` symmetric `n × n` given by its `uplo` triangle (xSYMV).
+pub(crate) fn symv<T: Real>(
+    uplo: Uplo,
+    n: usize,
+    alpha: T,
+    (a, lda): (&[T], usize),
+    (x, incx): (&[T], isize),
+    beta: T,
+    (y, incy): (&mut [T], isize),
+) {
+    if n == 0 || (alpha == T::zero() && beta == T::one()) {
+        return;
+    }
+    let xs = Stride::new(n, incx);
+    let ys = Stride::new(n, incy);
+    scale_vector(beta, y, ys, n);
+    if alpha == T::zero() {
+        return;
+    }
+    // Each stored off-diagonal a_ij contributes to y_i (with x_j) and to y_j (with x_i).
+    for j in 0..n {
+        let t1 = alpha * x[xs.at(j)];
+        let mut t2 = T::zero();
+        let rows = match uplo {
+            Uplo::Upper => 0..j,
+            Uplo::Lower => j + 1..n,
+        };
+        for i in rows {
+            let aij = a[i + j * lda];
+            y[ys.at(i)] += t1 * aij;
+            t2 += aij * x[xs.at(i)];
+        }
+        y[ys.at(j)] += t1 * a[j + j * lda] + alpha * t2;
+    }
+}
+
+/// Rows `i` of column `j` that belong to the `uplo` triangle.
+fn triangle_rows(uplo: Uplo, j: usize, n: usize) -> std::ops::Range<usize> {
+    match uplo {
+        Uplo::Upper => 0..j + 1,
+        Uplo::Lower => j..n,
+    }
+}
+
+/// `C ← β C` on the `uplo` triangle, without reading `C` when `β = 0`.
+fn scale_triangle<T: Real>(uplo: Uplo, n: usize, beta: T, c: &mut [T], ldc: usize) {
+    if beta == T::one() {
+        return;
+    }
+    for j in 0..n {
+        for i in triangle_rows(uplo, j, n) {
+            let v = &mut c[i + j * ldc];
+            *v = if beta == T::zero() {
+                T::zero()
+            } else {
+                beta * *v
+            };
+        }
+    }
+}
+
+/// `C ← α A Aᵀ + β C` (`trans = No`, `A` is `n × k`) or `C ← α Aᵀ A + β C` (`trans = Yes`,
+/// `A` is `k × n`), updating only the `uplo` triangle of `C` (xSYRK).
+pub(crate) fn syrk<T: Real>(
+    uplo: Uplo,
+    trans: Trans,
+    (n, k): (usize, usize),
+    alpha: T,
+    (a, lda): (&[T], usize),
+    beta: T,
+    (c, ldc): (&mut [T], usize),
+) {
+    if n == 0 || ((alpha == T::zero() || k == 0) && beta == T::one()) {
+        return;
+    }
+    scale_triangle(uplo, n, beta, c, ldc);
+    if alpha == T::zero() || k == 0 {
+        return;
+    }
+    match trans {
+        Trans::No => {
+            // C(:, j) += α Σ_l A(:, l) A(j, l).
+            for j in 0..n {
+                for l in 0..k {
+                    let t = alpha * a[j + l * lda];
+                    if t != T::zero() {
+                        for i in triangle_rows(uplo, j, n) {
+                            c[i + j * ldc] += t * a[i + l * lda];
+                        }
+                    }
+                }
+            }
+        }
+        Trans::Yes => {
+            // C(i, j) += α A(:, i)ᵀ A(:, j).
+            for j in 0..n {
+                let aj = &a[j * lda..j * lda + k];
+                for i in triangle_rows(uplo, j, n) {
+                    let ai = &a[i * lda..i * lda + k];
+                    let s = ai.iter().zip(aj).fold(T::zero(), |s, (p, q)| s + *p * *q);
+                    c[i + j * ldc] += alpha * s;
+                }
+            }
+        }
+    }
+}
+
+/// `C ← α (A Bᵀ + B Aᵀ) + β C` (`trans = No`, `A`, `B` are `n × k`) or
+/// `C ← α (Aᵀ B + Bᵀ A) + β C` (`trans = Yes`, `A`, `B` are `k × n`), updating only the
+/// `uplo` triangle of `C` (xSYR2K).
+pub(crate) fn syr2k<T: Real>(
+    uplo: Uplo,
+    trans: Trans,
+    (n, k): (usize, usize),
+    alpha: T,
+    (a, lda): (&[T], usize),
+    (b, ldb): (&[T], usize),
+    beta: T,
+    (c, ldc): (&mut [T], usize),
+) {
+    if n == 0 || ((alpha == T::zero() || k == 0) && beta == T::one()) {
+        return;
+    }
+    scale_triangle(uplo, n, beta, c, ldc);
+    if alpha == T::zero() || k == 0 {
+        return;
+    }
+    match trans {
+        Trans::No => {
+            // C(:, j) += α Σ_l (A(:, l) B(j, l) + B(:, l) A(j, l)).
+            for j in 0..n {
+                for l in 0..k {
+                    let tb = alpha * b[j + l * ldb];
+                    let ta = alpha * a[j + l * lda];
+                    if tb != T::zero() || ta != T::zero() {
+                        for i in triangle_rows(uplo, j, n) {
+                            c[i + j * ldc] += a[i + l * lda] * tb + b[i + l * ldb] * ta;
+                        }
+                    }
+                }
+            }
+        }
+        Trans::Yes => {
+            // C(i, j) += α (A(:, i)ᵀ B(:, j) + B(:, i)ᵀ A(:, j)).
+            for j in 0..n {
+                let aj = &a[j * lda..j * lda + k];
+                let bj = &b[j * ldb..j * ldb + k];
+                for i in triangle_rows(uplo, j, n) {
+                    let ai = &a[i * lda..i * lda + k];
+                    let bi = &b[i * ldb..i * ldb + k];
+                    let mut s = T::zero();
+                    for l in 0..k {
+                        s += ai[l] * bj[l] + bi[l] * aj[l];
+                    }
+                    c[i + j * ldc] += alpha * s;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,345 @@
+//! Safe kernels of the LAPACK drivers: Cholesky (`potrf`, `potrs`), symmetric eigenproblem
+//! (`syevr`), singular value decomposition (`gesdd`, `gesvd`) and LU solve (`gesv`).
+//!
+//! Arguments arrive validated by the symbol layer ([`crate::ffi`]). The results follow the
+//! LAPACK 3.x contracts: Cholesky and LU report the failing pivot through `info`, eigenvalues
+//! come back in ascending order, singular values in descending order, and the triangle of a
+//! symmetric input that the caller did not name is never written.
+//!
+//! Algorithms: Cholesky is the left-looking column algorithm (Golub & Van Loan, *Matrix
+//! Computations*, 4th ed., Alg. 4.2.2); LU is Gaussian elimination with partial pivoting
+//! (Alg. 3.4.1, the unblocked LAPACK `xGETF2` organisation, row interchanges recorded as in
+//! `IPIV`); the symmetric eigenproblem uses nalgebra's Householder tridiagonalisation with
+//! implicit symmetric QR steps and Wilkinson shifts (Alg. 8.3.3); the SVD uses nalgebra's
+//! Golub–Kahan bidiagonalisation with implicit-shift QR sweeps (Alg. 8.6.2).
+
+use crate::Real;
+use crate::blas::Uplo;
+use nalgebra::{DMatrix, linalg::SymmetricEigen};
+
+/// Iteration budget handed to nalgebra's iterative decompositions: QR sweeps need O(n) steps
+/// in practice; the cap only guards against an endless loop on pathological input.
+fn iteration_cap(n: usize) -> usize {
+    1000 + 100 * n
+}
+
+/// `d > 0`, false for NaN (a NaN pivot is reported as a failure, like a non-positive one).
+fn is_positive<T: Real>(d: T) -> bool {
+    d.partial_cmp(&T::zero()) == Some(std::cmp::Ordering::Greater)
+}
+
+/// Cholesky factorisation of the `uplo` triangle of the `n × n` matrix in `a` (xPOTRF):
+/// `A = L Lᵀ` (lower) or `A = Uᵀ U` (upper), the factor overwriting that triangle.
+///
+/// Returns `info`: 0 on success, `j ≥ 1` if the leading minor of order `j` is not positive
+/// definite (the factorisation stops there, as in LAPACK). The other triangle is not touched.
+pub(crate) fn potrf<T: Real>(uplo: Uplo, n: usize, a: &mut [T], lda: usize) -> i32 {
+    let mut col = vec![T::zero(); n];
+    for j in 0..n {
+        match uplo {
+            Uplo::Lower => {
+                // v = A(j.., j) − L(j.., 0..j) L(j, 0..j)ᵀ, accumulated column by column.
+                let v = &mut col[j..n];
+                for (t, i) in v.iter_mut().zip(j..n) {
+                    *t = a[i + j * lda];
+                }
+                for p in 0..j {
+                    let ljp = a[j + p * lda];
+                    if ljp != T::zero() {
+                        for (t, i) in v.iter_mut().zip(j..n) {
+                            *t -= a[i + p * lda] * ljp;
+                        }
+                    }
+                }
+                let d = v[0];
+                if !is_positive(d) {
+                    a[j + j * lda] = d;
+                    return (j + 1) as i32;
+                }
+                let ljj = d.sqrt();
+                a[j + j * lda] = ljj;
+                for (t, i) in v.iter().zip(j..n).skip(1) {
+                    a[i + j * lda] = *t / ljj;
+                }
+            }
+            Uplo::Upper => {
+                // U(j, i) = (A(j, i) − U(0..j, j)ᵀ U(0..j, i)) / U(j, j) for i ≥ j.
+                col[..j].copy_from_slice(&a[j * lda..j * lda + j]);
+                let uj = &col[..j];
+                let dot = |a: &[T], i: usize| -> T {
+                    let ui = &a[i * lda..i * lda + j];
+                    ui.iter().zip(uj).fold(T::zero(), |s, (p, q)| s + *p * *q)
+                };
+                let d = a[j + j * lda] - dot(a, j);
+                if !is_positive(d) {
+                    a[j + j * lda] = d;
+                    return (j + 1) as i32;
+                }
+                let ujj = d.sqrt();
+                a[j + j * lda] = ujj;
+                for i in j + 1..n {
+                    let s = a[j + i * lda] - dot(a, i);
+                    a[j + i * lda] = s / ujj;
+                }
+            }
+        }
+    }
+    0
+}
+
+/// Solves `A X = B` with the Cholesky factor from [`potrf`] (xPOTRS); `B` (`n × nrhs`) is
+/// overwritten by `X`. Only the `uplo` triangle of `a` is read.
+pub(crate) fn potrs<T: Real>(
+    uplo: Uplo,
+    (n, nrhs): (usize, usize),
+    (a, lda): (&[T], usize),
+    (b, ldb): (&mut [T], usize),
+) {
+    for r in 0..nrhs {
+        let x = &mut b[r * ldb..r * ldb + n];
+        match uplo {
+            Uplo::Lower => {
+                // L y = b (forward, column-oriented), then Lᵀ x = y (backward, dot products).
+                for j in 0..n {
+                    x[j] /= a[j + j * lda];
+                    let xj = x[j];
+                    for i in j + 1..n {
+                        x[i] -= a[i + j * lda] * xj;
+                    }
+                }
+                for j in (0..n).rev() {
+                    let mut s = x[j];
+                    for i in j + 1..n {
+                        s -= a[i + j * lda] * x[i];
+                    }
+                    x[j] = s / a[j + j * lda];
+                }
+            }
+            Uplo::Upper => {
+                // Uᵀ y = b (forward, dot products with columns of U), then U x = y (backward).
+                for j in 0..n {
+                    let mut s = x[j];
+                    for i in 0..j {
+                        s -= a[i + j * lda] * x[i];
+                    }
+                    x[j] = s / a[j + j * lda];
+                }
+                for j in (0..n).rev() {
+                    x[j] /= a[j + j * lda];
+                    let xj = x[j];
+                    for i in 0..j {
+                        x[i] -= a[i + j * lda] * xj;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Copies the `uplo` triangle of a column-major `n × n` array into a full symmetric matrix.
+fn symmetric_from_triangle<T: Real>(uplo: Uplo, n: usize, a: &[T], lda: usize) -> DMatrix<T> {
+    let mut m = DMatrix::zeros(n, n);
+    for j in 0..n {
+        let rows = match uplo {
+            Uplo::Upper => 0..j + 1,
+            Uplo::Lower => j..n,
+        };
+        for i in rows {
+            let v = a[i + j * lda];
+            m[(i, j)] = v;
+            m[(j, i)] = v;
+        }
+    }
+    m
+}
+
+/// Which eigenvalues `syevr` returns (LAPACK's `RANGE`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum EigRange<T> {
+    /// `'A'`: all of them.
+    All,
+    /// `'V'`: those in the half-open interval `(vl, vu]`.
+    Values(T, T),
+    /// `'I'`: the `il`-th through `iu`-th smallest (1-based, inclusive).
+    Indices(usize, usize),
+}
+
+/// Output of [`syevr`]: the selected eigenvalues (ascending) and, when requested, their
+/// orthonormal eigenvectors as the columns of `vectors` (`n × m`).
+pub(crate) struct SymEig<T: Real> {
+    pub(crate) values: Vec<T>,
+    pub(crate) vectors: Option<DMatrix<T>>,
+}
+
+/// Eigenvalues (ascending) and optionally eigenvectors of the symmetric matrix given by its
+/// `uplo` triangle (xSYEVR). `None` if the input is not finite or the QR iteration did not
+/// converge (LAPACK's `INFO > 0`).
+pub(crate) fn syevr<T: Real>(
+    want_vectors: bool,
+    range: EigRange<T>,
+    uplo: Uplo,
+    n: usize,
+    (a, lda): (&[T], usize),
+) -> Option<SymEig<T>> {
+    let m = symmetric_from_triangle(uplo, n, a, lda);
+    if m.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    // Eigenvalues only: nalgebra's value-only path skips accumulating the rotations (the
+    // input is finite, on which the implicit symmetric QR iteration always converges).
+    let (vals, vecs) = if want_vectors {
+        let eig = SymmetricEigen::try_new(m, T::default_epsilon(), iteration_cap(n))?;
+        (eig.eigenvalues, Some(eig.eigenvectors))
+    } else {
+        (m.symmetric_eigenvalues(), None)
+    };
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| {
+        vals[i]
+            .partial_cmp(&vals[j])
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let selected: Vec<usize> = match range {
+        EigRange::All => order,
+        EigRange::Values(vl, vu) => order
+            .into_iter()
+            .filter(|&i| vals[i] > vl && vals[i] <= vu)
+            .collect(),
+        EigRange::Indices(il, iu) => order[il - 1..iu].to_vec(),
+    };
+    let values = selected.iter().map(|&i| vals[i]).collect();
+    let vectors = vecs.map(|v| DMatrix::from_fn(n, selected.len(), |r, c| v[(r, selected[c])]));
+    Some(SymEig { values, vectors })
+}
+
+/// Thin singular value decomposition `A = U diag(s) Vᵀ` of an `m × n` matrix (`m, n ≥ 1`):
+/// `s` descending (length `min(m, n)`), `U` is `m × min(m, n)`, `Vᵀ` is `min(m, n) × n`.
+/// `None` if the input is not finite or the iteration did not converge.
+pub(crate) struct Svd<T: Real> {
+    pub(crate) s: Vec<T>,
+    pub(crate) u: Option<DMatrix<T>>,
+    pub(crate) vt: Option<DMatrix<T>>,
+}
+
+/// See [`Svd`]. `full_u`/`full_vt` extend `U` to `m × m` / `Vᵀ` to `n × n` with an
+/// orthonormal basis of the complement (LAPACK's `'A'` jobs).
+pub(crate) fn svd<T: Real>(
+    (m, n): (usize, usize),
+    (a, lda): (&[T], usize),
+    (want_u, full_u): (bool, bool),
+    (want_vt, full_vt): (bool, bool),
+) -> Option<Svd<T>> {
+    let mat = DMatrix::from_fn(m, n, |i, j| a[i + j * lda]);
+    if mat.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let eps = T::default_epsilon() * nalgebra::convert(5.0);
+    let dec = nalgebra::linalg::SVD::try_new(mat, want_u, want_vt, eps, iteration_cap(m.max(n)))?;
+    // `try_new` sorts in descending order; a NaN-free input keeps that order exact.
+    let s: Vec<T> = dec.singular_values.iter().copied().collect();
+    let u = dec
+        .u
+        .map(|u| if full_u { complete_orthonormal(u) } else { u });
+    let vt = dec.v_t.map(|vt| {
+        if full_vt {
+            complete_orthonormal(vt.transpose()).transpose()
+        } else {
+            vt
+        }
+    });
+    Some(Svd { s, u, vt })
+}
+
+/// Extends the orthonormal columns of `q` (`m × k`, `k ≤ m`) to an `m × m` orthogonal matrix:
+/// the Householder QR of `q` gives `q = H diag(±1) [I; 0]`, so the last `m − k` columns of the
+/// full `H` span the orthogonal complement.
+fn complete_orthonormal<T: Real>(q: DMatrix<T>) -> DMatrix<T> {
+    let (m, k) = q.shape();
+    if k >= m {
+        return q;
+    }
+    let qr = q.clone().qr();
+    let mut h = DMatrix::<T>::identity(m, m);
+    qr.q_tr_mul(&mut h); // h = Hᵀ
+    let h = h.transpose();
+    let mut full = DMatrix::zeros(m, m);
+    full.columns_mut(0, k).copy_from(&q);
+    full.columns_mut(k, m - k).copy_from(&h.columns(k, m - k));
+    full
+}
+
+/// LU factorisation with partial pivoting of the `n × n` matrix in `a` followed by the solve
+/// of `A X = B` for the `nrhs` columns of `b` (xGESV).
+///
+/// On return `a` holds `L` (unit lower, below the diagonal) and `U`, `ipiv` the 1-based row
+/// interchanges (row `j` was swapped with row `ipiv[j]`). Returns `info`: 0 on success,
+/// `j ≥ 1` if `U(j, j)` is exactly zero, in which case the factorisation is complete but no
+/// solution is computed.
+pub(crate) fn gesv<T: Real>(
+    (n, nrhs): (usize, usize),
+    (a, lda): (&mut [T], usize),
+    ipiv: &mut [i32],
+    (b, ldb): (&mut [T], usize),
+) -> i32 {
+    let mut info = 0;
+    for j in 0..n {
+        // Pivot: the first entry of largest magnitude on or below the diagonal.
+        let mut p = j;
+        let mut best = a[j + j * lda].abs();
+        for i in j + 1..n {
+            let v = a[i + j * lda].abs();
+            if v > best {
+                best = v;
+                p = i;
+            }
+        }
+        ipiv[j] = (p + 1) as i32;
+        if a[p + j * lda] != T::zero() {
+            if p != j {
+                for c in 0..n {
+                    a.swap(j + c * lda, p + c * lda);
+                }
+            }
+            let piv = a[j + j * lda];
+            for i in j + 1..n {
+                a[i + j * lda] /= piv;
+            }
+        } else if info == 0 {
+            info = (j + 1) as i32;
+        }
+        // Rank-one update of the trailing block.
+        for c in j + 1..n {
+            let t = a[j + c * lda];
+            if t != T::zero() {
+                for i in j + 1..n {
+                    let l = a[i + j * lda];
+                    a[i + c * lda] -= l * t;
+                }
+            }
+        }
+    }
+    if info != 0 {
+        return info;
+    }
+    for r in 0..nrhs {
+        let x = &mut b[r * ldb..r * ldb + n];
+        for j in 0..n {
+            let p = (ipiv[j] - 1) as usize;
+            x.swap(j, p);
+        }
+        for j in 0..n {
+            let xj = x[j];
+            for i in j + 1..n {
+                x[i] -= a[i + j * lda] * xj;
+            }
+        }
+        for j in (0..n).rev() {
+            x[j] /= a[j + j * lda];
+            let xj = x[j];
+            for i in 0..j {
+                x[i] -= a[i + j * lda] * xj;
+            }
+        }
+    }
+    0
+}

@@ -1,0 +1,79 @@
+//! The arm-type pendulum of SPEC.md §1.2 (table 3.7 parameters), linearised at θ1e = 0, and
+//! its integral-servo augmentation, built from the formulas in the tests themselves.
+#![allow(dead_code)]
+
+use pendulab_lti::Mat;
+
+pub const A1: f64 = 6.20;
+pub const B1: f64 = 15.8;
+pub const L1: f64 = 0.227;
+pub const M2: f64 = 0.096;
+pub const LC2: f64 = 0.195;
+pub const J2: f64 = 9.06e-4;
+pub const MU2: f64 = 1.01e-4;
+pub const G: f64 = 9.81;
+
+pub fn alphas() -> (f64, f64, f64) {
+    (J2 + M2 * LC2 * LC2, M2 * L1 * LC2, M2 * LC2 * G)
+}
+
+/// A, B of the arm pendulum with drive parameters a1, b1, at θ1e (state [θ1, θ2, θ̇1, θ̇2]).
+pub fn arm(a1: f64, b1: f64, theta1e: f64) -> (Mat, Mat) {
+    let (al2, al3, al5) = alphas();
+    let c = theta1e.cos();
+    let a = Mat::from_row_slice(
+        4,
+        4,
+        &[
+            0.0,
+            0.0,
+            1.0,
+            0.0, //
+            0.0,
+            0.0,
+            0.0,
+            1.0, //
+            0.0,
+            0.0,
+            -a1,
+            0.0, //
+            0.0,
+            al5 / al2,
+            (MU2 + a1 * al3 * c) / al2,
+            -MU2 / al2,
+        ],
+    );
+    let b = Mat::from_column_slice(4, 1, &[0.0, 0.0, b1, -b1 * al3 * c / al2]);
+    (a, b)
+}
+
+/// Servo augmentation with ∫(r − θ1): Ã = [[A, 0], [−C, 0]], B̃ = [B; 0], C = [1, 0, 0, 0].
+pub fn augment(a: &Mat, b: &Mat) -> (Mat, Mat) {
+    let mut at = Mat::zeros(5, 5);
+    at.view_mut((0, 0), (4, 4)).copy_from(a);
+    at[(4, 0)] = -1.0;
+    let mut bt = Mat::zeros(5, 1);
+    bt.view_mut((0, 0), (4, 1)).copy_from(b);
+    (at, bt)
+}
+
+/// The LPV form ρ = 1 − cos θ1: A(ρ) = A0 + ρ A1, B(ρ) = B0 + ρ B1 (augmented, 5 states).
+pub fn lpv_servo() -> (Mat, Mat, Mat, Mat) {
+    let (al2, al3, _) = alphas();
+    let (a0, b0) = arm(A1, B1, 0.0);
+    let (at0, bt0) = augment(&a0, &b0);
+    let mut at1 = Mat::zeros(5, 5);
+    at1[(3, 2)] = -A1 * al3 / al2;
+    let mut bt1 = Mat::zeros(5, 1);
+    bt1[(3, 0)] = B1 * al3 / al2;
+    (at0, at1, bt0, bt1)
+}
+
+pub fn servo_weights() -> (Mat, Mat) {
+    (
+        Mat::from_diagonal(&pendulab_lti::Vector::from_vec(vec![
+            0.1, 1.0, 0.001, 0.001, 4.0,
+        ])),
+        Mat::from_element(1, 1, 1.0),
+    )
+}

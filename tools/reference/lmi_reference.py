@@ -1,0 +1,310 @@
+#!/usr/bin/env python3
+"""Independent references for pendulab-lmi: the book's part 2 ch. 1 LMIs solved with CVXPY
+(Clarabel backend) and the Riccati LQ gains from SciPy.
+
+Every problem is written here from its mathematical statement, without pendulab's modelling
+layer: the arm-type pendulum from SPEC.md §1.2 (table 3.7 parameters), the LMIs of
+examples.md, and for p2c15_ex7 a hand-written kernel-form SOS program (Gram matrices as PSD
+variables, coefficient matching as equalities, the monomial bases written out below).
+
+Writes crates/lmi/tests/fixtures/lmi_reference.json.
+Usage: python3 tools/reference/lmi_reference.py   (from the repository root)
+Gains are in the library convention u = -K x.
+"""
+
+import json
+import pathlib
+import time
+
+import clarabel
+import cvxpy as cp
+import numpy as np
+import scipy
+from scipy.linalg import solve_continuous_are
+
+OUT = pathlib.Path("crates/lmi/tests/fixtures/lmi_reference.json")
+EPS = 1e-6
+
+# ---- arm-type pendulum, SPEC.md §1.2 -------------------------------------------------------
+a1n, b1n, L1, m2, l2, J2, mu2, g = 6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81
+al2, al3, al5 = J2 + m2 * l2**2, m2 * L1 * l2, m2 * l2 * g
+
+
+def arm(a1=a1n, b1=b1n, th=0.0):
+    c = np.cos(th)
+    A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [0, 0, -a1, 0],
+                  [0, al5 / al2, (mu2 + a1 * al3 * c) / al2, -mu2 / al2]])
+    B = np.array([[0], [0], [b1], [-b1 * al3 * c / al2]])
+    return A, B
+
+
+def augment(A, B):
+    At = np.zeros((5, 5))
+    At[:4, :4] = A
+    At[4, 0] = -1.0
+    Bt = np.vstack([B, [[0.0]]])
+    return At, Bt
+
+
+Qs = np.diag([0.1, 1, 0.001, 0.001, 4.0])
+Rs = np.array([[1.0]])
+
+
+def lqr(A, B, Q, R):
+    P = solve_continuous_are(A, B, Q, R)
+    return np.linalg.solve(R, B.T @ P), P
+
+
+def solve(prob):
+    t0 = time.perf_counter()
+    prob.solve(solver=cp.CLARABEL)
+    total = time.perf_counter() - t0
+    return total, prob.solver_stats.solve_time
+
+
+out = {"generator": "tools/reference/lmi_reference.py",
+       "tool": f"CVXPY {cp.__version__} with Clarabel {clarabel.__version__}, SciPy {scipy.__version__}, NumPy {np.__version__}",
+       "convention": "u = -K x", "margin": EPS}
+
+# ---- p2c121_ex3: min xi1 + xi2, P = [[xi1, xi2], [xi2, 1]] ----------------------------------
+A = np.array([[0.0, 1.0], [-2.25, -2.25]])
+xi = cp.Variable(2)
+P = cp.bmat([[xi[0], xi[1]], [xi[1], 1.0]])
+prob = cp.Problem(cp.Minimize(xi[0] + xi[1]),
+                  [P >> EPS * np.eye(2), A.T @ P + P @ A + 2 * P << -EPS * np.eye(2)])
+solve(prob)
+out["p2c121"] = {"optimum": prob.value, "xi": xi.value.tolist()}
+
+# ---- p2c122_ex4: LMI LQ servo vs Riccati -----------------------------------------------------
+A, B = arm()
+At, Bt = augment(A, B)
+
+
+def lq_lmi(vertices, Q, R, regions=(), umax=None, x0s=(), maximize=True, extra=None):
+    n, m = vertices[0][1].shape
+    X = cp.Variable((n, n), symmetric=True)
+    L = cp.Variable((m, n))
+    Qh = np.sqrt(np.diag(Q)) * np.eye(n) if np.allclose(Q, np.diag(np.diag(Q))) else scipy.linalg.sqrtm(Q).real
+    Rh = scipy.linalg.sqrtm(R).real
+    cons = [X >> EPS * np.eye(n)]
+    for (Av, Bv) in vertices:
+        Y = Av @ X + Bv @ L
+        cons.append(cp.bmat([[Y + Y.T, X @ Qh, L.T @ Rh],
+                             [Qh @ X, -np.eye(n), np.zeros((n, m))],
+                             [Rh @ L, np.zeros((m, n)), -np.eye(m)]]) << -EPS * np.eye(2 * n + m))
+        for reg in regions:
+            kind = reg[0]
+            if kind == "decay":
+                cons.append(Y + Y.T + 2 * reg[1] * X << -EPS * np.eye(n))
+            elif kind == "speed":
+                cons.append(-(Y + Y.T) - 2 * reg[1] * X << -EPS * np.eye(n))
+            elif kind == "sector":
+                s, c = np.sin(reg[1]), np.cos(reg[1])
+                cons.append(cp.bmat([[s * (Y + Y.T), c * (Y - Y.T)],
+                                     [c * (Y.T - Y), s * (Y + Y.T)]]) << -EPS * np.eye(2 * n))
+    if umax is not None:
+        for i in range(m):
+            cons.append(cp.bmat([[X, L[i:i + 1, :].T], [L[i:i + 1, :], np.array([[umax**2]])]]) >> 0)
+        for x0 in x0s:
+            x0 = np.asarray(x0).reshape(-1, 1)
+            cons.append(cp.bmat([[np.eye(1), x0.T], [x0, X]]) >> 0)
+    if extra is not None:
+        cons += extra(X, L)
+    prob = cp.Problem(cp.Maximize(cp.trace(X)) if maximize else cp.Minimize(0), cons)
+    tt, ts = solve(prob)
+    K = -L.value @ np.linalg.inv(X.value)
+    return K, X.value, prob, tt, ts
+
+
+K_lq, P_lq = lqr(At, Bt, Qs, Rs)
+K_lmi, X_lmi, prob, tt, ts = lq_lmi([(At, Bt)], Qs, Rs)
+out["p2c122_lq"] = {"K_riccati": K_lq.tolist(), "P_riccati": P_lq.tolist(),
+                    "K_lmi_cvxpy": K_lmi.tolist(), "trace_X": float(np.trace(X_lmi)),
+                    "cvxpy_total_s": tt, "clarabel_solve_s": ts}
+
+# ---- p2c122_ex4 multiobjective: Re < -2, Re > -16, sector pi/4 -----------------------------
+regions = [("decay", 2.0), ("speed", 16.0), ("sector", np.pi / 4)]
+K_mo, X_mo, prob, _, _ = lq_lmi([(At, Bt)], Qs, Rs, regions=regions)
+out["p2c122_multiobjective"] = {"K": K_mo.tolist(), "trace_X": float(np.trace(X_mo)),
+                                "poles": [[z.real, z.imag] for z in np.linalg.eigvals(At - Bt @ K_mo)]}
+
+# ---- p2c13_ex5 robust: 4 vertices, alpha = 2, beta = 40 -------------------------------------
+verts = []
+for a1 in (3.41, 8.99):
+    for b1 in (8.69, 22.91):
+        Av, Bv = arm(a1, b1)
+        verts.append(augment(Av, Bv))
+K_rob, X_rob, prob, _, _ = lq_lmi(verts, Qs, Rs, regions=[("decay", 2.0), ("speed", 40.0)])
+out["p2c13_robust"] = {
+    "vertices": [[3.41, 8.69], [3.41, 22.91], [8.99, 8.69], [8.99, 22.91]],
+    "K": K_rob.tolist(), "trace_X": float(np.trace(X_rob)),
+    "max_real_pole_per_vertex_robust": [float(max(np.linalg.eigvals(Av - Bv @ K_rob).real)) for (Av, Bv) in verts],
+    "max_real_pole_per_vertex_nominal_lq": [float(max(np.linalg.eigvals(Av - Bv @ K_lq).real)) for (Av, Bv) in verts],
+}
+
+# ---- p2c14_ex6 saturation: |u| <= 0.1, x0 = [10 deg, 0, 0, 0] ------------------------------
+Qsat = np.diag([20.0, 10.0, 0.1, 0.1])
+x0 = [np.deg2rad(10.0), 0, 0, 0]
+K_sat, X_sat, prob, _, _ = lq_lmi([(A, B)], Qsat, Rs, umax=0.1, x0s=[x0])
+out["p2c14_saturation"] = {"trace_X_max": float(np.trace(X_sat)), "K_at_max": K_sat.tolist(),
+                           "x0": x0, "u_max": 0.1}
+
+# ---- p2c15_ex7: gain-scheduled servo, kernel-form SOS by hand -------------------------------
+# Parameters (normalised): rho = rb * s, s in [0, 1]; rho0 = rb * s0; rho_dot = 0.75 w,
+# w in [-1, 1].  Polynomials are dicts {(e_s, e_w, e_s0): coefficient matrix}.
+rb = 1.0 - np.cos(np.deg2rad(65.0))
+nu = 0.75
+A0t, B0t = At, Bt
+A1t = np.zeros((5, 5)); A1t[3, 2] = -a1n * al3 / al2
+B1t = np.zeros((5, 1)); B1t[3, 0] = b1n * al3 / al2
+n, m = 5, 1
+
+
+def mono(es=0, ew=0, es0=0):
+    return (es, ew, es0)
+
+
+def padd(*ps):
+    r = {}
+    for p in ps:
+        for k, v in p.items():
+            r[k] = r[k] + v if k in r else v
+    return r
+
+
+def pscale(p, c):
+    return {k: c * v for k, v in p.items()}
+
+
+def pmul(p, q):
+    """p * q where, per term, one factor is a numpy array (or scalar)."""
+    r = {}
+    for k1, v1 in p.items():
+        for k2, v2 in q.items():
+            k = tuple(a + b for a, b in zip(k1, k2))
+            if np.isscalar(v1) or np.isscalar(v2):
+                t = v1 * v2
+            else:
+                t = v1 @ v2
+            r[k] = r[k] + t if k in r else t
+    return r
+
+
+def ptrans(p):
+    return {k: v.T for k, v in p.items()}
+
+
+def multiplier(size, var_index, degree):
+    """S = (I (x) z)^T R (I (x) z), z = [1, v, ..., v^degree] in parameter var_index."""
+    d = degree + 1
+    R = cp.Variable((size * d, size * d), PSD=True)
+    E = [np.kron(np.eye(size), np.eye(d)[:, [a]]) for a in range(d)]
+    S = {}
+    for a in range(d):
+        for b in range(d):
+            e = [0, 0, 0]
+            e[var_index] = a + b
+            t = E[a].T @ R @ E[b]
+            S[tuple(e)] = S[tuple(e)] + t if tuple(e) in S else t
+    return S, R
+
+
+def sos(M, bases):
+    """Kernel-form SOS: M = Z^T Q Z, Z = blockdiag(bases), Q PSD; equalities per monomial."""
+    p = len(bases)
+    offs = np.cumsum([0] + [len(b) for b in bases])
+    N = offs[-1]
+    Q = cp.Variable((N, N), PSD=True)
+    prods = {}
+    for i in range(p):
+        for j in range(p):
+            for ia, a in enumerate(bases[i]):
+                for jb, b in enumerate(bases[j]):
+                    k = tuple(x + y for x, y in zip(a, b))
+                    prods.setdefault(k, []).append((i, j, offs[i] + ia, offs[j] + jb))
+    cons = []
+    for k in set(prods) | set(M):
+        rhs = 0
+        if k in prods:
+            sel = np.zeros((p * p, N * N))
+            for (i, j, r, c) in prods[k]:
+                sel[i * p + j, r * N + c] += 1.0
+            rhs = cp.reshape(sel @ cp.vec(Q, order="C"), (p, p), order="C")
+        lhs = M.get(k, np.zeros((p, p)))
+        cons.append(lhs == rhs)
+    return cons, Q
+
+
+X = [cp.Variable((n, n), symmetric=True) for _ in range(3)]
+Lv = [cp.Variable((m, n)) for _ in range(3)]
+gam = cp.Variable()
+I5 = np.eye(n)
+Xs = {mono(0): X[0], mono(1): rb * X[1], mono(2): rb**2 * X[2]}
+Ls = {mono(0): Lv[0], mono(1): rb * Lv[1], mono(2): rb**2 * Lv[2]}
+Xs0 = {mono(es0=0): X[0], mono(es0=1): rb * X[1], mono(es0=2): rb**2 * X[2]}
+g1 = {mono(1): 1.0, mono(2): -1.0}                      # s (1 - s)
+g2 = {mono(es0=1): 1.0, mono(es0=2): -1.0}              # s0 (1 - s0)
+ga = {mono(): 1.0, mono(ew=1): -1.0}                    # 1 - w
+gb = {mono(): 1.0, mono(ew=1): 1.0}                     # 1 + w
+S11, R11 = multiplier(n, 0, 1)
+S22, R22 = multiplier(n, 2, 1)
+S31, R31 = multiplier(n, 0, 3)
+Sa, Ra = multiplier(n, 0, 3)
+Sb, Rb = multiplier(n, 0, 3)
+epsI = {mono(): EPS * I5}
+M1 = padd(Xs, pscale(pmul(g1, S11), -1.0), pscale(epsI, -1.0))
+M211 = padd(Xs0, pscale(pmul(g2, S22), -1.0), pscale(epsI, -1.0))
+As = {mono(): A0t, mono(1): rb * A1t}
+Bs = {mono(): B0t, mono(1): rb * B1t}
+Y = padd(pmul(As, Xs), pmul(Bs, Ls))
+# Xdot = rho_dot (X1 + 2 rho X2) = nu w (X1 + 2 rb s X2)
+Xdot = {mono(0, 1): nu * X[1], mono(1, 1): 2 * nu * rb * X[2]}
+M311 = padd(Xdot, pscale(Y, -1.0), pscale(ptrans(Y), -1.0), pscale(pmul(g1, S31), -1.0),
+            pscale(pmul(ga, Sa), -1.0), pscale(pmul(gb, Sb), -1.0), pscale(epsI, -1.0))
+Qh = np.sqrt(np.diag(Qs)) * np.eye(n)
+XQ = pmul(Xs, {mono(): Qh})
+LR = pmul(ptrans(Ls), {mono(): np.eye(1)})
+
+
+def block(rows):
+    keys = set()
+    for r in rows:
+        for (b, _shape) in r:
+            if isinstance(b, dict):
+                keys |= set(b)
+    out_ = {}
+    for k in keys:
+        out_[k] = cp.bmat([[(b[k] if k in b else np.zeros(shape)) if isinstance(b, dict) else (b if k == mono() else np.zeros(shape))
+                            for (b, shape) in r] for r in rows])
+    return out_
+
+
+M2 = block([[(M211, (n, n)), (I5, (n, n))], [(I5, (n, n)), ({mono(): gam * I5}, (n, n))]])
+M3 = block([[(M311, (n, n)), (XQ, (n, n)), (LR, (n, m))],
+            [(ptrans(XQ), (n, n)), (np.eye(n), (n, n)), (np.zeros((n, m)), (n, m))],
+            [(ptrans(LR), (m, n)), (np.zeros((m, n)), (m, n)), (np.eye(m), (m, m))]])
+bs = lambda k: [mono(e) for e in range(k + 1)]
+bs0 = lambda k: [mono(es0=e) for e in range(k + 1)]
+c1, Q1 = sos(M1, [bs(2)] * n)
+c2, Q2 = sos(M2, [bs0(2)] * n + [[mono()]] * n)
+c3, Q3 = sos(M3, [bs(4)] * n + [[mono()]] * (n + m))
+prob = cp.Problem(cp.Minimize(gam), c1 + c2 + c3)
+tt, ts = solve(prob)
+gamma_star = float(prob.value)
+K_rhobar = None
+if prob.status in ("optimal", "optimal_inaccurate"):
+    Xv = [x.value for x in X]
+    Lvv = [l.value for l in Lv]
+    Xrb = Xv[0] + rb * Xv[1] + rb**2 * Xv[2]
+    Lrb = Lvv[0] + rb * Lvv[1] + rb**2 * Lvv[2]
+    K_rhobar = (-Lrb @ np.linalg.inv(Xrb)).tolist()
+out["p2c15_gain_schedule"] = {
+    "status": prob.status, "gamma_star": gamma_star, "K_at_rho_max_at_optimum": K_rhobar,
+    "rho_max": rb, "rho_dot_bound": nu,
+    "cvxpy_total_s": tt, "clarabel_solve_s": ts,
+    "note": "X(rho) = X0 + rho X1 + rho^2 X2 with rho = rb*s; cvxpy variables hold X0, X1, X2 in the rho basis",
+}
+
+OUT.parent.mkdir(parents=True, exist_ok=True)
+OUT.write_text(json.dumps(out, indent=1) + "\n")
+print(json.dumps({k: (v if not isinstance(v, dict) else {kk: vv for kk, vv in v.items() if "P_" not in kk}) for k, v in out.items()}, indent=1)[:4000])
