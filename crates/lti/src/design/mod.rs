@@ -10,6 +10,7 @@
 //! | steady-state Kalman gain | [`lqe`] | `lqe`, `kalman` |
 //! | LQ integral servo | [`integral_augmentation`], [`lq_servo`] | — |
 //! | observer-based output feedback | [`observer_controller`] | `reg` |
+//! | minimal-order (Gopinath) observer | [`minimal_order_observer`] | — |
 //!
 //! **Sign convention.** Every gain here is for `u = −K x` (closed loop `A − BK`), observer
 //! gains for `A − LC`. The textbook writes `u = +K x` with `K_book = −K`;
@@ -25,7 +26,10 @@ pub use lqr::{
     sampled_data_cost,
 };
 pub use place::{PlacementMethod, PolePlacement, acker, place, place_observer};
-pub use servo::{LqServo, integral_augmentation, lq_servo, observer_controller};
+pub use servo::{
+    LqServo, ReducedOrderObserver, integral_augmentation, lq_servo, minimal_order_observer,
+    observer_controller,
+};
 
 use crate::domain::TimeDomain;
 use crate::error::Result;

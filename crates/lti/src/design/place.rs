@@ -393,7 +393,9 @@ fn knv0(a: &Mat, b: &Mat, poles: &[Complex64]) -> Result<(Mat, f64, usize)> {
         let repeats = (0..j)
             .filter(|&i| (order[i] - order[j]).norm() <= 1e-10 * order[j].norm().max(1.0))
             .count();
-        let col = bases[j].column(repeats % m).clone_owned();
+        // Column j mod m (offset by the repeat count) keeps the initial vectors independent
+        // for repeated poles (same basis) and when n = m (every basis is the identity).
+        let col = bases[j].column((j + repeats) % m).clone_owned();
         x.set_column(j, &col);
     }
     for j in 0..n {
@@ -413,11 +415,7 @@ fn knv0(a: &Mat, b: &Mat, poles: &[Complex64]) -> Result<(Mat, f64, usize)> {
             if partner[j].is_some() && order[j].im < 0.0 {
                 continue; // set with its partner
             }
-            // y = j-th row of X⁻¹ (conjugated): orthogonal to every other column.
-            let Some(xinv) = x.clone().try_inverse() else {
-                break;
-            };
-            let y = xinv.row(j).adjoint();
+            let y = orthogonal_to_others(&x, j);
             let s = &bases[j];
             let proj = s * (s.adjoint() * &y);
             let nrm = proj.norm();
@@ -451,6 +449,32 @@ fn knv0(a: &Mat, b: &Mat, poles: &[Complex64]) -> Result<(Mat, f64, usize)> {
     })?;
     let k = zinv * u0.transpose() * (a - mcl);
     Ok((k, prev_cond, sweeps))
+}
+
+/// A unit vector orthogonal to every column of `X` except column `j`: the conjugated `j`-th
+/// row of `X⁻¹` when `X` is invertible, otherwise (or when it is nearly singular) the right
+/// singular vector of `[x₁ … x̂ⱼ … xₙ]ᴴ` for its smallest singular value.
+fn orthogonal_to_others(x: &CMat, j: usize) -> nalgebra::DVector<Complex64> {
+    let n = x.nrows();
+    let sv = x.clone().svd(false, false).singular_values;
+    if sv.min() > 1e-10 * sv.max()
+        && let Some(xinv) = x.clone().try_inverse()
+    {
+        let y: nalgebra::DVector<Complex64> = xinv.row(j).adjoint();
+        let nrm = y.norm();
+        return y / Complex64::new(nrm, 0.0);
+    }
+    let mut others = CMat::zeros(n, n);
+    let mut r = 0;
+    for k in 0..n {
+        if k != j {
+            others.set_row(r, &x.column(k).adjoint());
+            r += 1;
+        }
+    }
+    let svd = others.svd(false, true);
+    let vt = svd.v_t.expect("v requested");
+    vt.row(n - 1).adjoint()
 }
 
 /// Multi-input placement with repeated poles beyond `rank B`: pick `g` (a column of `B`, or a
