@@ -2,6 +2,7 @@
 
 mod bench;
 mod book;
+mod lqr;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -21,6 +22,8 @@ enum Command {
     Book(book::BookArgs),
     /// Run a performance workload and report its headline figure.
     Bench(bench::BenchArgs),
+    /// Solve an LQ regulator problem (continuous CARE or discrete DARE) from CSV matrices.
+    Lqr(lqr::LqrArgs),
 }
 
 fn main() -> ExitCode {
@@ -28,6 +31,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Book(args) => book::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Lqr(args) => lqr::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -138,6 +138,76 @@ pub enum LtiError {
         /// Tolerance required.
         tolerance: f64,
     },
+    /// The pair (A, B) is not controllable, so its poles cannot be assigned arbitrarily.
+    #[error(
+        "(A, B) is not controllable: controllable subspace has dimension {controllable_dimension} of {nx}; uncontrollable mode at {}{:+}j",
+        mode.re, mode.im
+    )]
+    NotControllable {
+        /// Dimension of the controllable subspace (staircase form).
+        controllable_dimension: usize,
+        /// Number of states.
+        nx: usize,
+        /// One eigenvalue of the uncontrollable part.
+        mode: Complex64,
+    },
+    /// A matrix has no real principal logarithm (an eigenvalue on the closed negative real
+    /// axis), e.g. `d2c` of a discrete system with a pole at `z ≤ 0`.
+    #[error(
+        "{what} has an eigenvalue at {}{:+}j on the closed negative real axis: no real principal logarithm exists",
+        eigenvalue.re, eigenvalue.im
+    )]
+    NoRealLogarithm {
+        /// Which matrix.
+        what: String,
+        /// The offending eigenvalue.
+        eigenvalue: Complex64,
+    },
+    /// A quantity is infinite because the system has a pole where it is evaluated
+    /// (e.g. the DC gain with a pole at `s = 0` or `z = 1`).
+    #[error("{what} is infinite: the system has a pole at {}{:+}j", pole.re, pole.im)]
+    PoleAtEvaluationPoint {
+        /// Which quantity.
+        what: String,
+        /// The pole.
+        pole: Complex64,
+    },
+    /// A time vector is not uniformly spaced (or does not match the sample time).
+    #[error(
+        "time vector is not uniformly spaced: step {index} -> {} is {step} s, expected {expected} s",
+        index + 1
+    )]
+    NonUniformTime {
+        /// Index of the sample that starts the offending step.
+        index: usize,
+        /// The step found, in seconds.
+        step: f64,
+        /// The step expected, in seconds.
+        expected: f64,
+    },
+    /// A transfer function whose numerator degree exceeds its denominator degree was used
+    /// where a proper one is required (e.g. a state-space realisation).
+    #[error(
+        "{what}: transfer function is improper (numerator degree {num_degree} > denominator degree {den_degree})"
+    )]
+    Improper {
+        /// Which operation.
+        what: String,
+        /// Numerator degree.
+        num_degree: usize,
+        /// Denominator degree.
+        den_degree: usize,
+    },
+    /// An operation defined for single-input single-output systems got another shape.
+    #[error("{what} needs a single-input single-output system, got {ny} outputs x {nu} inputs")]
+    NotSiso {
+        /// Which operation.
+        what: String,
+        /// Outputs.
+        ny: usize,
+        /// Inputs.
+        nu: usize,
+    },
     /// Any other invalid argument, with a message naming it.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

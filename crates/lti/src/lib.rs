@@ -1,17 +1,43 @@
 //! # pendulab-lti — linear time-invariant systems
 //!
-//! Everything a user of MATLAB's Control System Toolbox reaches for first, in pure Rust:
+//! Everything a user of MATLAB's Control System Toolbox reaches for first, in pure Rust.
 //!
-//! - [`StateSpace<Continuous>`] / [`StateSpace<Discrete>`]: systems with the time domain in the
-//!   type ([`domain`]).
-//! - [`Trajectory`]: the one time-series type of the workspace (rows = samples).
-//! - [`linalg`]: the matrix types ([`Mat`]), checks, eigenvalues, real Schur and QZ forms with
-//!   reordering.
-//! - [`equations`]: Sylvester, Lyapunov (`lyap`, `dlyap`), Riccati (`care`, `dare`), each with
-//!   its relative residual.
+//! | module | what it holds | MATLAB names |
+//! |---|---|---|
+//! | [`state_space`] | [`StateSpace<Continuous>`] / [`StateSpace<Discrete>`], time domain in the type ([`domain`]) | `ss` |
+//! | [`transfer_function`], [`polynomial`] | SISO [`TransferFunction`], [`Polynomial`], ss↔tf | `tf`, `zpk`, `ss2tf`, `tf2ss`, `roots`, `poly`, `conv` |
+//! | [`interconnect`] | series, parallel, feedback (explicit sign), append | `series`, `parallel`, `feedback`, `append` |
+//! | [`analysis`] | poles, zeros, DC gain, stability, damping, controllability/observability (staircase, PBH), gramians, canonical forms | `pole`, `tzero`, `dcgain`, `isstable`, `damp`, `ctrb`, `obsv`, `ctrbf`, `gram`, `canon` |
+//! | [`frequency_response`] | frequency response, Bode data with unwrapped phase | `freqresp`, `bode`, `logspace` |
+//! | [`matrix_functions`] | matrix exponential, logarithm, square root, block exponentials | `expm`, `logm`, `sqrtm` |
+//! | [`discretization`] | `c2d` (ZOH, FOH, Tustin with prewarp, Euler), `d2c` | `c2d`, `d2c` |
+//! | [`response`] | `lsim` (exact ZOH/FOH), `initial`, `step`, `impulse`, zero-input/zero-state split | `lsim`, `initial`, `step`, `impulse` |
+//! | [`design`] | LQR (continuous, discrete, sampled-data), pole placement, observers, Kalman gain, LQ integral servo, [`StateFeedback`](design::StateFeedback) | `lqr`, `dlqr`, `lqrd`, `place`, `acker`, `lqe`, `reg` |
+//! | [`equations`] | Sylvester, Lyapunov (`lyap`, `dlyap`), Riccati (`care`, `dare`), each with its relative residual | `sylvester`, `lyap`, `dlyap`, `care`, `dare` |
+//! | [`linalg`] | the matrix types ([`Mat`]), checks, eigenvalues, Schur/QZ kernels | `eig` |
+//! | [`trajectory`] | [`Trajectory`]: the one time-series type of the workspace (rows = samples) | — |
 //!
-//! Conventions: SI units, radians; state feedback is `u = −K x` (the textbook's `u = +K x` is
-//! converted explicitly where it is shown).
+//! Conventions: SI units, radians, frequencies in rad/s; state feedback is `u = −K x` (the
+//! textbook's `u = +K x` is converted explicitly, see [`design::StateFeedback`]); errors are
+//! [`LtiError`] values naming what is wrong and where; numerical results carry their
+//! diagnostics (residuals, achieved poles, conditions).
+//!
+//! ```
+//! use pendulab_lti::{StateSpace, Mat, design, discretization::Discretization};
+//! # fn main() -> pendulab_lti::Result<()> {
+//! // A double integrator, discretised with a zero-order hold and placed by pole placement.
+//! let sys = StateSpace::continuous(
+//!     Mat::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]),
+//!     Mat::from_row_slice(2, 1, &[0.0, 1.0]),
+//!     Mat::from_row_slice(1, 2, &[1.0, 0.0]),
+//!     Mat::zeros(1, 1),
+//! )?;
+//! let dsys = sys.c2d(0.1, Discretization::Zoh)?;
+//! let poles = [0.8.into(), 0.7.into()];
+//! let k = design::place(dsys.a(), dsys.b(), &poles)?;
+//! assert!(k.max_relative_error < 1e-12);
+//! # Ok(()) }
+//! ```
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
@@ -32,8 +58,13 @@ pub mod state_space;
 pub mod trajectory;
 pub mod transfer_function;
 
+pub use discretization::Discretization;
 pub use domain::{Continuous, Discrete, TimeDomain};
 pub use error::{LtiError, Result};
+pub use interconnect::FeedbackSign;
 pub use linalg::{CMat, Complex64, Mat, Vector};
+pub use polynomial::Polynomial;
+pub use response::{InputHold, LsimOptions};
 pub use state_space::StateSpace;
 pub use trajectory::Trajectory;
+pub use transfer_function::TransferFunction;

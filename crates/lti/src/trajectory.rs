@@ -65,6 +65,21 @@ impl Trajectory {
         })
     }
 
+    /// Assembles a trajectory whose time vector the caller has already validated (finite,
+    /// non-decreasing) and whose matrices have `t.len()` rows.
+    pub(crate) fn from_validated(t: Vec<f64>, x: Mat, u: Mat, y: Mat) -> Self {
+        debug_assert!(x.nrows() == t.len() && u.nrows() == t.len() && y.nrows() == t.len());
+        Self {
+            t,
+            x,
+            u,
+            y,
+            x_names: Vec::new(),
+            u_names: Vec::new(),
+            y_names: Vec::new(),
+        }
+    }
+
     /// Builds a trajectory from row-major sample buffers (`x_data[k * nx + i]` is state `i` at
     /// sample `k`), the layout simulation loops produce.
     ///

@@ -4,6 +4,8 @@
 //! rate) and the accuracy evidence that the timed job did the right thing. With `--json` the
 //! output is one line `{"workload", "figure", "unit", "check"}`.
 
+mod lsim;
+
 use anyhow::{Result, bail};
 use serde::Serialize;
 use std::time::{Duration, Instant};
@@ -98,6 +100,11 @@ fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
+    all.push(Workload {
+        name: "lsim-1e6",
+        description: "10^6 samples of a 5-state closed loop at 1 ms, FOH (samples/s)",
+        run: lsim::run,
+    });
     all
 }
 

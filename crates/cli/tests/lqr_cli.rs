@@ -1,0 +1,139 @@
+//! `pendulab lqr` end to end: runs the binary on CSV files.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+struct Dir(PathBuf);
+
+impl Dir {
+    fn new(tag: &str) -> Self {
+        let p = std::env::temp_dir().join(format!("pendulab-lqr-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&p).unwrap();
+        Dir(p)
+    }
+    fn file(&self, name: &str, text: &str) -> String {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pendulab"))
+        .arg("lqr")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The linearised cart pendulum of SPEC.md §1.1 as CSV text.
+fn cdip_csv() -> (String, String) {
+    let (ac, bc, mp, lp, jp, mup, g) = (6.25f64, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
+    let j = jp + mp * lp * lp;
+    let a = format!(
+        "0,0,1,0\n0,0,0,1\n0,0,{},0\n0,{},{},{}\n",
+        -ac,
+        mp * g * lp / j,
+        ac * mp * lp / j,
+        -mup / j
+    );
+    let b = format!("0\n0\n{bc}\n{}\n", -bc * mp * lp / j);
+    (a, b)
+}
+
+#[test]
+fn cdip_lqr_gain_in_json() {
+    // examples.md cdip_lqr_sim: Q = diag(10, 10, 0, 0), R = 1 → book gain (u = +K x)
+    // [3.16228, 13.47175, 4.48137, 2.26289], so the CLI's K (u = −K x) is its negative;
+    // printed to 5 decimals (tolerance 5e-6).
+    let d = Dir::new("ok");
+    let (a, b) = cdip_csv();
+    let a = d.file("A.csv", &a);
+    let b = d.file("B.csv", &b);
+    let q = d.file("Q.csv", "10,0,0,0\n0,10,0,0\n0,0,0,0\n0,0,0,0\n");
+    let out = run(&["--a", &a, "--b", &b, "--q", &q, "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let k: Vec<f64> = v["gain"][0]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    for (got, book) in k.iter().zip([3.16228, 13.47175, 4.48137, 2.26289]) {
+        assert!((got + book).abs() < 5e-6, "{k:?}");
+    }
+    assert_eq!(v["riccati"].as_array().unwrap().len(), 4);
+    let poles = v["closed_loop_poles"].as_array().unwrap();
+    assert_eq!(poles.len(), 4);
+    assert!(
+        poles
+            .iter()
+            .all(|p| p[0].as_f64().unwrap() < 0.0 && p.as_array().unwrap().len() == 2)
+    );
+    // Issue acceptance: relative residual ≤ 1e-12 on the book systems.
+    assert!(v["residual"].as_f64().unwrap() <= 1e-12);
+}
+
+#[test]
+fn bad_csv_is_reported_with_position() {
+    let d = Dir::new("bad");
+    let (a, b) = cdip_csv();
+    let good_a = d.file("A.csv", &a);
+    let good_b = d.file("B.csv", &b);
+    // Non-numeric value: line and column named.
+    let bad = d.file("bad.csv", "0,0,1,0\n0,0,0,1\n0,zero,1,0\n0,1,0,0\n");
+    let out = run(&["--a", &bad, "--b", &good_b]);
+    assert!(!out.status.success());
+    let e = stderr(&out);
+    assert!(
+        e.contains("line 3, column 2") && e.contains("bad.csv"),
+        "{e}"
+    );
+    // Ragged rows.
+    let ragged = d.file("ragged.csv", "0,0,1,0\n0,0,0\n");
+    let out = run(&["--a", &ragged, "--b", &good_b]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("ragged"), "{}", stderr(&out));
+    // NaN.
+    let nan = d.file("nan.csv", "0,0,1,0\n0,0,0,1\n0,0,NaN,0\n0,1,0,0\n");
+    let out = run(&["--a", &nan, "--b", &good_b]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("not finite"), "{}", stderr(&out));
+    // Shape mismatch: B with 3 rows for a 4-state A; Q of the wrong size; non-square A.
+    let b3 = d.file("B3.csv", "0\n0\n1\n");
+    let out = run(&["--a", &good_a, "--b", &b3]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("must have 4 rows"),
+        "{}",
+        stderr(&out)
+    );
+    let q2 = d.file("Q2.csv", "1,0\n0,1\n");
+    let out = run(&["--a", &good_a, "--b", &good_b, "--q", &q2]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("Q"), "{}", stderr(&out));
+    let rect = d.file("rect.csv", "1,2,3\n4,5,6\n");
+    let out = run(&["--a", &rect, "--b", &good_b]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("square"), "{}", stderr(&out));
+    // Missing file, invalid sample time.
+    let out = run(&["--a", "/nonexistent/A.csv", "--b", &good_b]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("cannot read"), "{}", stderr(&out));
+    let out = run(&["--a", &good_a, "--b", &good_b, "--discrete=-1"]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("sample time"), "{}", stderr(&out));
+    // No panic anywhere: a panic exits with code 101.
+    assert_ne!(out.status.code(), Some(101));
+}
