@@ -17,6 +17,7 @@
 pub mod lyapunov;
 pub mod riccati;
 pub mod sylvester;
+pub(crate) mod triangular;
 
 pub use lyapunov::{dlyap, lyap};
 pub use riccati::{RiccatiMethod, RiccatiOptions, RiccatiSolution, care, dare};

@@ -9,6 +9,7 @@
 //! [`schur`] (real Schur form with reordering) and [`qz`] (generalised real Schur form with
 //! reordering).
 
+pub(crate) mod dense;
 pub mod qz;
 pub mod schur;
 
@@ -156,8 +157,8 @@ pub fn eigenvalues(a: &Mat) -> Result<Vec<Complex64>, LtiError> {
     if a.nrows() == 0 {
         return Ok(Vec::new());
     }
-    let s = schur::real_schur(a)?;
-    let mut ev = s.eigenvalues();
+    let t = schur::schur_form(a)?;
+    let mut ev = schur::quasi_triangular_eigenvalues(&t);
     sort_eigenvalues(&mut ev);
     Ok(ev)
 }

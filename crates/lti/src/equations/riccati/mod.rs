@@ -10,6 +10,23 @@
 //!
 //! Both return a [`RiccatiSolution`] carrying the solution, the gain, the closed-loop poles and
 //! the relative residual (module [`equations`](crate::equations) defines it).
+//!
+//! ## How a solution is computed and checked
+//! 1. The data are validated (shapes, finiteness, symmetry, `R ≻ 0`).
+//! 2. The cross term is removed: `Ã = A − B R⁻¹ Nᵀ`, `Q̃ = Q − N R⁻¹ Nᵀ`, `G = B R⁻¹ Bᵀ`.
+//! 3. With `scaling`, `Q̃` and `G` are balanced by `X = s Y`, `s = sqrt(‖Q̃‖_F / ‖G‖_F)` (the
+//!    equation for `Y` has `sG`, `Q̃/s`; SLICOT `SB02MD`'s scaling).
+//! 4. The stabilising solution is computed by the chosen [`RiccatiMethod`].
+//! 5. Newton refinement (Kleinman for the CARE, Hewer for the DARE, in residual-correction
+//!    form: one Lyapunov/Stein solve per step) is applied; a step is kept only if it lowers the
+//!    relative residual.
+//! 6. The closed-loop poles are computed and required to be stable, the relative residual is
+//!    required to be below [`RESIDUAL_LIMIT`].
+//!
+//! When a method fails, [`RiccatiMethod::Auto`] tries the next one; when all fail, the data are
+//! diagnosed (PBH tests on the unstable and boundary modes) so that the error names the cause:
+//! [`LtiError::NotStabilizable`], [`LtiError::NotDetectable`] or
+//! [`LtiError::BoundaryEigenvalue`].
 
 mod care;
 mod dare;
@@ -19,21 +36,39 @@ pub use care::care;
 pub use dare::dare;
 
 use crate::error::{LtiError, Result};
-use crate::linalg::{Complex64, Mat, check_finite, check_shape, check_square, check_symmetric};
+use crate::linalg::{
+    Complex64, Mat, check_finite, check_shape, check_square, check_symmetric, pbh_margin,
+    symmetrize,
+};
+
+/// The relative residual above which a computed solution is rejected with
+/// [`LtiError::Inaccurate`] (after every method and refinement has been tried). A
+/// backward-stable method reaches `≈ 1e-15`; even badly conditioned problems (CAREX/DAREX)
+/// stay far below this limit, so exceeding it signals a breakdown, not ill conditioning.
+pub const RESIDUAL_LIMIT: f64 = 1e-8;
+
+/// Relative PBH margin below which a mode counts as numerically uncontrollable (unobservable)
+/// when a failure is diagnosed (`≈ 100·sqrt(ε)`).
+pub const PBH_TOLERANCE: f64 = 1e-6;
 
 /// The algorithm used to compute the stabilising solution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RiccatiMethod {
-    /// Choose automatically (the Schur method, falling back to the extended pencil when `R` is
-    /// ill conditioned or the Schur method fails its accuracy check).
+    /// Choose automatically: for the CARE the Schur method, then the extended pencil; for the
+    /// DARE the extended pencil, then the doubling method. The first result that passes the
+    /// residual and closed-loop stability checks is returned.
     #[default]
     Auto,
     /// Ordered real Schur form of the Hamiltonian matrix (CARE) or of the symplectic matrix
-    /// (DARE, requires `A` invertible), Laub's method.
+    /// (DARE, requires `A − B R⁻¹ Nᵀ` invertible), Laub's method.
     Schur,
     /// Ordered generalised Schur (QZ) form of the extended `(2n + m)` pencil, which never
-    /// inverts `R` (Van Dooren; SLICOT `SB02OD`).
+    /// inverts `R` and allows a singular `A` (Van Dooren; SLICOT `SB02OD`).
     ExtendedPencil,
+    /// Structure-preserving doubling (SDA; Chu, Fan, Lin, Wang 2004 for the DARE and, after a
+    /// Cayley transform, Chu, Fan, Lin 2005 for the CARE): quadratically convergent iteration
+    /// on `n × n` matrices, refined by Newton's method. Requires `R ≻ 0`.
+    Doubling,
 }
 
 /// Options for [`care`] and [`dare`], with documented defaults.
@@ -44,7 +79,8 @@ pub struct RiccatiOptions {
     /// Scale the data before solving (default `true`); the solution is returned unscaled.
     pub scaling: bool,
     /// Maximum number of Newton (Kleinman / Hewer) refinement steps applied to the computed
-    /// solution (default 1). A step is kept only if it lowers the relative residual.
+    /// solution (default 1). A step is kept only if it lowers the relative residual; no step
+    /// is attempted when the residual is already at rounding level (`≤ n·ε`).
     pub max_refinement_steps: usize,
 }
 
@@ -123,7 +159,121 @@ pub(crate) fn validate(
     Ok(RiccatiDims { n: nx, m })
 }
 
-/// Relative residual of the CARE at `x` (see [`equations`](crate::equations)).
+/// Riccati data with the cross term removed and `R` factored (step 2 of the module docs).
+pub(crate) struct Reduced {
+    /// Cholesky factor `L` of `R = L Lᵀ`.
+    pub l: Mat,
+    /// `Ã = A − B R⁻¹ Nᵀ`.
+    pub a: Mat,
+    /// `G = B R⁻¹ Bᵀ` (symmetric positive semidefinite).
+    pub g: Mat,
+    /// `Q̃ = Q − N R⁻¹ Nᵀ` (symmetric).
+    pub q: Mat,
+}
+
+/// Lower Cholesky factor of a symmetric positive definite matrix, or
+/// [`LtiError::NotPositiveDefinite`] with its smallest eigenvalue.
+pub(crate) fn cholesky_lower(what: &str, r: &Mat) -> Result<Mat> {
+    match r.clone().cholesky() {
+        Some(c) => Ok(c.l()),
+        None => Err(LtiError::NotPositiveDefinite {
+            what: what.into(),
+            min_eigenvalue: crate::linalg::symmetric_eigenvalues(r)
+                .first()
+                .copied()
+                .unwrap_or(f64::NAN),
+        }),
+    }
+}
+
+/// Solves `L Y = M` for lower-triangular `L`.
+fn lower_solve(l: &Mat, m: &Mat) -> Mat {
+    let mut y = m.clone();
+    let k = l.nrows();
+    for j in 0..y.ncols() {
+        for i in 0..k {
+            let mut v = y[(i, j)];
+            for p in 0..i {
+                v -= l[(i, p)] * y[(p, j)];
+            }
+            y[(i, j)] = v / l[(i, i)];
+        }
+    }
+    y
+}
+
+/// Solves `R Y = M` with `R = L Lᵀ`.
+pub(crate) fn chol_solve(l: &Mat, m: &Mat) -> Mat {
+    let y = lower_solve(l, m);
+    // Lᵀ Z = Y.
+    let k = l.nrows();
+    let mut z = y;
+    for j in 0..z.ncols() {
+        for i in (0..k).rev() {
+            let mut v = z[(i, j)];
+            for p in i + 1..k {
+                v -= l[(p, i)] * z[(p, j)];
+            }
+            z[(i, j)] = v / l[(i, i)];
+        }
+    }
+    z
+}
+
+/// Step 2: removes the cross term and forms `G`.
+pub(crate) fn reduce(a: &Mat, b: &Mat, q: &Mat, r: &Mat, n: Option<&Mat>) -> Result<Reduced> {
+    let l = cholesky_lower("R", r)?;
+    let w = lower_solve(&l, &b.transpose()); // L⁻¹ Bᵀ
+    let g = symmetrize(&(w.transpose() * &w));
+    let (ar, qr) = match n {
+        Some(nm) => {
+            let v = lower_solve(&l, &nm.transpose()); // L⁻¹ Nᵀ
+            (
+                a - w.transpose() * &v,
+                symmetrize(&(q - v.transpose() * &v)),
+            )
+        }
+        None => (a.clone(), symmetrize(q)),
+    };
+    Ok(Reduced { l, a: ar, g, q: qr })
+}
+
+/// Scale factor of step 3.
+pub(crate) fn scale_factor(red: &Reduced, scaling: bool) -> f64 {
+    let qn = red.q.norm();
+    let gn = red.g.norm();
+    if scaling && qn > 0.0 && gn > 0.0 && (qn / gn).is_finite() {
+        (qn / gn).sqrt()
+    } else {
+        1.0
+    }
+}
+
+/// CARE residual matrix and relative residual.
+pub(crate) fn care_residual_full(
+    a: &Mat,
+    b: &Mat,
+    q: &Mat,
+    r_chol: &Mat,
+    n: Option<&Mat>,
+    x: &Mat,
+) -> (Mat, f64) {
+    let atx = a.transpose() * x;
+    let xa = atx.transpose();
+    let mut xbn = x * b;
+    if let Some(nm) = n {
+        xbn += nm;
+    }
+    let w = lower_solve(r_chol, &xbn.transpose()); // L⁻¹ (XB + N)ᵀ
+    let g = w.transpose() * &w;
+    let res = symmetrize(&(&atx + &xa - &g + q));
+    let rel = super::relative_residual(&res, &[atx.norm(), xa.norm(), g.norm(), q.norm()]);
+    (res, rel)
+}
+
+/// Relative residual of the CARE at `x` (see [`equations`](crate::equations)):
+/// `‖AᵀX + XA − (XB+N)R⁻¹(BᵀX+Nᵀ) + Q‖_F` divided by the sum of the Frobenius norms of the
+/// four terms.
 pub fn care_residual(a: &Mat, b: &Mat, q: &Mat, r: &Mat, n: Option<&Mat>, x: &Mat) -> f64 {
     let atx = a.transpose() * x;
     let xa = x * a;
@@ -134,29 +284,301 @@ pub fn care_residual(a: &Mat, b: &Mat, q: &Mat, r: &Mat, n: Option<&Mat>, x: &Ma
     // (XB + N) R⁻¹ (XB + N)ᵀ through a Cholesky factor of R when possible.
     let g = match r.clone().cholesky() {
         Some(ch) => &xbn * ch.solve(&xbn.transpose()),
-        None => {
-            &xbn * r.clone().pseudo_inverse(0.0).unwrap_or_else(|_| r.clone()) * xbn.transpose()
-        }
+        None => match r.clone().lu().solve(&xbn.transpose()) {
+            Some(sol) => &xbn * sol,
+            None => return f64::INFINITY,
+        },
     };
     let res = &atx + &xa - &g + q;
     super::relative_residual(&res, &[atx.norm(), xa.norm(), g.norm(), q.norm()])
 }
 
-/// Relative residual of the DARE at `x` (see [`equations`](crate::equations)).
-pub fn dare_residual(a: &Mat, b: &Mat, q: &Mat, r: &Mat, n: Option<&Mat>, x: &Mat) -> f64 {
-    let atxa = a.transpose() * x * a;
-    let mut atxb = a.transpose() * x * b;
+/// DARE residual matrix and relative residual; `None` if `BᵀXB + R` is singular.
+pub(crate) fn dare_residual_full(
+    a: &Mat,
+    b: &Mat,
+    q: &Mat,
+    r: &Mat,
+    n: Option<&Mat>,
+    x: &Mat,
+) -> Option<(Mat, f64)> {
+    let xa = x * a;
+    let atxa = symmetrize(&(a.transpose() * &xa));
+    let mut atxb = xa.transpose() * b;
     if let Some(nm) = n {
         atxb += nm;
     }
-    let s = b.transpose() * x * b + r;
+    let s = symmetrize(&(b.transpose() * x * b + r));
     let g = match s.clone().cholesky() {
         Some(ch) => &atxb * ch.solve(&atxb.transpose()),
-        None => match s.clone().lu().solve(&atxb.transpose()) {
-            Some(sol) => &atxb * sol,
-            None => return f64::INFINITY,
-        },
+        None => &atxb * s.lu().solve(&atxb.transpose())?,
     };
-    let res = &atxa - x - &g + q;
-    super::relative_residual(&res, &[atxa.norm(), x.norm(), g.norm(), q.norm()])
+    let res = symmetrize(&(&atxa - x - &g + q));
+    let rel = super::relative_residual(&res, &[atxa.norm(), x.norm(), g.norm(), q.norm()]);
+    Some((res, rel))
+}
+
+/// Relative residual of the DARE at `x` (see [`equations`](crate::equations)):
+/// `‖AᵀXA − X − (AᵀXB+N)(BᵀXB+R)⁻¹(BᵀXA+Nᵀ) + Q‖_F` divided by the sum of the Frobenius norms
+/// of the four terms; `+∞` if `BᵀXB + R` is singular.
+pub fn dare_residual(a: &Mat, b: &Mat, q: &Mat, r: &Mat, n: Option<&Mat>, x: &Mat) -> f64 {
+    dare_residual_full(a, b, q, r, n, x).map_or(f64::INFINITY, |(_, rel)| rel)
+}
+
+/// CARE gain `K = R⁻¹(BᵀX + Nᵀ)`.
+pub(crate) fn care_gain(l: &Mat, b: &Mat, n: Option<&Mat>, x: &Mat) -> Mat {
+    let mut rhs = b.transpose() * x;
+    if let Some(nm) = n {
+        rhs += nm.transpose();
+    }
+    chol_solve(l, &rhs)
+}
+
+/// DARE gain `K = (BᵀXB + R)⁻¹(BᵀXA + Nᵀ)`; `None` if `BᵀXB + R` is singular.
+pub(crate) fn dare_gain(a: &Mat, b: &Mat, r: &Mat, n: Option<&Mat>, x: &Mat) -> Option<Mat> {
+    let xb = x * b;
+    let s = symmetrize(&(b.transpose() * &xb + r));
+    let mut rhs = xb.transpose() * a;
+    if let Some(nm) = n {
+        rhs += nm.transpose();
+    }
+    match s.clone().cholesky() {
+        Some(ch) => Some(ch.solve(&rhs)),
+        None => s.lu().solve(&rhs),
+    }
+}
+
+/// Time domain of a Riccati problem, for the shared diagnostics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Domain {
+    Continuous,
+    Discrete,
+}
+
+impl Domain {
+    /// Distance of `λ` from the stability boundary, positive inside the stable region.
+    fn stability_margin(self, l: Complex64) -> f64 {
+        match self {
+            Domain::Continuous => -l.re,
+            Domain::Discrete => 1.0 - l.norm(),
+        }
+    }
+}
+
+/// Explains a failure from the data: an uncontrollable mode that is not stable
+/// ([`LtiError::NotStabilizable`]), or an unobservable (through `Q̃`) mode on the stability
+/// boundary ([`LtiError::NotDetectable`]). `a`, `q` are the cross-term-free `Ã`, `Q̃`.
+pub(crate) fn diagnose(domain: Domain, a: &Mat, b: &Mat, q: &Mat) -> Option<LtiError> {
+    let ev = crate::linalg::eigenvalues(a).ok()?;
+    let scale = match domain {
+        Domain::Continuous => a.norm().max(1.0),
+        Domain::Discrete => 1.0,
+    };
+    let tol_region = 1e-8 * scale;
+    // Stabilisability: every mode with margin ≤ tol (not stable) must be controllable.
+    let mut worst: Option<(f64, Complex64)> = None;
+    for &l in &ev {
+        if domain.stability_margin(l) <= tol_region {
+            let m = pbh_margin(a, b, l);
+            if worst.is_none_or(|w| m < w.0) {
+                worst = Some((m, l));
+            }
+        }
+    }
+    if let Some((margin, eigenvalue)) = worst
+        && margin <= PBH_TOLERANCE
+    {
+        return Some(LtiError::NotStabilizable { eigenvalue, margin });
+    }
+    // Detectability on the boundary: (Q̃, Ã) must have no unobservable boundary mode.
+    let mut worst: Option<(f64, Complex64)> = None;
+    for &l in &ev {
+        if domain.stability_margin(l).abs() <= tol_region {
+            let m = pbh_margin(&a.transpose(), q, l.conj());
+            if worst.is_none_or(|w| m < w.0) {
+                worst = Some((m, l));
+            }
+        }
+    }
+    if let Some((margin, eigenvalue)) = worst
+        && margin <= PBH_TOLERANCE
+    {
+        return Some(LtiError::NotDetectable { eigenvalue, margin });
+    }
+    None
+}
+
+/// Step 5 and 6 for either domain: refinement, gain, poles and acceptance checks.
+pub(crate) struct Finisher<'a> {
+    pub domain: Domain,
+    pub a: &'a Mat,
+    pub b: &'a Mat,
+    pub q: &'a Mat,
+    pub r: &'a Mat,
+    pub n: Option<&'a Mat>,
+    pub red: &'a Reduced,
+}
+
+impl Finisher<'_> {
+    fn gain(&self, x: &Mat) -> Option<Mat> {
+        match self.domain {
+            Domain::Continuous => Some(care_gain(&self.red.l, self.b, self.n, x)),
+            Domain::Discrete => dare_gain(self.a, self.b, self.r, self.n, x),
+        }
+    }
+
+    fn residual(&self, x: &Mat) -> Option<(Mat, f64)> {
+        match self.domain {
+            Domain::Continuous => Some(care_residual_full(
+                self.a,
+                self.b,
+                self.q,
+                &self.red.l,
+                self.n,
+                x,
+            )),
+            Domain::Discrete => dare_residual_full(self.a, self.b, self.q, self.r, self.n, x),
+        }
+    }
+
+    /// Refines `x`, computes the diagnostics and checks them.
+    pub(crate) fn finish(
+        &self,
+        x: Mat,
+        method: RiccatiMethod,
+        options: &RiccatiOptions,
+    ) -> Result<RiccatiSolution> {
+        let nx = self.a.nrows();
+        let mut x = symmetrize(&x);
+        let bad = |what: &str| LtiError::Inaccurate {
+            what: format!("{what}: BᵀXB + R is singular at the computed solution"),
+            residual: f64::INFINITY,
+            tolerance: RESIDUAL_LIMIT,
+        };
+        let mut k = self.gain(&x).ok_or_else(|| bad("DARE gain"))?;
+        let (mut res_mat, mut residual) = self.residual(&x).ok_or_else(|| bad("DARE residual"))?;
+        let mut steps = 0;
+        let floor = nx as f64 * f64::EPSILON;
+        while steps < options.max_refinement_steps && residual > floor && residual.is_finite() {
+            // Newton step in correction form: L_K(Δ) = −Res(X), with L_K the Fréchet
+            // derivative at X: (A−BK)ᵀΔ + Δ(A−BK) (Kleinman) or (A−BK)ᵀΔ(A−BK) − Δ (Hewer).
+            let ak = self.a - self.b * &k;
+            let delta = match self.domain {
+                Domain::Continuous => crate::equations::lyap(&ak.transpose(), &res_mat),
+                Domain::Discrete => crate::equations::dlyap(&ak.transpose(), &res_mat),
+            };
+            let Ok(delta) = delta else { break };
+            let x_new = symmetrize(&(&x + &delta.x));
+            let Some(k_new) = self.gain(&x_new) else {
+                break;
+            };
+            let Some((rm, rel)) = self.residual(&x_new) else {
+                break;
+            };
+            if rel < residual {
+                x = x_new;
+                k = k_new;
+                res_mat = rm;
+                residual = rel;
+                steps += 1;
+            } else {
+                break;
+            }
+        }
+        let acl = self.a - self.b * &k;
+        let poles = crate::linalg::eigenvalues(&acl)?;
+        let worst = poles.iter().copied().min_by(|p, q| {
+            self.domain
+                .stability_margin(*p)
+                .total_cmp(&self.domain.stability_margin(*q))
+        });
+        if let Some(p) = worst
+            && self.domain.stability_margin(p) <= 0.0
+        {
+            return Err(LtiError::BoundaryEigenvalue {
+                what: match self.domain {
+                    Domain::Continuous => "closed loop A − BK of the computed CARE solution",
+                    Domain::Discrete => "closed loop A − BK of the computed DARE solution",
+                }
+                .into(),
+                eigenvalue: p,
+                distance: self.domain.stability_margin(p).abs(),
+            });
+        }
+        if residual.is_nan() || residual > RESIDUAL_LIMIT {
+            return Err(LtiError::Inaccurate {
+                what: match self.domain {
+                    Domain::Continuous => "CARE solution",
+                    Domain::Discrete => "DARE solution",
+                }
+                .into(),
+                residual,
+                tolerance: RESIDUAL_LIMIT,
+            });
+        }
+        Ok(RiccatiSolution {
+            x,
+            gain: k,
+            closed_loop_poles: poles,
+            residual,
+            method,
+            refinement_steps: steps,
+        })
+    }
+}
+
+/// Runs the candidate methods in order, returning the first accepted solution; on failure the
+/// data are diagnosed and the most informative error is returned.
+pub(crate) fn solve_with_fallback(
+    fin: &Finisher<'_>,
+    candidates: &[RiccatiMethod],
+    options: &RiccatiOptions,
+    mut compute: impl FnMut(RiccatiMethod) -> Result<Mat>,
+) -> Result<RiccatiSolution> {
+    let mut first_err: Option<LtiError> = None;
+    for &m in candidates {
+        let attempt = compute(m).and_then(|x| fin.finish(x, m, options));
+        match attempt {
+            Ok(sol) => return Ok(sol),
+            Err(e) => {
+                if first_err.is_none() {
+                    first_err = Some(e);
+                }
+            }
+        }
+    }
+    if let Some(d) = diagnose(fin.domain, &fin.red.a, fin.b, &fin.red.q) {
+        return Err(d);
+    }
+    Err(first_err.unwrap_or_else(|| LtiError::InvalidArgument("no Riccati method selected".into())))
+}
+
+/// The stabilising solution of the empty problem (`n = 0`).
+pub(crate) fn empty_solution(m: usize, method: RiccatiMethod) -> RiccatiSolution {
+    RiccatiSolution {
+        x: Mat::zeros(0, 0),
+        gain: Mat::zeros(m, 0),
+        closed_loop_poles: Vec::new(),
+        residual: 0.0,
+        method,
+        refinement_steps: 0,
+    }
+}
+
+/// Basis `[U1; U2]` (`2n × n`, orthonormal columns) of a stable invariant/deflating subspace →
+/// `X = U2 U1⁻¹` (symmetrised), with a conditioning check on `U1`.
+pub(crate) fn solution_from_subspace(u1: &Mat, u2: &Mat) -> Result<Mat> {
+    let n = u1.nrows();
+    let lu = crate::linalg::dense::Lu::new(u1);
+    let rcond = lu.rcond();
+    if rcond.is_nan() || rcond <= n as f64 * f64::EPSILON {
+        return Err(LtiError::Singular {
+            what: "U1 block of the stable subspace basis [U1; U2] (X = U2 U1⁻¹)".into(),
+            rcond,
+        });
+    }
+    // U1ᵀ Xᵀ = U2ᵀ.
+    let mut xt = u2.transpose();
+    lu.solve_transpose_in_place(&mut xt);
+    Ok(symmetrize(&xt))
 }

@@ -1,6 +1,6 @@
 //! Extended-pencil (QZ) solvers for the CARE and DARE.
 
-use crate::error::Result;
+use crate::error::{LtiError, Result};
 use crate::linalg::Mat;
 
 /// Stabilising CARE solution from the ordered generalised Schur form of the extended pencil
@@ -14,7 +14,9 @@ pub(crate) fn care_pencil(
     scaling: bool,
 ) -> Result<Mat> {
     let _ = (a, b, q, r, n, scaling);
-    todo!("QZ on the extended Hamiltonian pencil")
+    Err(LtiError::InvalidArgument(
+        "the extended-pencil Riccati method is not available yet".into(),
+    ))
 }
 
 /// Stabilising DARE solution from the ordered generalised Schur form of the extended
@@ -28,5 +30,7 @@ pub(crate) fn dare_pencil(
     scaling: bool,
 ) -> Result<Mat> {
     let _ = (a, b, q, r, n, scaling);
-    todo!("QZ on the extended symplectic pencil")
+    Err(LtiError::InvalidArgument(
+        "the extended-pencil Riccati method is not available yet".into(),
+    ))
 }
