@@ -199,19 +199,20 @@ impl Staircase {
     }
 }
 
-/// Default staircase tolerance `n · ε · max(‖A‖_F, ‖B‖_F, 1)`: rank decisions at the level of
-/// the rounding errors the orthogonal transformations themselves commit.
+/// Default staircase tolerance `10 · n · ε · max(‖A‖_F, ‖B‖_F)`: rank decisions at the level
+/// of the rounding errors the orthogonal transformations themselves commit (scale-invariant:
+/// multiplying `A` and `B` by a common factor does not change a decision).
 fn staircase_tolerance(a: &Mat, b: &Mat) -> f64 {
     let n = a.nrows().max(1) as f64;
-    10.0 * n * f64::EPSILON * a.norm().max(b.norm()).max(1.0)
+    10.0 * n * f64::EPSILON * a.norm().max(b.norm())
 }
 
 /// Computes the controllability staircase form of `(A, B)` by successive rank-revealing
 /// (column-pivoted Householder) QR factorisations of the sub-diagonal blocks (Van Dooren,
 /// "The generalized eigenstructure problem in linear system theory", IEEE TAC 26(1), 1981).
 ///
-/// `tolerance` (default `10 · n · ε · max(‖A‖_F, ‖B‖_F, 1)`) decides which diagonal entries
-/// of `R` count as zero.
+/// `tolerance` (default `10 · n · ε · max(‖A‖_F, ‖B‖_F)`) decides which diagonal entries of
+/// `R` count as zero.
 ///
 /// # Errors
 /// [`LtiError::NotSquare`], [`LtiError::DimensionMismatch`], [`LtiError::NonFinite`].
