@@ -796,6 +796,7 @@ pub struct CanonicalForm<D: TimeDomain> {
 /// # Errors
 /// [`LtiError::InvalidArgument`] unless `nu = 1`; [`LtiError::NotControllable`] if `(A, B)`
 /// is not controllable.
+#[doc(alias = "canon")]
 pub fn controllable_canonical_form<D: TimeDomain>(sys: &StateSpace<D>) -> Result<CanonicalForm<D>> {
     if sys.nu() != 1 {
         return Err(LtiError::InvalidArgument(format!(
