@@ -126,6 +126,22 @@ def main():
     zeros.append({"name": "g3_nmp", "a": np.asarray(s3.A).tolist(), "b": np.asarray(s3.B).tolist(),
                   "c": np.asarray(s3.C).tolist(), "d": np.asarray(s3.D).tolist(),
                   "zeros_re": np.real(z).tolist(), "zeros_im": np.imag(z).tolist()})
+    # Square MIMO systems (python-control computes these from the generalised eigenvalues
+    # of the system pencil).
+    rng = np.random.default_rng(3)
+    for name, (n, m, with_d) in [("mimo_2x2_d0", (4, 2, False)), ("mimo_3x3_d_singular", (5, 3, True))]:
+        A = rng.standard_normal((n, n))
+        B = rng.standard_normal((n, m))
+        C = rng.standard_normal((m, n))
+        if with_d:
+            u = rng.standard_normal((m, 1))
+            D = u @ u.T  # rank one: a mix of finite and infinite zero structure
+        else:
+            D = np.zeros((m, m))
+        z = control.zeros(control.ss(A, B, C, D))
+        zeros.append({"name": name, "a": A.tolist(), "b": B.tolist(), "c": C.tolist(),
+                      "d": D.tolist(), "zeros_re": np.real(z).tolist(),
+                      "zeros_im": np.imag(z).tolist()})
     out["zeros"] = zeros
 
     path = pathlib.Path("crates/lti/tests/fixtures/lti_reference.json")

@@ -5,7 +5,7 @@
 //! | question | function | MATLAB |
 //! |---|---|---|
 //! | poles | [`StateSpace::poles`] | `pole`, `eig(A)` |
-//! | transmission zeros (SISO) | [`StateSpace::zeros`] | `tzero`, `zero` |
+//! | invariant (transmission) zeros, any shape | [`StateSpace::zeros`] | `tzero`, `zero` |
 //! | DC gain | [`StateSpace::dc_gain`] | `dcgain` |
 //! | stability | [`StateSpace::is_stable`], [`StateSpace::stability_margin`] | `isstable` |
 //! | natural frequency, damping | [`StateSpace::damp`] | `damp` |
@@ -199,19 +199,20 @@ impl Staircase {
     }
 }
 
-/// Default staircase tolerance `n · ε · max(‖A‖_F, ‖B‖_F, 1)`: rank decisions at the level of
-/// the rounding errors the orthogonal transformations themselves commit.
+/// Default staircase tolerance `10 · n · ε · max(‖A‖_F, ‖B‖_F)`: rank decisions at the level
+/// of the rounding errors the orthogonal transformations themselves commit (scale-invariant:
+/// multiplying `A` and `B` by a common factor does not change a decision).
 fn staircase_tolerance(a: &Mat, b: &Mat) -> f64 {
     let n = a.nrows().max(1) as f64;
-    10.0 * n * f64::EPSILON * a.norm().max(b.norm()).max(1.0)
+    10.0 * n * f64::EPSILON * a.norm().max(b.norm())
 }
 
 /// Computes the controllability staircase form of `(A, B)` by successive rank-revealing
 /// (column-pivoted Householder) QR factorisations of the sub-diagonal blocks (Van Dooren,
 /// "The generalized eigenstructure problem in linear system theory", IEEE TAC 26(1), 1981).
 ///
-/// `tolerance` (default `10 · n · ε · max(‖A‖_F, ‖B‖_F, 1)`) decides which diagonal entries
-/// of `R` count as zero.
+/// `tolerance` (default `10 · n · ε · max(‖A‖_F, ‖B‖_F)`) decides which diagonal entries of
+/// `R` count as zero.
 ///
 /// # Errors
 /// [`LtiError::NotSquare`], [`LtiError::DimensionMismatch`], [`LtiError::NonFinite`].
@@ -361,35 +362,41 @@ impl<D: TimeDomain> StateSpace<D> {
         crate::linalg::eigenvalues(self.a())
     }
 
-    /// Transmission (invariant) zeros of a SISO system: the finite `s` where the system
-    /// matrix `[[sI − A, −B], [C, D]]` loses rank (MATLAB `tzero`). They include the
-    /// input- and output-decoupling zeros of a non-minimal realisation, so that
+    /// Invariant (transmission) zeros: the finite `s` where the system matrix
+    /// `[[sI − A, −B], [C, D]]` loses rank below its normal rank (MATLAB `tzero`), for any
+    /// number of inputs and outputs. They include the input- and output-decoupling zeros of
+    /// a non-minimal realisation, so that for SISO systems
     /// `num/den = k Π(s − zᵢ)/Π(s − pᵢ)` holds for every realisation.
     ///
-    /// Method: for `D ≠ 0`, the eigenvalues of `A − B D⁻¹ C`. For `D = 0`, the orthogonal
-    /// deflation of Emami-Naeini & Van Dooren ("Computation of zeros of linear multivariable
-    /// systems", Automatica 18(4), 1982) specialised to one input and output: a Householder
-    /// reflection puts `C` into the last state coordinate; if the resulting `b₂ = CB/‖C‖` is
-    /// non-zero the zeros are the eigenvalues of `A₁₁ − b₁A₂₁/b₂`, otherwise the problem
-    /// deflates to `(A₁₁, b₁, A₂₁)` with one state less (one more zero at infinity). Every
-    /// rank decision compares against the rounding level of the quantity decided.
+    /// Method: orthogonal deflation in the spirit of Emami-Naeini & Van Dooren ("Computation
+    /// of zeros of linear multivariable systems", Automatica 18(4), 1982), which removes the
+    /// infinite zeros one structural step at a time and keeps the finite ones:
+    /// - `D` of rank `σ > 0`: compress its rows and columns with rank-revealing QR, solve the
+    ///   `σ` outputs that see the input directly for `σ` input directions
+    ///   (`v₁ = −D̄₁⁻¹ C̄₁ x`), and continue with the remaining outputs (no feedthrough) and
+    ///   inputs;
+    /// - `D = 0`: compress `C` onto its row space; a zero output forces those `ρ` state
+    ///   components to vanish, which leaves `n − ρ` states with the new "output"
+    ///   `A₂₁x₁ + B₂u = 0`;
+    /// - no outputs left: the zeros are the uncontrollable modes of what remains (the
+    ///   staircase form), all eigenvalues if no inputs remain.
     ///
-    /// An identically zero transfer function has no defined zeros: an empty list is returned
-    /// (its DC gain and frequency response are zero).
+    /// Rank decisions use `max(n + p, n + m) · ε · ‖[[A, B], [C, D]]‖_F`. For SISO systems
+    /// this reduces to `eig(A − BD⁻¹C)` (`D ≠ 0`) or the eigenvalues after the relative
+    /// degree has been deflated. An identically zero transfer function has no zeros (an
+    /// empty list).
     ///
     /// # Errors
-    /// [`LtiError::NotSiso`] for other shapes; [`LtiError::NoConvergence`].
+    /// [`LtiError::NoConvergence`] from the eigenvalue computations.
     #[doc(alias = "tzero")]
     #[doc(alias = "zero")]
     pub fn zeros(&self) -> Result<Vec<Complex64>> {
-        if self.nu() != 1 || self.ny() != 1 {
-            return Err(LtiError::NotSiso {
-                what: "zeros".into(),
-                ny: self.ny(),
-                nu: self.nu(),
-            });
+        if self.nu() == 1 && self.ny() == 1 {
+            return Ok(
+                siso_zeros(self.a(), self.b(), self.c(), self.d()[(0, 0)])?.unwrap_or_default()
+            );
         }
-        Ok(siso_zeros(self.a(), self.b(), self.c(), self.d()[(0, 0)])?.unwrap_or_default())
+        invariant_zeros(self.a(), self.b(), self.c(), self.d())
     }
 
     /// Frequency response `G(s₀) = D + C (s₀I − A)⁻¹ B` at one complex point (`s` or `z`).
@@ -583,6 +590,78 @@ pub(crate) fn evaluate_at(
     Ok(cc * x + dc)
 }
 
+/// Invariant zeros of a general realisation (see [`StateSpace::zeros`]).
+pub(crate) fn invariant_zeros(a: &Mat, b: &Mat, c: &Mat, d: &Mat) -> Result<Vec<Complex64>> {
+    let (n0, m0, p0) = (a.nrows(), b.ncols(), c.nrows());
+    let snorm = (a.norm_squared() + b.norm_squared() + c.norm_squared() + d.norm_squared()).sqrt();
+    let tol = (n0 + p0).max(n0 + m0).max(1) as f64 * f64::EPSILON * snorm.max(f64::MIN_POSITIVE);
+    let (mut a, mut b, mut c, mut d) = (a.clone(), b.clone(), c.clone(), d.clone());
+    loop {
+        let (n, m, p) = (a.nrows(), b.ncols(), c.nrows());
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        if p == 0 {
+            if m == 0 {
+                return crate::linalg::eigenvalues(&a);
+            }
+            return controllability_staircase(&a, &b, Some(tol))?.uncontrollable_modes();
+        }
+        let rank_of = |r: &Mat| {
+            (0..r.nrows().min(r.ncols()))
+                .take_while(|&i| r[(i, i)].abs() > tol)
+                .count()
+        };
+        // Rank of D by rank-revealing QR: D P = Q R.
+        let (qd, rd, _) = qr_column_pivoting(&d);
+        let sigma = if m == 0 { 0 } else { rank_of(&rd) };
+        if sigma > 0 {
+            // Rows: U = Qᵀ puts D's row space first: U D = [D̄ (σ × m); 0].
+            let ud = qd.transpose() * &d;
+            let uc = qd.transpose() * &c;
+            let dbar = ud.rows(0, sigma).clone_owned();
+            // Columns: D̄ W = [D̄₁ (σ × σ, invertible), 0] with W from the QR of D̄ᵀ.
+            let (w, _, _) = qr_column_pivoting(&dbar.transpose());
+            let dw = &dbar * &w;
+            let d1 = dw.columns(0, sigma).clone_owned();
+            let w1 = w.columns(0, sigma).clone_owned();
+            let w2 = w.columns(sigma, m - sigma).clone_owned();
+            let c1 = uc.rows(0, sigma).clone_owned();
+            let lu = d1.lu();
+            let f = lu.solve(&c1).ok_or(LtiError::Singular {
+                what: "feedthrough block in the zero computation".into(),
+                rcond: 0.0,
+            })?;
+            a = &a - &b * &w1 * f;
+            b = &b * w2;
+            c = uc.rows(sigma, p - sigma).clone_owned();
+            d = Mat::zeros(p - sigma, m - sigma);
+            continue;
+        }
+        // D = 0: compress C onto its row space, Cᵀ P = Q R, C Q = [C_a (ρ columns), 0].
+        let (qc, rc, _) = qr_column_pivoting(&c.transpose());
+        let rho = rank_of(&rc);
+        if rho == 0 {
+            c = Mat::zeros(0, n);
+            d = Mat::zeros(0, m);
+            continue;
+        }
+        let at = qc.transpose() * &a * &qc;
+        let bt = qc.transpose() * &b;
+        // x = Q [x_a; x_b]; y = 0 forces x_a = 0, leaving x_b with the constraint
+        // A_ab x_b + B_a u = 0 as the new output.
+        let nb = n - rho;
+        let new_a = at.view((rho, rho), (nb, nb)).clone_owned();
+        let new_b = bt.rows(rho, nb).clone_owned();
+        let new_c = at.view((0, rho), (rho, nb)).clone_owned();
+        let new_d = bt.rows(0, rho).clone_owned();
+        a = new_a;
+        b = new_b;
+        c = new_c;
+        d = new_d;
+    }
+}
+
 /// Invariant zeros of a SISO realisation; `None` if the transfer function is identically 0.
 pub(crate) fn siso_zeros(a: &Mat, b: &Mat, c: &Mat, d: f64) -> Result<Option<Vec<Complex64>>> {
     let n = a.nrows();
@@ -717,6 +796,7 @@ pub struct CanonicalForm<D: TimeDomain> {
 /// # Errors
 /// [`LtiError::InvalidArgument`] unless `nu = 1`; [`LtiError::NotControllable`] if `(A, B)`
 /// is not controllable.
+#[doc(alias = "canon")]
 pub fn controllable_canonical_form<D: TimeDomain>(sys: &StateSpace<D>) -> Result<CanonicalForm<D>> {
     if sys.nu() != 1 {
         return Err(LtiError::InvalidArgument(format!(

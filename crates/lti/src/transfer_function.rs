@@ -41,7 +41,9 @@ impl<D: TimeDomain> TransferFunction<D> {
     /// `num/den` in the given time domain; the pair is scaled so that `den` is monic.
     ///
     /// # Errors
-    /// [`LtiError::InvalidArgument`] if `den` is the zero polynomial.
+    /// [`LtiError::InvalidArgument`] if `den` is the zero polynomial;
+    /// [`LtiError::NonFinite`] if the normalisation overflows (a denominator whose leading
+    /// coefficient is tiny compared with the others).
     pub fn new(num: Polynomial, den: Polynomial, domain: D) -> Result<Self> {
         if den.is_zero() {
             return Err(LtiError::InvalidArgument(
@@ -49,11 +51,23 @@ impl<D: TimeDomain> TransferFunction<D> {
             ));
         }
         let lead = den.leading();
-        Ok(Self {
-            num: num.scale(1.0 / lead),
-            den: den.monic(),
-            domain,
-        })
+        let (num, den) = (num.scale(1.0 / lead), den.monic());
+        for (what, p) in [("numerator", &num), ("denominator", &den)] {
+            if let Some((i, &v)) = p
+                .coefficients()
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.is_finite())
+            {
+                return Err(LtiError::NonFinite {
+                    what: format!("{what} after normalising the denominator to be monic"),
+                    row: 0,
+                    col: i,
+                    value: v,
+                });
+            }
+        }
+        Ok(Self { num, den, domain })
     }
 
     /// `num/den` from coefficient slices in descending powers (MATLAB
@@ -412,6 +426,15 @@ mod tests {
         // Discrete: 0.5/(z − 0.5) at z = 1 is 1.
         let g = TransferFunction::discrete(&[0.5], &[1.0, -0.5], 0.1).unwrap();
         assert!((g.dc_gain().unwrap() - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn normalisation_overflow_is_an_error() {
+        // Leading denominator coefficient 1e-300: dividing by it overflows the others.
+        assert!(matches!(
+            TransferFunction::continuous(&[1.0], &[1e-300, 1e10]),
+            Err(LtiError::NonFinite { .. })
+        ));
     }
 
     #[test]

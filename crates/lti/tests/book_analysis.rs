@@ -354,3 +354,22 @@ fn damping_of_book_poles() {
         assert!((d.damping_ratio - 3.125 / s.norm()).abs() < 1e-10);
     }
 }
+
+#[test]
+fn controllability_decisions_are_scale_invariant() {
+    // The cart pendulum in badly chosen units (every entry scaled by 1e-12 or 1e12) is still
+    // controllable; p1c511_ex2 scaled likewise is still uncontrollable.
+    let (a, b) = cdip();
+    for s in [1e-12, 1e12] {
+        let st = controllability_staircase(&(&a * s), &(&b * s), None).unwrap();
+        assert_eq!(st.controllable_dimension, 4, "scale {s}");
+        let a2 = mat(3, 3, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]) * s;
+        let b2 = mat(3, 1, &[0.0, 0.0, 1.0]) * s;
+        assert_eq!(
+            controllability_staircase(&a2, &b2, None)
+                .unwrap()
+                .controllable_dimension,
+            2
+        );
+    }
+}

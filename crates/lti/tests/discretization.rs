@@ -327,3 +327,63 @@ fn foh_discretisation_is_exact_for_ramps() {
         xi = ad * xi + bd * t;
     }
 }
+
+#[test]
+fn round_trips_with_repeated_and_defective_poles() {
+    // Double integrator (A nilpotent: a Jordan block at 0, so A_d is a Jordan block at 1)
+    // and a triple pole at −2 (Jordan block): c2d by ZOH is [[1, ts], [0, 1]]-like in closed
+    // form, and d2c must undo it to 1e-9 (issue acceptance) for every method.
+    let dint = StateSpace::continuous(
+        mat(2, 2, &[0.0, 1.0, 0.0, 0.0]),
+        mat(2, 1, &[0.0, 1.0]),
+        mat(1, 2, &[1.0, 0.0]),
+        Mat::zeros(1, 1),
+    )
+    .unwrap();
+    let ts = 0.05;
+    let d = dint.c2d(ts, Discretization::Zoh).unwrap();
+    // Closed form: A_d = [[1, ts], [0, 1]], B_d = [ts²/2; ts].
+    assert!((d.a() - mat(2, 2, &[1.0, ts, 0.0, 1.0])).norm() < 1e-16);
+    assert!((d.b() - mat(2, 1, &[ts * ts / 2.0, ts])).norm() < 1e-17);
+    let triple = TransferFunction::continuous(&[1.0, 1.0], &[1.0, 6.0, 12.0, 8.0])
+        .unwrap()
+        .to_state_space()
+        .unwrap();
+    let w = [0.1, 1.0, 4.0];
+    for sys in [&dint, &triple] {
+        for m in all_methods() {
+            let back = sys.c2d(ts, m).unwrap().d2c(m).unwrap();
+            let e = max_response_error(&back, sys, &w);
+            assert!(e < 1e-9, "{m:?}: {e:e}");
+        }
+    }
+}
+
+#[test]
+fn discrete_transfer_function_conversions() {
+    // A pure two-step delay z⁻² = 1/z²: poles at 0, no zeros, unit gain.
+    let g = TransferFunction::discrete(&[1.0], &[1.0, 0.0, 0.0], 0.1).unwrap();
+    let s = g.to_state_space().unwrap();
+    let back = TransferFunction::from_state_space(&s).unwrap();
+    assert_close(back.den().coefficients(), &[1.0, 0.0, 0.0], 1e-15, "den");
+    assert_close(back.num().coefficients(), &[1.0], 1e-14, "num");
+    // d2c of a ZOH-discretised transfer function returns the original coefficients.
+    let gc = TransferFunction::continuous(&[2.0, 1.0], &[1.0, 3.0, 2.0]).unwrap();
+    let gb = gc
+        .c2d(0.1, Discretization::Zoh)
+        .unwrap()
+        .d2c(Discretization::Zoh)
+        .unwrap();
+    assert_close(
+        gb.num().coefficients(),
+        gc.num().coefficients(),
+        1e-9,
+        "num",
+    );
+    assert_close(
+        gb.den().coefficients(),
+        gc.den().coefficients(),
+        1e-9,
+        "den",
+    );
+}

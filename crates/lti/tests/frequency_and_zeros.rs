@@ -179,13 +179,61 @@ fn zeros_with_relative_degree_and_feedthrough() {
             .num()
             .is_zero()
     );
-    // MIMO is refused with a typed error.
+    // Measuring the whole state leaves no zeros: [[A − λI, B], [I, 0]] has full column
+    // rank for every λ.
     let (a, b) = cdip();
     let mimo = StateSpace::continuous(a, b, Mat::identity(4, 4), Mat::zeros(4, 1)).unwrap();
-    assert!(matches!(
-        mimo.zeros(),
-        Err(LtiError::NotSiso { ny: 4, nu: 1, .. })
-    ));
+    assert!(mimo.zeros().unwrap().is_empty());
+}
+
+#[test]
+fn mimo_zeros_closed_forms() {
+    // Block-diagonal system: the zeros are the union of the blocks' zeros, here
+    // {1, −4} ∪ {−2} ∪ {} (a static gain adds none); this also runs the general algorithm on
+    // SISO pieces.
+    let g1 = TransferFunction::continuous(&[1.0, 3.0, -4.0], &[1.0, 8.0, 17.0, 10.0])
+        .unwrap()
+        .to_state_space()
+        .unwrap();
+    let g2 = TransferFunction::continuous(&[2.0, 4.0], &[1.0, 1.0, 1.0])
+        .unwrap()
+        .to_state_space()
+        .unwrap();
+    let k = StateSpace::static_gain(mat(1, 1, &[3.0]), Continuous).unwrap();
+    let sys = pendulab_lti::interconnect::append(&[&g1, &g2, &k]).unwrap();
+    assert_same_poles(
+        &sys.zeros().unwrap(),
+        &[c(1.0, 0.0), c(-4.0, 0.0), c(-2.0, 0.0)],
+        1e-12,
+    );
+    // Non-square (1 input, 2 outputs): y₁ = (s + 1)/((s + 2)(s + 3)) u,
+    // y₂ = (s + 1)(s + 5)/((s + 2)(s + 3)) u; only the common zero −1 survives.
+    let sys = StateSpace::continuous(
+        mat(2, 2, &[0.0, 1.0, -6.0, -5.0]),
+        mat(2, 1, &[0.0, 1.0]),
+        mat(2, 2, &[1.0, 1.0, -1.0, 1.0]),
+        mat(2, 1, &[0.0, 1.0]),
+    )
+    .unwrap();
+    assert_same_poles(&sys.zeros().unwrap(), &[c(-1.0, 0.0)], 1e-12);
+    // 2 inputs, 1 output with no common structure: a fat system generically has no zeros.
+    let sys = StateSpace::continuous(
+        mat(2, 2, &[0.0, 1.0, -6.0, -5.0]),
+        mat(2, 2, &[1.0, 0.0, 0.0, 1.0]),
+        mat(1, 2, &[1.0, 0.0]),
+        Mat::zeros(1, 2),
+    )
+    .unwrap();
+    assert!(sys.zeros().unwrap().is_empty());
+    // An uncontrollable mode is an input-decoupling zero in the MIMO case too.
+    let sys = StateSpace::continuous(
+        Mat::from_diagonal(&pendulab_lti::Vector::from_row_slice(&[-1.0, -2.0, -7.0])),
+        mat(3, 2, &[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]),
+        mat(2, 3, &[1.0, 0.0, 1.0, 0.0, 1.0, 1.0]),
+        Mat::zeros(2, 2),
+    )
+    .unwrap();
+    assert_same_poles(&sys.zeros().unwrap(), &[c(-7.0, 0.0)], 1e-12);
 }
 
 #[test]

@@ -86,11 +86,15 @@ fn lqr_satisfies_the_kalman_identity() {
     // A frequency-domain property of the optimal gain that does not involve the Riccati
     // equation: checked on the cart pendulum with two made-up inputs.
     let (a, b1) = cdip();
-    let b = Mat::from_fn(4, 2, |i, j| if j == 0 { b1[(i, 0)] } else { 0.1 * i as f64 });
+    let b = Mat::from_fn(
+        4,
+        2,
+        |i, j| if j == 0 { b1[(i, 0)] } else { 0.1 * i as f64 },
+    );
     let q = diag(&[5.0, 20.0, 0.5, 0.1]);
     let r = mat(2, 2, &[1.0, 0.2, 0.2, 2.0]);
-    let sys = StateSpace::continuous(a.clone(), b.clone(), Mat::zeros(0, 4), Mat::zeros(0, 2))
-        .unwrap();
+    let sys =
+        StateSpace::continuous(a.clone(), b.clone(), Mat::zeros(0, 4), Mat::zeros(0, 2)).unwrap();
     let l = lqr(&sys, &q, &r, None).unwrap();
     for w in [0.1, 1.0, 3.0, 10.0, 100.0] {
         // Condition of the identity is modest (‖G‖ ≤ ~10 here): 1e-10 relative.
@@ -107,8 +111,8 @@ fn cross_term_equals_the_completed_square() {
     let q = diag(&[10.0, 10.0, 1.0, 1.0]);
     let r = mat(1, 1, &[2.0]);
     let n = mat(4, 1, &[0.5, -1.0, 0.2, 0.1]);
-    let sys = StateSpace::continuous(a.clone(), b.clone(), Mat::zeros(0, 4), Mat::zeros(0, 1))
-        .unwrap();
+    let sys =
+        StateSpace::continuous(a.clone(), b.clone(), Mat::zeros(0, 4), Mat::zeros(0, 1)).unwrap();
     let l1 = lqr(&sys, &q, &r, Some(&n)).unwrap();
     let rinv_nt = n.transpose() / 2.0;
     let a2 = &a - &b * &rinv_nt;
@@ -117,7 +121,12 @@ fn cross_term_equals_the_completed_square() {
     let l2 = lqr(&sys2, &q2, &r, None).unwrap();
     let k2 = &l2.gain + rinv_nt;
     // Both are backward-stable solutions of equivalent equations: 1e-9 relative.
-    assert!((&l1.gain - &k2).norm() < 1e-9 * k2.norm(), "{} vs {}", l1.gain, k2);
+    assert!(
+        (&l1.gain - &k2).norm() < 1e-9 * k2.norm(),
+        "{} vs {}",
+        l1.gain,
+        k2
+    );
     assert!((&l1.riccati - &l2.riccati).norm() < 1e-9 * l2.riccati.norm());
 }
 
@@ -217,7 +226,10 @@ fn sampled_data_lqr_cost_equals_the_continuous_cost() {
         x = &step[panels].0 * &x + &step[panels].1 * &u;
     }
     let predicted = (x0.transpose() * &d.lqr.riccati * &x0)[(0, 0)];
-    assert!((cost - predicted).abs() < 1e-9 * predicted, "{cost} vs {predicted}");
+    assert!(
+        (cost - predicted).abs() < 1e-9 * predicted,
+        "{cost} vs {predicted}"
+    );
 }
 
 #[test]
@@ -226,8 +238,8 @@ fn lqe_solves_the_filter_riccati_equation() {
     // AP + PAᵀ − PCᵀR⁻¹CP + GQGᵀ = 0 (checked here directly), and A − LC must be stable.
     let (a, _) = cdip();
     let cm = mat(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
-    let sys = StateSpace::continuous(a.clone(), Mat::zeros(4, 1), cm.clone(), Mat::zeros(2, 1))
-        .unwrap();
+    let sys =
+        StateSpace::continuous(a.clone(), Mat::zeros(4, 1), cm.clone(), Mat::zeros(2, 1)).unwrap();
     let g = Mat::identity(4, 4);
     let qn = diag(&[1e-4, 1e-4, 1e-2, 1e-2]);
     let rn = diag(&[1e-6, 1e-5]);
@@ -249,7 +261,10 @@ fn infeasible_lqr_problems_are_typed_errors() {
     let sys = StateSpace::continuous(a, b, Mat::zeros(0, 3), Mat::zeros(0, 1)).unwrap();
     let e = lqr(&sys, &Mat::identity(3, 3), &mat(1, 1, &[1.0]), None).unwrap_err();
     assert!(
-        matches!(e, LtiError::NotStabilizable { .. } | LtiError::BoundaryEigenvalue { .. }),
+        matches!(
+            e,
+            LtiError::NotStabilizable { .. } | LtiError::BoundaryEigenvalue { .. }
+        ),
         "{e}"
     );
     // R not positive definite; wrong shapes; NaN.

@@ -302,3 +302,17 @@ fn lsim_rejects_bad_input() {
     let one = initial(&sys, &[2.5], &[0.0]).unwrap();
     assert_eq!(one.y()[(0, 0)], 2.5);
 }
+
+#[test]
+fn static_gain_and_feedthrough_responses() {
+    // A system without states is y = D u at every sample.
+    let k = StateSpace::static_gain(mat(2, 1, &[2.0, -0.5]), Continuous).unwrap();
+    let t = time_vector(0.3, 0.1).unwrap();
+    let u = Mat::from_fn(t.len(), 1, |i, _| i as f64);
+    let tr = lsim(&k, &u, &t, None, &LsimOptions::default()).unwrap();
+    for i in 0..t.len() {
+        assert_eq!(tr.y()[(i, 0)], 2.0 * i as f64);
+        assert_eq!(tr.y()[(i, 1)], -0.5 * i as f64);
+    }
+    assert_eq!(tr.x().ncols(), 0);
+}
