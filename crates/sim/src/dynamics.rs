@@ -4,7 +4,7 @@
 ///
 /// Everything pendulab simulates implements this trait: state-space systems, the pendulum
 /// plants of `pendulab-plants`, closed loops. The integrators, the sampled-data loop and
-/// [`linearize`](crate::linearize) are written once against it.
+/// `linearize` are written once against it.
 ///
 /// Contract:
 /// - `x.len() == self.nx()`, `u.len() == self.nu()`, `dx.len() == self.nx()`; callers in this

@@ -1,0 +1,41 @@
+//! The discrete controller interface shared by the simulator, the rig runtime and the designs.
+
+/// A discrete-time controller called once per sample period.
+///
+/// At each sample instant `t_k = t_0 + k·ts` the caller hands the controller the measurement
+/// `y_k` (what the sensor chain delivers: quantised encoder positions, estimated velocities, …)
+/// and the controller writes the command `u_k`, which is held constant (zero-order hold) until
+/// the next call. The reference, if any, is part of the controller (evaluated from `t`), so
+/// the same value runs in the simulator and on the rig.
+///
+/// Contract:
+/// - `y.len() == self.ny()`, `u.len() == self.nu()`.
+/// - `update` is called with strictly increasing `t`; [`Controller::reset`] returns the
+///   controller to its initial internal state (integrators, filters, switching mode).
+/// - No allocation, I/O or sleeping inside `update`: it runs inside a 1 kHz loop.
+pub trait Controller {
+    /// Length of the measurement vector `y`.
+    fn ny(&self) -> usize;
+    /// Number of commands `u`.
+    fn nu(&self) -> usize;
+    /// Returns to the initial internal state.
+    fn reset(&mut self);
+    /// Computes `u_k` from the measurement `y_k` at time `t` (seconds).
+    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]);
+}
+
+impl<T: Controller + ?Sized> Controller for Box<T> {
+    fn ny(&self) -> usize {
+        (**self).ny()
+    }
+    fn nu(&self) -> usize {
+        (**self).nu()
+    }
+    fn reset(&mut self) {
+        (**self).reset()
+    }
+    #[inline]
+    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
+        (**self).update(t, y, u)
+    }
+}
