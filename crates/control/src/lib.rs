@@ -1,0 +1,8 @@
+//! # pendulab-control — nonlinear and digital control
+#![warn(missing_docs)]
+
+pub mod cgmres;
+pub mod error;
+pub mod gmres;
+
+pub use error::{ControlError, Result};
