@@ -4,5 +4,6 @@
 pub mod cgmres;
 pub mod error;
 pub mod gmres;
+pub mod quantizer;
 
 pub use error::{ControlError, Result};
