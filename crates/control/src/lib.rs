@@ -5,5 +5,6 @@ pub mod cgmres;
 pub mod error;
 pub mod gmres;
 pub mod quantizer;
+pub mod sliding_mode;
 
 pub use error::{ControlError, Result};
