@@ -11,6 +11,7 @@ use serde::Serialize;
 use std::time::{Duration, Instant};
 
 mod lmi;
+mod plants;
 mod plot;
 
 /// Arguments of `pendulab bench`.
@@ -104,6 +105,11 @@ fn workloads() -> Vec<Workload> {
         name: "lsim-1e6",
         description: "10^6 samples of a 5-state closed loop at 1 ms, FOH (samples/s)",
         run: lsim::run,
+    });
+    all.push(Workload {
+        name: "plants-rhs",
+        description: "cart/arm pendulum right-hand sides in a 1 kHz RK4 loop (evals/s)",
+        run: plants::run,
     });
     all
 }
