@@ -8,6 +8,7 @@
 
 use pendulab_lmi::LmiError;
 use pendulab_lti::LtiError;
+use pendulab_plants::PlantError;
 
 /// Errors of the control designs and controllers.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -94,6 +95,9 @@ pub enum ControlError {
     /// An error of the LMI/LP layer.
     #[error(transparent)]
     Lmi(#[from] LmiError),
+    /// An error of a plant model (invalid parameters, non-finite operating point).
+    #[error(transparent)]
+    Plant(#[from] PlantError),
 }
 
 /// Result alias of this crate.

@@ -4,6 +4,7 @@
 pub mod cgmres;
 pub mod error;
 pub mod gmres;
+pub mod nmpc;
 pub mod quantizer;
 pub mod sliding_mode;
 

@@ -11,6 +11,7 @@ use serde::Serialize;
 use std::time::{Duration, Instant};
 
 mod lmi;
+mod nmpc;
 mod plants;
 mod plot;
 
@@ -101,6 +102,11 @@ fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
+    all.push(Workload {
+        name: "nmpc-update",
+        description: "one C/GMRES update of the arm pendulum's swing-up NMPC, over a 10 s swing (us/update)",
+        run: nmpc::run,
+    });
     all.push(Workload {
         name: "lsim-1e6",
         description: "10^6 samples of a 5-state closed loop at 1 ms, FOH (samples/s)",

@@ -175,9 +175,39 @@ impl<P: OptimalControlProblem> OptimalControlProblem for InputBounds<P> {
     #[inline]
     fn hamiltonian_u(&self, t: f64, x: &[f64], u: &[f64], lambda: &[f64], hu: &mut [f64]) {
         let mb = self.base.nu();
-        let k = self.bounds.len();
         self.base
             .hamiltonian_u(t, x, &u[..mb], lambda, &mut hu[..mb]);
+        self.add_constraint_terms(u, hu);
+    }
+
+    #[inline]
+    fn hamiltonian_xu(
+        &self,
+        t: f64,
+        x: &[f64],
+        u: &[f64],
+        lambda: &[f64],
+        hx: &mut [f64],
+        hu: &mut [f64],
+    ) {
+        let mb = self.base.nu();
+        self.base
+            .hamiltonian_xu(t, x, &u[..mb], lambda, hx, &mut hu[..mb]);
+        self.add_constraint_terms(u, hu);
+    }
+
+    #[inline]
+    fn terminal_gradient(&self, t: f64, x: &[f64], phix: &mut [f64]) {
+        self.base.terminal_gradient(t, x, phix);
+    }
+}
+
+impl<P: OptimalControlProblem> InputBounds<P> {
+    /// Adds the bounds' terms to `H_u` (base part already written).
+    #[inline]
+    fn add_constraint_terms(&self, u: &[f64], hu: &mut [f64]) {
+        let mb = self.base.nu();
+        let k = self.bounds.len();
         for (j, b) in self.bounds.iter().enumerate() {
             let d = u[b.index] - b.center();
             let v = u[mb + j];
@@ -186,10 +216,5 @@ impl<P: OptimalControlProblem> OptimalControlProblem for InputBounds<P> {
             hu[mb + j] = -b.dummy_weight + 2.0 * rho * v;
             hu[mb + k + j] = d * d + v * v - b.radius() * b.radius();
         }
-    }
-
-    #[inline]
-    fn terminal_gradient(&self, t: f64, x: &[f64], phix: &mut [f64]) {
-        self.base.terminal_gradient(t, x, phix);
     }
 }

@@ -75,6 +75,22 @@ pub trait OptimalControlProblem {
     fn hamiltonian_u(&self, t: f64, x: &[f64], u: &[f64], lambda: &[f64], hu: &mut [f64]);
     /// Gradient of the terminal cost `φₓ(x)` at time `t`.
     fn terminal_gradient(&self, t: f64, x: &[f64], phix: &mut [f64]);
+    /// `Hₓ` and `H_u` together (the solver calls this one). The default calls
+    /// [`hamiltonian_x`](Self::hamiltonian_x) and [`hamiltonian_u`](Self::hamiltonian_u);
+    /// override it when both share expensive work (a Jacobian, trigonometric functions).
+    #[inline]
+    fn hamiltonian_xu(
+        &self,
+        t: f64,
+        x: &[f64],
+        u: &[f64],
+        lambda: &[f64],
+        hx: &mut [f64],
+        hu: &mut [f64],
+    ) {
+        self.hamiltonian_x(t, x, u, lambda, hx);
+        self.hamiltonian_u(t, x, u, lambda, hu);
+    }
 }
 
 /// The prediction horizon `T(t)` as a function of the time elapsed since initialisation.
@@ -250,8 +266,14 @@ impl Kernel {
             let ti = t + i as f64 * dtau;
             let xi = &self.xs[i * nx..(i + 1) * nx];
             let ui = &u[i * m..(i + 1) * m];
-            p.hamiltonian_u(ti, xi, ui, &self.lmd, &mut out[i * m..(i + 1) * m]);
-            p.hamiltonian_x(ti, xi, ui, &self.lmd, &mut self.hx);
+            p.hamiltonian_xu(
+                ti,
+                xi,
+                ui,
+                &self.lmd,
+                &mut self.hx,
+                &mut out[i * m..(i + 1) * m],
+            );
             for k in 0..nx {
                 self.lmd[k] += self.hx[k] * dtau;
             }
