@@ -7,5 +7,6 @@ pub mod gmres;
 pub mod nmpc;
 pub mod quantizer;
 pub mod sliding_mode;
+pub mod swing_up;
 
 pub use error::{ControlError, Result};
