@@ -3,6 +3,7 @@
 
 pub mod cgmres;
 pub mod error;
+pub mod estimation;
 pub mod gmres;
 pub mod nmpc;
 pub mod quantizer;
