@@ -10,7 +10,7 @@
 //!   [`LinearController::from_continuous`] of it.
 //! - [`kalman_filter`]: the steady-state Kalman filter of a discrete model with process noise
 //!   `G w` and measurement noise `v` — its predictor gain `L` (from
-//!   [`lqe`](pendulab_lti::design::lqe)'s dual DARE), filter gain `M = P Cᵀ(C P Cᵀ + R)⁻¹`
+//!   [`lqe`]'s dual DARE), filter gain `M = P Cᵀ(C P Cᵀ + R)⁻¹`
 //!   and the prior / posterior error covariances.
 //! - [`KalmanFilter`] (the filter as a value, allocation-free) and
 //!   [`EstimatedStateFeedback`] (`u = −K x̂` from noisy encoder readings, a [`Controller`]).

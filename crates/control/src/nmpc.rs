@@ -3,7 +3,7 @@
 //! The problem: the arm pendulum of `pendulab-plants` (`x = [θ₁, θ₂, θ̇₁, θ̇₂]`, `u = v`),
 //! stage cost `L = ½(x − x_r)ᵀQ(x − x_r) + ½ r u²`, terminal cost `φ = ½(x − x_r)ᵀQ_f(x − x_r)`,
 //! target `x_r = 0` (arm and pendulum upright), and the bound `|u| ≤ u_max` by a dummy input
-//! ([`InputBounds`](crate::cgmres::InputBounds)). The model's derivatives come from the plant's
+//! ([`InputBounds`]). The model's derivatives come from the plant's
 //! analytic Jacobian: `Hₓ = Q(x − x_r) + Aᵀλ`, `H_u = r u + Bᵀλ` with `A = ∂f/∂x`,
 //! `B = ∂f/∂u` at `(x, u)`.
 //!

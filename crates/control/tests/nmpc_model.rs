@@ -11,7 +11,7 @@ fn optimality_residual_is_the_gradient_of_the_rollout_cost() {
     let plant = ArmPendulum::book();
     let q = [1.0, 1.0, 0.2, 0.1];
     let qf = [3.0, 1.0, 0.5, 0.5];
-    let p = ArmSwingUp::new(plant.clone(), q, qf, 0.1, [0.0; 4]).unwrap();
+    let p = ArmSwingUp::new(plant, q, qf, 0.1, [0.0; 4]).unwrap();
     let (n, horizon) = (12, 0.5);
     let mut s = Cgmres::new(
         p.clone(),

@@ -54,7 +54,7 @@ fn rk4(plant: &ArmPendulum, x: &mut [f64; 4], u: f64, h: f64) {
 fn run_once() -> Result<Run> {
     let plant = ArmPendulum::book();
     let settings = ArmSwingUpSettings::book();
-    let mut inner = arm_swing_up_controller(plant.clone(), &settings)?;
+    let mut inner = arm_swing_up_controller(plant, &settings)?;
     let pi = std::f64::consts::PI;
     let mut x = [pi, pi, 0.0, 0.0];
     let mut u = [0.0];

@@ -559,7 +559,7 @@ impl<P: OptimalControlProblem> Cgmres<P> {
                 break;
             }
         }
-        if !(res <= options.tolerance) {
+        if res.is_nan() || res > options.tolerance {
             self.initialized = false;
             return Err(ControlError::InitialisationFailed {
                 residual: res,
