@@ -1,0 +1,504 @@
+//! The book's least-squares identifications (eqs 3.43–3.47, SPEC.md §2).
+//!
+//! Each model is written as `M(t) p = N(t)` with measured regressors `M` and target `N`:
+//!
+//! | function | `M` | `N` | `p` |
+//! |---|---|---|---|
+//! | [`cart_drive_ls`] | `[−ż, v]` | `z̈` | `[a_c, b_c]` |
+//! | [`cart_pendulum_ls`] | `[φ̈, φ̇]` | `m_p l_p cos φ z̈ − m_p l_p² φ̈ − m_p g l_p sin φ` | `[J_p, μ_p]` |
+//! | [`arm_drive_ls`] | `[−φ̇₁, v]` | `φ̈₁` | `[a₁, b₁]` |
+//! | [`arm_pendulum_ls`] | `[φ̈₂, φ̇₂ − φ̇₁]` | `α₃ cos(φ₁−φ₂) φ̈₁ − α₃ φ̇₁² sin(φ₁−φ₂) − α₅ sin φ₂` | `[α₂, μ₂]`, `J₂ = α₂ − m₂ l₂²` |
+//!
+//! with `α₃ = m₂ L₁ l₂`, `α₅ = m₂ l₂ g`. Angles: the cart pendulum's `φ = θ − π` is measured
+//! from the hanging rest (eq. 3.44); for the arm rig, as in the book's arm data and Simulink
+//! model, `φ₁` is the arm angle θ₁ and `φ₂ = θ₂ − π` the pendulum's absolute angle from hanging.
+//! Substituting θ₂ = φ₂ + π into SPEC.md §1.2's pendulum equation gives exactly the arm row
+//! of the table.
+//!
+//! The recipe: derivatives by a [`Differentiator`] (the book's three-point formulas applied
+//! twice by default), the nonlinear target assembled sample by sample, then **every** column
+//! of `M` and `N` passed through the same [`Prefilter`] (the book's causal
+//! `1/(0.075 s + 1)³` by default), then [`least_squares`] by Householder QR.
+
+use crate::differentiate::{Derivatives, Differentiator};
+use crate::error::{IdentError, Result, SamplePos, UNNAMED};
+use crate::filter::{LowPass3, Prefilter};
+use crate::least_squares::{LeastSquares, least_squares};
+
+/// Options shared by the least-squares identifications.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LsOptions {
+    /// How velocities and accelerations are obtained (default: three-point, twice).
+    pub differentiator: Differentiator,
+    /// The filter applied to every regressor column and the target (default: the book's
+    /// causal `1/(0.075 s + 1)³`, ZOH-exact).
+    pub prefilter: Prefilter,
+}
+
+/// Known constants of the cart-type pendulum (SPEC.md §1.1, table 3.5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CartPendulumConstants {
+    /// Pendulum mass `m_p`, kg (book: 0.107).
+    pub mp: f64,
+    /// Pivot to centre of mass `l_p`, m (book: 0.230).
+    pub lp: f64,
+    /// Gravitational acceleration `g`, m/s² (book: 9.81).
+    pub g: f64,
+}
+
+impl Default for CartPendulumConstants {
+    fn default() -> Self {
+        Self {
+            mp: 0.107,
+            lp: 0.230,
+            g: 9.81,
+        }
+    }
+}
+
+/// Known constants of the arm-type pendulum (SPEC.md §1.2, table 3.7).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArmPendulumConstants {
+    /// Arm length `L₁` (pivot to pendulum joint), m (book: 0.227).
+    pub l1: f64,
+    /// Pendulum mass `m₂`, kg (book: 0.096).
+    pub m2: f64,
+    /// Joint to pendulum centre of mass `l₂`, m (book: 0.195).
+    pub l2: f64,
+    /// Gravitational acceleration `g`, m/s² (book: 9.81).
+    pub g: f64,
+}
+
+impl Default for ArmPendulumConstants {
+    fn default() -> Self {
+        Self {
+            l1: 0.227,
+            m2: 0.096,
+            l2: 0.195,
+            g: 9.81,
+        }
+    }
+}
+
+impl ArmPendulumConstants {
+    /// `α₃ = m₂ L₁ l₂`, kg m².
+    pub fn alpha3(&self) -> f64 {
+        self.m2 * self.l1 * self.l2
+    }
+    /// `α₅ = m₂ l₂ g`, N m.
+    pub fn alpha5(&self) -> f64 {
+        self.m2 * self.l2 * self.g
+    }
+}
+
+fn positive(name: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(IdentError::InvalidParameter {
+            name: name.into(),
+            value: v,
+            reason: "must be finite and > 0".into(),
+        })
+    }
+}
+
+impl CartPendulumConstants {
+    fn validate(&self) -> Result<()> {
+        positive("m_p", self.mp)?;
+        positive("l_p", self.lp)?;
+        positive("g", self.g)
+    }
+}
+
+impl ArmPendulumConstants {
+    fn validate(&self) -> Result<()> {
+        positive("L1", self.l1)?;
+        positive("m2", self.m2)?;
+        positive("l2", self.l2)?;
+        positive("g", self.g)
+    }
+}
+
+/// The (filtered) regression `M p = N` of one identification, ready to solve or to plot (the
+/// book's `p1c322_cdip_plot_MN`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Regression {
+    /// Parameter names, one per column of `M`.
+    pub names: Vec<String>,
+    /// Columns of `M`, each as long as the data.
+    pub columns: Vec<Vec<f64>>,
+    /// Name of the target.
+    pub target_name: String,
+    /// The target `N`.
+    pub target: Vec<f64>,
+}
+
+impl Regression {
+    /// Solves it by Householder QR ([`least_squares`]).
+    ///
+    /// # Errors
+    /// As [`least_squares`].
+    pub fn solve(&self) -> Result<LeastSquares> {
+        let cols: Vec<(&str, &[f64])> = self
+            .names
+            .iter()
+            .zip(&self.columns)
+            .map(|(n, c)| (n.as_str(), c.as_slice()))
+            .collect();
+        least_squares(&cols, (&self.target_name, &self.target))
+    }
+
+    fn filtered(mut self, prefilter: &Prefilter, ts: f64) -> Result<Self> {
+        match prefilter.design(ts)? {
+            None => {}
+            Some((f, zero_phase)) => {
+                let mut all: Vec<Vec<f64>> = std::mem::take(&mut self.columns);
+                all.push(std::mem::take(&mut self.target));
+                let out = filter_all(&f, zero_phase, &all);
+                let mut out = out;
+                self.target = out.pop().expect("target column");
+                self.columns = out;
+            }
+        }
+        Ok(self)
+    }
+}
+
+fn filter_all(f: &LowPass3, zero_phase: bool, cols: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let n = cols.first().map_or(0, Vec::len);
+    let inputs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+    let mut out: Vec<Vec<f64>> = vec![vec![0.0; n]; cols.len()];
+    {
+        let mut refs: Vec<&mut [f64]> = out.iter_mut().map(Vec::as_mut_slice).collect();
+        f.filter_many(&inputs, &mut refs);
+    }
+    if zero_phase {
+        for c in &mut out {
+            c.reverse();
+        }
+        let rev: Vec<Vec<f64>> = out.clone();
+        let inputs: Vec<&[f64]> = rev.iter().map(Vec::as_slice).collect();
+        {
+            let mut refs: Vec<&mut [f64]> = out.iter_mut().map(Vec::as_mut_slice).collect();
+            f.filter_many(&inputs, &mut refs);
+        }
+        for c in &mut out {
+            c.reverse();
+        }
+    }
+    out
+}
+
+/// Checks lengths, finiteness and the sample count of named input signals.
+fn check_signals(signals: &[(&str, &[f64])], ts: f64, needed: usize) -> Result<usize> {
+    positive("sample time ts", ts)?;
+    let n = signals[0].1.len();
+    for (name, s) in signals {
+        if s.len() != n {
+            return Err(IdentError::LengthMismatch {
+                source_name: UNNAMED.into(),
+                column: name.to_string(),
+                expected: n,
+                found: s.len(),
+            });
+        }
+        if let Some(k) = s.iter().position(|v| !v.is_finite()) {
+            return Err(IdentError::NonFinite {
+                source_name: UNNAMED.into(),
+                column: name.to_string(),
+                at: SamplePos::index(k),
+                value: s[k],
+            });
+        }
+    }
+    if n < needed {
+        return Err(IdentError::TooFewSamples {
+            source_name: UNNAMED.into(),
+            what: "the least-squares identification".into(),
+            needed,
+            found: n,
+        });
+    }
+    Ok(n)
+}
+
+fn needed(opts: &LsOptions) -> usize {
+    opts.differentiator.min_samples().max(3)
+}
+
+fn derivs(opts: &LsOptions, x: &[f64], ts: f64) -> Result<Derivatives> {
+    opts.differentiator.derivatives(x, ts)
+}
+
+/// The drive regression `[−ẏ, v] [a, b]ᵀ = ÿ` (filtered), shared by cart and arm.
+fn drive_regression(
+    ts: f64,
+    y: (&str, &[f64]),
+    v: &[f64],
+    names: [&str; 2],
+    opts: &LsOptions,
+) -> Result<Regression> {
+    check_signals(&[y, ("v", v)], ts, needed(opts))?;
+    let d = derivs(opts, y.1, ts)?;
+    let minus_dy: Vec<f64> = d.first.iter().map(|v| -v).collect();
+    Regression {
+        names: names.iter().map(|s| s.to_string()).collect(),
+        columns: vec![minus_dy, v.to_vec()],
+        target_name: format!("{}_ddot", y.0),
+        target: d.second,
+    }
+    .filtered(&opts.prefilter, ts)
+}
+
+/// The cart-drive regression of eq. 3.43 (`M₁ = [−ż, v]`, `N₁ = z̈`), filtered.
+///
+/// `z` is the cart position in metres and `v` the motor voltage in volts, sampled every `ts`
+/// seconds.
+///
+/// # Errors
+/// [`IdentError::InvalidParameter`] for a bad `ts` or options; [`IdentError::LengthMismatch`],
+/// [`IdentError::NonFinite`] naming the signal and sample; [`IdentError::TooFewSamples`].
+pub fn cart_drive_regression(
+    ts: f64,
+    z: &[f64],
+    v: &[f64],
+    opts: &LsOptions,
+) -> Result<Regression> {
+    drive_regression(ts, ("z", z), v, ["ac", "bc"], opts)
+}
+
+/// A drive `ÿ = −a ẏ + b v` identified by least squares.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriveLs {
+    /// `a` (1/s): `a_c` for the cart, `a₁` for the arm.
+    pub a: f64,
+    /// `b` (m/(s² V) for the cart, rad/(s² V) for the arm).
+    pub b: f64,
+    /// The least-squares solution with its diagnostics (names `ac, bc` or `a1, b1`).
+    pub lsq: LeastSquares,
+}
+
+impl DriveLs {
+    /// Checks that the estimate describes a damped drive (`a > 0`, `b ≠ 0`).
+    ///
+    /// # Errors
+    /// [`IdentError::Implausible`] otherwise.
+    pub fn check_plausible(&self) -> Result<()> {
+        if !(self.a > 0.0) {
+            return Err(IdentError::Implausible {
+                what: self.lsq.names[0].clone(),
+                value: self.a,
+                reason: "a drive with back-EMF and friction has a > 0".into(),
+            });
+        }
+        if self.b == 0.0 {
+            return Err(IdentError::Implausible {
+                what: self.lsq.names[1].clone(),
+                value: self.b,
+                reason: "the input has no effect".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+fn drive_from(lsq: LeastSquares) -> DriveLs {
+    DriveLs {
+        a: lsq.estimate[0],
+        b: lsq.estimate[1],
+        lsq,
+    }
+}
+
+/// Cart drive `z̈ = −a_c ż + b_c v` by least squares (eq. 3.43; book `p1c322`).
+///
+/// # Errors
+/// As [`cart_drive_regression`] and [`least_squares`] (rank deficiency, e.g. `v ≡ 0`).
+#[doc(alias = "p1c322_cdip_id_least_square")]
+pub fn cart_drive_ls(ts: f64, z: &[f64], v: &[f64], opts: &LsOptions) -> Result<DriveLs> {
+    Ok(drive_from(cart_drive_regression(ts, z, v, opts)?.solve()?))
+}
+
+/// Arm drive `φ̈₁ = −a₁ φ̇₁ + b₁ v` by least squares (`M₁ = [−φ̇₁, v]`, `N₁ = φ̈₁`).
+///
+/// # Errors
+/// As [`cart_drive_ls`].
+#[doc(alias = "p1c332_adip_id_least_square")]
+pub fn arm_drive_ls(ts: f64, phi1: &[f64], v: &[f64], opts: &LsOptions) -> Result<DriveLs> {
+    Ok(drive_from(
+        drive_regression(ts, ("phi1", phi1), v, ["a1", "b1"], opts)?.solve()?,
+    ))
+}
+
+/// The cart-pendulum regression of eq. 3.45, filtered.
+///
+/// `z` in metres, `phi` = θ − π in radians (from the hanging rest).
+///
+/// # Errors
+/// As [`cart_drive_regression`], and [`IdentError::InvalidParameter`] for non-positive
+/// constants.
+pub fn cart_pendulum_regression(
+    ts: f64,
+    z: &[f64],
+    phi: &[f64],
+    c: &CartPendulumConstants,
+    opts: &LsOptions,
+) -> Result<Regression> {
+    c.validate()?;
+    check_signals(&[("z", z), ("phi", phi)], ts, needed(opts))?;
+    let dz = derivs(opts, z, ts)?;
+    let dp = derivs(opts, phi, ts)?;
+    let (ml, ml2, mgl) = (c.mp * c.lp, c.mp * c.lp * c.lp, c.mp * c.g * c.lp);
+    let target: Vec<f64> = (0..z.len())
+        .map(|k| {
+            let (s, co) = phi[k].sin_cos();
+            ml * co * dz.second[k] - ml2 * dp.second[k] - mgl * s
+        })
+        .collect();
+    Regression {
+        names: vec!["Jp".into(), "mup".into()],
+        columns: vec![dp.second, dp.first],
+        target_name: "N2".into(),
+        target,
+    }
+    .filtered(&opts.prefilter, ts)
+}
+
+/// The cart pendulum `[J_p, μ_p]` identified by least squares.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CartPendulumLs {
+    /// Moment of inertia about the centre of mass `J_p`, kg m².
+    pub jp: f64,
+    /// Viscous friction `μ_p`, N m s/rad.
+    pub mup: f64,
+    /// The least-squares solution (names `Jp, mup`).
+    pub lsq: LeastSquares,
+}
+
+impl CartPendulumLs {
+    /// Checks `J_p > 0` and `μ_p ≥ 0`.
+    ///
+    /// # Errors
+    /// [`IdentError::Implausible`] otherwise.
+    pub fn check_plausible(&self) -> Result<()> {
+        pendulum_plausible(("Jp", self.jp), ("mup", self.mup))
+    }
+}
+
+fn pendulum_plausible(j: (&str, f64), mu: (&str, f64)) -> Result<()> {
+    if !(j.1 > 0.0) {
+        return Err(IdentError::Implausible {
+            what: j.0.into(),
+            value: j.1,
+            reason: "a moment of inertia is positive".into(),
+        });
+    }
+    if !(mu.1 >= 0.0) {
+        return Err(IdentError::Implausible {
+            what: mu.0.into(),
+            value: mu.1,
+            reason: "viscous friction dissipates energy (μ ≥ 0)".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Cart pendulum `[J_p, μ_p]` by least squares (eq. 3.45; book `p1c322`), with `m_p`,
+/// `l_p`, `g` known.
+///
+/// # Errors
+/// As [`cart_pendulum_regression`] and [`least_squares`].
+#[doc(alias = "p1c322_cdip_id_least_square")]
+pub fn cart_pendulum_ls(
+    ts: f64,
+    z: &[f64],
+    phi: &[f64],
+    c: &CartPendulumConstants,
+    opts: &LsOptions,
+) -> Result<CartPendulumLs> {
+    let lsq = cart_pendulum_regression(ts, z, phi, c, opts)?.solve()?;
+    Ok(CartPendulumLs {
+        jp: lsq.estimate[0],
+        mup: lsq.estimate[1],
+        lsq,
+    })
+}
+
+/// The arm-pendulum regression (SPEC.md §2), filtered. `phi1` = θ₁ (arm), `phi2` = θ₂ − π
+/// (pendulum from hanging), radians.
+///
+/// # Errors
+/// As [`cart_pendulum_regression`].
+pub fn arm_pendulum_regression(
+    ts: f64,
+    phi1: &[f64],
+    phi2: &[f64],
+    c: &ArmPendulumConstants,
+    opts: &LsOptions,
+) -> Result<Regression> {
+    c.validate()?;
+    check_signals(&[("phi1", phi1), ("phi2", phi2)], ts, needed(opts))?;
+    let d1 = derivs(opts, phi1, ts)?;
+    let d2 = derivs(opts, phi2, ts)?;
+    let (a3, a5) = (c.alpha3(), c.alpha5());
+    let target: Vec<f64> = (0..phi1.len())
+        .map(|k| {
+            let (s12, c12) = (phi1[k] - phi2[k]).sin_cos();
+            a3 * c12 * d1.second[k] - a3 * d1.first[k] * d1.first[k] * s12 - a5 * phi2[k].sin()
+        })
+        .collect();
+    let rel: Vec<f64> = d2.first.iter().zip(&d1.first).map(|(a, b)| a - b).collect();
+    Regression {
+        names: vec!["alpha2".into(), "mu2".into()],
+        columns: vec![d2.second, rel],
+        target_name: "N2".into(),
+        target,
+    }
+    .filtered(&opts.prefilter, ts)
+}
+
+/// The arm pendulum identified by least squares.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmPendulumLs {
+    /// `α₂ = J₂ + m₂ l₂²`, kg m².
+    pub alpha2: f64,
+    /// Viscous friction `μ₂`, N m s/rad.
+    pub mu2: f64,
+    /// `J₂ = α₂ − m₂ l₂²`, kg m² (its standard error is that of `α₂`).
+    pub j2: f64,
+    /// The least-squares solution (names `alpha2, mu2`).
+    pub lsq: LeastSquares,
+}
+
+impl ArmPendulumLs {
+    /// Checks `J₂ > 0` and `μ₂ ≥ 0`.
+    ///
+    /// # Errors
+    /// [`IdentError::Implausible`] otherwise.
+    pub fn check_plausible(&self) -> Result<()> {
+        pendulum_plausible(("J2", self.j2), ("mu2", self.mu2))
+    }
+}
+
+/// Arm pendulum `[α₂, μ₂] → J₂` by least squares (book `p1c332`), with `L₁`, `m₂`, `l₂`,
+/// `g` known.
+///
+/// # Errors
+/// As [`arm_pendulum_regression`] and [`least_squares`].
+#[doc(alias = "p1c332_adip_id_least_square")]
+pub fn arm_pendulum_ls(
+    ts: f64,
+    phi1: &[f64],
+    phi2: &[f64],
+    c: &ArmPendulumConstants,
+    opts: &LsOptions,
+) -> Result<ArmPendulumLs> {
+    let lsq = arm_pendulum_regression(ts, phi1, phi2, c, opts)?.solve()?;
+    Ok(ArmPendulumLs {
+        alpha2: lsq.estimate[0],
+        mu2: lsq.estimate[1],
+        j2: lsq.estimate[0] - c.m2 * c.l2 * c.l2,
+        lsq,
+    })
+}
