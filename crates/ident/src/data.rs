@@ -58,24 +58,19 @@ impl Dataset {
     pub fn from_trajectory(source: &str, tr: &Trajectory) -> Result<Self> {
         let mut names = vec![TIME.to_string()];
         let mut columns = vec![tr.t().to_vec()];
-        let groups: [(&str, &[String], usize, &dyn Fn(usize) -> Vec<f64>); 3] = [
-            ("x", tr.x_names(), tr.x().ncols(), &|i| {
-                tr.x_signal(i).to_vec()
-            }),
-            ("u", tr.u_names(), tr.u().ncols(), &|i| {
-                tr.u_signal(i).to_vec()
-            }),
-            ("y", tr.y_names(), tr.y().ncols(), &|i| {
-                tr.y_signal(i).to_vec()
-            }),
+        let groups = [
+            ("x", tr.x_names(), tr.x()),
+            ("u", tr.u_names(), tr.u()),
+            ("y", tr.y_names(), tr.y()),
         ];
-        for (prefix, given, count, get) in groups {
-            for i in 0..count {
+        for (prefix, given, m) in groups {
+            let rows = m.nrows();
+            for i in 0..m.ncols() {
                 names.push(match given.get(i) {
                     Some(n) => n.clone(),
                     None => format!("{prefix}{i}"),
                 });
-                columns.push(get(i));
+                columns.push(m.as_slice()[i * rows..(i + 1) * rows].to_vec());
             }
         }
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();

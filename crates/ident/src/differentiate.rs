@@ -166,7 +166,7 @@ fn check_savgol(window: usize, order: usize, deriv: usize) -> Result<()> {
         value: value as f64,
         reason,
     };
-    if window % 2 == 0 || window < 3 {
+    if window.is_multiple_of(2) || window < 3 {
         return Err(bad(
             "Savitzky-Golay window",
             window,

@@ -213,7 +213,7 @@ pub fn p_step(t: &[f64], y: &[f64], opts: &PStepOptions) -> Result<PStepEstimate
         )));
     }
     let overshoot = s * (peak.value - s * opts.target);
-    if !(overshoot > 0.0) {
+    if overshoot <= 0.0 {
         return Err(feature_error(format!(
             "the response does not overshoot the target {} (peak {} at t = {} s): a loop with ζ ≥ 1 \
              has no peak time or overshoot to read",
@@ -384,7 +384,7 @@ pub fn drive_from_velocity_steps(steps: &[VelocityStep]) -> Result<VelocitySteps
     }
     let k = steps.iter().map(|s| s.gain).sum::<f64>() / steps.len() as f64;
     let tc = steps.iter().map(|s| s.time_constant).sum::<f64>() / steps.len() as f64;
-    if !(tc > 0.0) {
+    if tc <= 0.0 || tc.is_nan() {
         return Err(IdentError::Implausible {
             what: "mean time constant T".into(),
             value: tc,
@@ -515,7 +515,7 @@ pub fn free_oscillation(t: &[f64], y: &[f64], opts: &OscillationOptions) -> Resu
             peaks.len()
         )));
     }
-    if let Some(p) = peaks.iter().find(|p| !(p.value > 0.0)) {
+    if let Some(p) = peaks.iter().find(|p| p.value <= 0.0) {
         return Err(feature_error(format!(
             "peak at t = {} s is {} — not above the rest position 0",
             p.t, p.value
@@ -633,7 +633,7 @@ pub fn pendulum_from_oscillation(
         (wn, zeta, j, mu)
     };
     let (omega_n, zeta, j, mu) = params(period, ratio);
-    if !(j > 0.0) {
+    if j <= 0.0 || j.is_nan() {
         return Err(IdentError::Implausible {
             what: "J".into(),
             value: j,
@@ -689,8 +689,8 @@ mod tests {
     fn p_step_on_exact_second_order_response() {
         // y = y_c (1 − e^{−ζω t}(cos ω_d t + ζ/√(1−ζ²) sin ω_d t)): peak at π/ω_d with overshoot
         // y_c e^{−ζπ/√(1−ζ²)}; sampled at 1 µs so the peak sample is within 0.5 µs of the peak.
-        let (a, b, kp, yc) = (6.25, 4.36, 10.0, 0.2);
-        let wn: f64 = (b * kp as f64).sqrt();
+        let (a, b, kp, yc): (f64, f64, f64, f64) = (6.25, 4.36, 10.0, 0.2);
+        let wn: f64 = (b * kp).sqrt();
         let zeta = a / (2.0 * wn);
         let wd = wn * (1.0 - zeta * zeta).sqrt();
         let ts = 1e-6;

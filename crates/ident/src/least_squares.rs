@@ -230,7 +230,7 @@ impl QrAccumulator {
                 columns: self.names.clone(),
                 condition: f64::INFINITY,
                 limit: rank_limit(n, p),
-                detail: format!("column '{}' is identically zero", self.names[j]),
+                detail: format!("the column of '{}' is identically zero", self.names[j]),
             });
         }
         let sv = r.clone().svd(false, false).singular_values;
@@ -240,7 +240,7 @@ impl QrAccumulator {
         let (smax, smin) = (ssvd.singular_values.max(), ssvd.singular_values.min());
         let scaled_condition = smax / smin;
         let limit = rank_limit(n, p);
-        if !(scaled_condition <= limit) {
+        if scaled_condition.is_nan() || scaled_condition > limit {
             let vt = ssvd.v_t.as_ref().expect("requested V");
             let k = ssvd.singular_values.imin();
             let terms: Vec<String> = (0..p)

@@ -126,6 +126,8 @@ impl ArmPendulumConstants {
 pub struct Regression {
     /// Parameter names, one per column of `M`.
     pub names: Vec<String>,
+    /// What each column of `M` is, in terms of the measured signals (e.g. `−ż`, `v`).
+    pub signals: Vec<String>,
     /// Columns of `M`, each as long as the data.
     pub columns: Vec<Vec<f64>>,
     /// Name of the target.
@@ -146,7 +148,28 @@ impl Regression {
             .zip(&self.columns)
             .map(|(n, c)| (n.as_str(), c.as_slice()))
             .collect();
-        least_squares(&cols, (&self.target_name, &self.target))
+        least_squares(&cols, (&self.target_name, &self.target)).map_err(|e| match e {
+            IdentError::RankDeficient {
+                columns,
+                condition,
+                limit,
+                detail,
+            } => IdentError::RankDeficient {
+                detail: format!(
+                    "{detail} (columns: {})",
+                    self.names
+                        .iter()
+                        .zip(&self.signals)
+                        .map(|(n, s)| format!("{n} multiplies {s}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                columns,
+                condition,
+                limit,
+            },
+            other => other,
+        })
     }
 
     fn filtered(mut self, prefilter: &Prefilter, ts: f64) -> Result<Self> {
@@ -244,6 +267,7 @@ fn drive_regression(
     let minus_dy: Vec<f64> = d.first.iter().map(|v| -v).collect();
     Regression {
         names: names.iter().map(|s| s.to_string()).collect(),
+        signals: vec![format!("−d{}/dt", y.0), "v".into()],
         columns: vec![minus_dy, v.to_vec()],
         target_name: format!("{}_ddot", y.0),
         target: d.second,
@@ -285,7 +309,7 @@ impl DriveLs {
     /// # Errors
     /// [`IdentError::Implausible`] otherwise.
     pub fn check_plausible(&self) -> Result<()> {
-        if !(self.a > 0.0) {
+        if self.a.is_nan() || self.a <= 0.0 {
             return Err(IdentError::Implausible {
                 what: self.lsq.names[0].clone(),
                 value: self.a,
@@ -358,6 +382,7 @@ pub fn cart_pendulum_regression(
         .collect();
     Regression {
         names: vec!["Jp".into(), "mup".into()],
+        signals: vec!["d²phi/dt²".into(), "dphi/dt".into()],
         columns: vec![dp.second, dp.first],
         target_name: "N2".into(),
         target,
@@ -387,14 +412,14 @@ impl CartPendulumLs {
 }
 
 fn pendulum_plausible(j: (&str, f64), mu: (&str, f64)) -> Result<()> {
-    if !(j.1 > 0.0) {
+    if j.1.is_nan() || j.1 <= 0.0 {
         return Err(IdentError::Implausible {
             what: j.0.into(),
             value: j.1,
             reason: "a moment of inertia is positive".into(),
         });
     }
-    if !(mu.1 >= 0.0) {
+    if mu.1.is_nan() || mu.1 < 0.0 {
         return Err(IdentError::Implausible {
             what: mu.0.into(),
             value: mu.1,
@@ -451,6 +476,7 @@ pub fn arm_pendulum_regression(
     let rel: Vec<f64> = d2.first.iter().zip(&d1.first).map(|(a, b)| a - b).collect();
     Regression {
         names: vec!["alpha2".into(), "mu2".into()],
+        signals: vec!["d²phi2/dt²".into(), "dphi2/dt − dphi1/dt".into()],
         columns: vec![d2.second, rel],
         target_name: "N2".into(),
         target,

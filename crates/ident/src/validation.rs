@@ -104,7 +104,7 @@ fn compare(output: &str, y: &[f64], simulated: Vec<f64>, start: usize) -> Result
 /// robust to encoder steps, unlike a one-sided difference.
 fn initial_velocity(y: &[f64], ts: f64) -> Result<f64> {
     let mut w = y.len().min(21);
-    if w % 2 == 0 {
+    if w.is_multiple_of(2) {
         w -= 1;
     }
     if w < 3 {
