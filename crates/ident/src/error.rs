@@ -147,7 +147,7 @@ pub enum IdentError {
     /// The regressor matrix is rank deficient (or numerically so): its columns do not determine
     /// the parameters.
     #[error(
-        "rank-deficient regressor [{}]: 2-norm condition number {condition:e} exceeds {limit:e}; {detail}",
+        "rank-deficient regressor [{}]: condition number {scaled_condition:.3e} with columns scaled to unit norm exceeds {limit:.3e} (2-norm condition {condition:.3e}); {detail}",
         columns.join(", ")
     )]
     RankDeficient {
@@ -155,7 +155,10 @@ pub enum IdentError {
         columns: Vec<String>,
         /// Its 2-norm condition number (∞ for an exactly singular one).
         condition: f64,
-        /// The largest condition number accepted.
+        /// The condition number with every column scaled to unit norm (the rank decision's
+        /// measure).
+        scaled_condition: f64,
+        /// The largest scaled condition number accepted.
         limit: f64,
         /// Which combination of columns is (nearly) dependent.
         detail: String,

@@ -225,12 +225,21 @@ impl QrAccumulator {
         let rho = self.r[p * w + p].abs();
         // Column norms of M are those of R.
         let col_norms: Vec<f64> = (0..p).map(|j| r.column(j).norm()).collect();
-        if let Some(j) = col_norms.iter().position(|&c| c == 0.0) {
+        let zero: Vec<String> = (0..p)
+            .filter(|&j| col_norms[j] == 0.0)
+            .map(|j| format!("'{}'", self.names[j]))
+            .collect();
+        if !zero.is_empty() {
             return Err(IdentError::RankDeficient {
                 columns: self.names.clone(),
                 condition: f64::INFINITY,
+                scaled_condition: f64::INFINITY,
                 limit: rank_limit(n, p),
-                detail: format!("the column of '{}' is identically zero", self.names[j]),
+                detail: if zero.len() == 1 {
+                    format!("the column of {} is identically zero", zero[0])
+                } else {
+                    format!("the columns of {} are identically zero", zero.join(" and "))
+                },
             });
         }
         let sv = r.clone().svd(false, false).singular_values;
@@ -243,17 +252,21 @@ impl QrAccumulator {
         if scaled_condition.is_nan() || scaled_condition > limit {
             let vt = ssvd.v_t.as_ref().expect("requested V");
             let k = ssvd.singular_values.imin();
-            let terms: Vec<String> = (0..p)
+            let involved: Vec<String> = (0..p)
                 .filter(|&j| vt[(k, j)].abs() > 0.05)
-                .map(|j| format!("{:+.3}·{}/‖{}‖", vt[(k, j)], self.names[j], self.names[j]))
+                .map(|j| format!("'{}'", self.names[j]))
                 .collect();
+            let weights: Vec<String> = (0..p).map(|j| format!("{:.3}", vt[(k, j)])).collect();
             return Err(IdentError::RankDeficient {
                 columns: self.names.clone(),
                 condition,
+                scaled_condition,
                 limit,
                 detail: format!(
-                    "the columns are (nearly) dependent: {} ≈ 0",
-                    terms.join(" ")
+                    "the columns of {} are (nearly) linearly dependent (null direction of the \
+                     scaled regressor: [{}])",
+                    involved.join(", "),
+                    weights.join(", ")
                 ),
             });
         }

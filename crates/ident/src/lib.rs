@@ -71,5 +71,5 @@ pub use regression::{
 };
 pub use validation::{
     Validation, fit_percent, validate_arm_pendulum, validate_cart_pendulum, validate_drive,
-    validate_oscillation, validate_p_step,
+    validate_free_pendulum, validate_oscillation, validate_p_step,
 };

@@ -152,6 +152,7 @@ impl Regression {
             IdentError::RankDeficient {
                 columns,
                 condition,
+                scaled_condition,
                 limit,
                 detail,
             } => IdentError::RankDeficient {
@@ -166,6 +167,7 @@ impl Regression {
                 ),
                 columns,
                 condition,
+                scaled_condition,
                 limit,
             },
             other => other,

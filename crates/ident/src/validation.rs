@@ -12,7 +12,9 @@
 //!   model over the whole record, not one step ahead.
 //! * P-control steps: the closed loop the identified `a`, `b`, `k_P` imply, from the step.
 //! * Free oscillation: the linear second-order model from the first detected peak (the book's
-//!   `p1c321_cdip_id_pend` figure 4).
+//!   `p1c321_cdip_id_pend` figure 4, [`validate_oscillation`]), or the nonlinear pendulum on a
+//!   held support ([`validate_free_pendulum`]), which the large-amplitude period correction
+//!   targets.
 //! * Pendulums identified by least squares: the nonlinear pendulum equation (SPEC.md §1)
 //!   integrated by classical Runge–Kutta on the sample grid, driven by the measured motion of
 //!   its support (cart acceleration, or arm angle/velocity/acceleration, from three-point
@@ -252,6 +254,44 @@ pub fn validate_oscillation(
         &LsimOptions::default(),
     )?;
     compare("y", y, tr.y_signal(0).to_vec(), start)
+}
+
+/// Simulates the nonlinear pendulum on a held support,
+/// `(J + m l²) φ̈ = −μ φ̇ − m g l sin φ`, from the sample `start` (a peak: at rest there), and
+/// compares with `phi` from there on — the model the free-oscillation parameters belong to
+/// (SPEC.md §1 with the cart or arm held).
+///
+/// # Errors
+/// As [`validate_drive`]; [`IdentError::InvalidParameter`] for `J + m l² ≤ 0`.
+pub fn validate_free_pendulum(
+    ts: f64,
+    phi: &[f64],
+    start: usize,
+    j: f64,
+    mu: f64,
+    (m, l, g): (f64, f64, f64),
+) -> Result<Validation> {
+    if start + 3 > phi.len() {
+        return Err(IdentError::TooFewSamples {
+            source_name: UNNAMED.into(),
+            what: "a validation simulation after the first peak".into(),
+            needed: start + 3,
+            found: phi.len(),
+        });
+    }
+    let total = j + m * l * l;
+    if total.is_nan() || total <= 0.0 {
+        return Err(IdentError::InvalidParameter {
+            name: "J + m l^2".into(),
+            value: total,
+            reason: "the pendulum's inertia about its pivot must be positive".into(),
+        });
+    }
+    let mgl = m * g * l;
+    let sim = rk4_second_order(phi.len() - start, ts, phi[start], 0.0, |_, x, v| {
+        (-mu * v - mgl * x.sin()) / total
+    });
+    compare("phi", phi, sim, start)
 }
 
 /// Classical RK4 on the sample grid for `ẍ = f(k_frac, x, ẋ)`, inputs interpolated inside.

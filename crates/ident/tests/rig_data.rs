@@ -342,4 +342,15 @@ fn pendulum_free_oscillation_feature_method() {
     // Its residual is mostly phase drift from the amplitude-dependent period over 14 cycles;
     // an 80 % fit still means the swing is followed cycle by cycle.
     assert!(val.fit_percent > 80.0, "fit {}", val.fit_percent);
+    // The nonlinear pendulum (the model the parameters belong to) tells the two estimates
+    // apart: with the corrected J_p it follows the record over 14 cycles; with the book's, its
+    // period is lengthened twice (once in J_p, once by the swing) and it drifts out of phase.
+    let ts = d.sample_time().unwrap();
+    let start = osc.peaks[0].first;
+    let nl_book =
+        validate_free_pendulum(ts, th, start, book.j, book.mu, (c.mp, c.lp, c.g)).unwrap();
+    let nl_corr =
+        validate_free_pendulum(ts, th, start, corr.j, corr.mu, (c.mp, c.lp, c.g)).unwrap();
+    assert!(nl_corr.fit_percent > 90.0, "fit {}", nl_corr.fit_percent);
+    assert!(nl_corr.fit_percent > nl_book.fit_percent + 20.0);
 }
