@@ -122,6 +122,10 @@ pub struct LowPass3 {
     phi: [[f64; 3]; 3],
     ga: [f64; 3],
     gb: [f64; 3],
+    /// Pole `e = e^{−t_s/T_f}` of the running realisation.
+    e: f64,
+    /// Output weights `[d, c₁, c₂, c₃]` of the running realisation (see [`LowPass3::filter_many`]).
+    c: [f64; 4],
 }
 
 impl LowPass3 {
@@ -172,6 +176,8 @@ impl LowPass3 {
             phi: [[0.0; 3]; 3],
             ga: [0.0; 3],
             gb: [0.0; 3],
+            e: 0.0,
+            c: [0.0; 4],
         };
         for i in 0..3 {
             for j in 0..3 {
@@ -180,6 +186,16 @@ impl LowPass3 {
             out.ga[i] = ga[(i, 0)];
             out.gb[i] = gb[(i, 0)];
         }
+        // The transfer function is N(z)/(z − e)³; write N(z) = d(z−e)³ + c₁(z−e)² + c₂(z−e) + c₃
+        // and match the first four Markov parameters h₀…h₃ of the state-space recursion:
+        // h₀ = d, h₁ = c₁, h₂ = c₁e + c₂, h₃ = c₁e² + 2c₂e + c₃.
+        let e = out.phi[0][0];
+        let h = out.impulse_response::<4>();
+        let c1 = h[1];
+        let c2 = h[2] - e * c1;
+        let c3 = h[3] - e * e * c1 - 2.0 * e * c2;
+        out.e = e;
+        out.c = [h[0], c1, c2, c3];
         Ok(out)
     }
 
@@ -202,6 +218,21 @@ impl LowPass3 {
     /// Input vectors `(Γ_a, Γ_b)` of the recursion.
     pub fn gammas(&self) -> ([f64; 3], [f64; 3]) {
         (self.ga, self.gb)
+    }
+
+    /// The first `K` samples of the impulse response of the state-space recursion.
+    fn impulse_response<const K: usize>(&self) -> [f64; K] {
+        let mut x = [0.0; 3];
+        let mut h = [0.0; K];
+        for (k, hk) in h.iter_mut().enumerate() {
+            let u = if k == 0 { 1.0 } else { 0.0 };
+            let s: [f64; 3] = std::array::from_fn(|i| x[i] + self.gb[i] * u);
+            *hk = s[2];
+            x = std::array::from_fn(|i| {
+                (0..3).map(|j| self.phi[i][j] * s[j]).sum::<f64>() + self.ga[i] * u
+            });
+        }
+        h
     }
 
     /// DC gain of the discrete filter, `C (I − Φ)⁻¹ (Γ_a + Γ_b)` (1 up to rounding).
@@ -229,6 +260,14 @@ impl LowPass3 {
     /// Causal filtering of several columns at once (the independent recursions interleave,
     /// which hides their latency); `outputs[i]` receives the filtered `inputs[i]`.
     ///
+    /// The recursion runs in the equivalent cascade realisation of the same transfer function
+    /// `N(z)/(z − e)³`: `w₁ ← e w₁ + u`, `w₂ ← e w₂ + w₁`, `w₃ ← e w₃ + w₂`,
+    /// `y = d u + c₁ w₁ + c₂ w₂ + c₃ w₃` — 11 operations per sample instead of 15, with the
+    /// weights matched to the exact discretisation's impulse response. For this low-pass every
+    /// weight is positive (the zeros of `N` are negative real), so the output sums positive
+    /// terms and the realisation is as accurate as the state-space one (the tests compare
+    /// both with the closed-form step response and SciPy to 1e-12).
+    ///
     /// # Panics
     /// If the counts or lengths of `inputs` and `outputs` differ (a programming error).
     pub fn filter_many(&self, inputs: &[&[f64]], outputs: &mut [&mut [f64]]) {
@@ -253,25 +292,21 @@ impl LowPass3 {
             assert_eq!(inputs[c].len(), n, "inputs of equal length");
             assert_eq!(outputs[c].len(), n, "outputs as long as the inputs");
         }
-        let p = self.phi;
-        let (ga, gb) = (self.ga, self.gb);
-        // x holds Φ x[k−1] + Γ_a u[k−1] (the state before u[k]'s Γ_b part is added).
-        let mut x = [[0.0f64; 3]; G];
-        for k in 0..n {
+        let mut bank = FilterBank::<G>::new(self);
+        let ins: [&[f64]; G] = std::array::from_fn(|c| &inputs[c][..n]);
+        let mut k = 0;
+        let mut u = [[0.0; BANK_BLOCK]; G];
+        let mut y = [[0.0; BANK_BLOCK]; G];
+        while k < n {
+            let m = (n - k).min(BANK_BLOCK);
             for c in 0..G {
-                let u = inputs[c][k];
-                let s = [
-                    x[c][0] + gb[0] * u,
-                    x[c][1] + gb[1] * u,
-                    x[c][2] + gb[2] * u,
-                ];
-                outputs[c][k] = s[2];
-                x[c] = [
-                    p[0][0] * s[0] + ga[0] * u,
-                    p[1][0] * s[0] + p[1][1] * s[1] + ga[1] * u,
-                    p[2][0] * s[0] + p[2][1] * s[1] + p[2][2] * s[2] + ga[2] * u,
-                ];
+                u[c][..m].copy_from_slice(&ins[c][k..k + m]);
             }
+            bank.process(&u, &mut y, m);
+            for c in 0..G {
+                outputs[c][k..k + m].copy_from_slice(&y[c][..m]);
+            }
+            k += m;
         }
     }
 
@@ -283,6 +318,67 @@ impl LowPass3 {
         let mut z = self.filter(&y);
         z.reverse();
         z
+    }
+}
+
+/// Rows per block of [`FilterBank::process`].
+pub(crate) const BANK_BLOCK: usize = crate::least_squares::BLOCK;
+
+/// `W` causal recursions of one [`LowPass3`] run side by side on blocks of samples, keeping
+/// their states between blocks (so a long record can be filtered block by block, in cache).
+/// Runs the cascade realisation documented at [`LowPass3::filter_many`]; every state's own
+/// recurrence is one multiply and one add, and the `W` columns' work overlaps.
+#[derive(Debug, Clone)]
+pub(crate) struct FilterBank<const W: usize> {
+    w: [[f64; W]; 3],
+    e: f64,
+    c: [f64; 4],
+}
+
+impl<const W: usize> FilterBank<W> {
+    pub(crate) fn new(f: &LowPass3) -> Self {
+        Self {
+            w: [[0.0; W]; 3],
+            e: f.e,
+            c: f.c,
+        }
+    }
+
+    /// Filters `m` samples of each column `u[c][..m]` into `y[c][..m]`.
+    pub(crate) fn process(
+        &mut self,
+        u: &[[f64; BANK_BLOCK]; W],
+        y: &mut [[f64; BANK_BLOCK]; W],
+        m: usize,
+    ) {
+        if self.c[0] != 0.0 {
+            self.run::<true>(u, y, m);
+        } else {
+            self.run::<false>(u, y, m);
+        }
+    }
+
+    #[inline(always)]
+    fn run<const DIRECT: bool>(
+        &mut self,
+        u: &[[f64; BANK_BLOCK]; W],
+        y: &mut [[f64; BANK_BLOCK]; W],
+        m: usize,
+    ) {
+        let e = self.e;
+        let [d, c1, c2, c3] = self.c;
+        let [mut w1, mut w2, mut w3] = self.w;
+        for i in 0..m.min(BANK_BLOCK) {
+            for c in 0..W {
+                let uu = u[c][i];
+                let out = c1 * w1[c] + c2 * w2[c] + c3 * w3[c];
+                y[c][i] = if DIRECT { out + d * uu } else { out };
+                w3[c] = e * w3[c] + w2[c];
+                w2[c] = e * w2[c] + w1[c];
+                w1[c] = e * w1[c] + uu;
+            }
+        }
+        self.w = [w1, w2, w3];
     }
 }
 
@@ -316,5 +412,12 @@ mod tests {
             assert!((ga[i] - g[i]).abs() < 1e-9 * g[i].max(1e-300), "ga {i}");
             assert_eq!(gb[i], 0.0);
         }
+        // The running cascade realisation: pole e, no feedthrough for the ZOH, positive
+        // weights (so its output sums positive terms); with the FOH a positive feedthrough.
+        assert!((f.e - e).abs() < 1e-15);
+        assert_eq!(f.c[0], 0.0);
+        assert!(f.c[1..].iter().all(|c| *c > 0.0), "{:?}", f.c);
+        let g = LowPass3::new(tf, ts, FilterHold::Foh).unwrap();
+        assert!(g.c.iter().all(|c| *c > 0.0), "{:?}", g.c);
     }
 }

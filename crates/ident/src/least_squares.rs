@@ -19,7 +19,7 @@ use crate::error::{IdentError, Result};
 use nalgebra::DMatrix;
 
 /// Rows per block: 256 rows × (p+1) columns stay in the first-level cache for p ≤ 7.
-const BLOCK: usize = 256;
+pub(crate) const BLOCK: usize = 256;
 
 /// The solution of a linear least-squares problem and its diagnostics.
 #[derive(Debug, Clone, PartialEq)]
@@ -174,31 +174,16 @@ impl QrAccumulator {
     /// Householder reduction of `[R; B]` (R upper triangular (p+1)², B the m loaded rows).
     fn reduce_block(&mut self, m: usize) {
         let w = self.names.len() + 1;
-        for j in 0..w {
-            let (head, tail) = self.buf.split_at_mut((j + 1) * BLOCK);
-            let bj = &head[j * BLOCK..j * BLOCK + m];
-            let sq: f64 = bj.iter().map(|v| v * v).sum();
-            if sq == 0.0 {
-                continue; // column already triangular
-            }
-            let rjj = self.r[j * w + j];
-            let norm = stable_norm(rjj, bj, sq);
-            // α = −sign(R_jj) ‖x‖ avoids cancellation in v₀ = R_jj − α.
-            let alpha = if rjj >= 0.0 { -norm } else { norm };
-            let v0 = rjj - alpha;
-            // H = I − τ v vᵀ, vᵀv = 2α(α − R_jj) ⇒ τ = 1/(α(α − R_jj)).
-            let tau = 1.0 / (alpha * (alpha - rjj));
-            for c in j + 1..w {
-                let bc = &mut tail[(c - j - 1) * BLOCK..(c - j - 1) * BLOCK + m];
-                let dot: f64 = bj.iter().zip(bc.iter()).map(|(a, b)| a * b).sum();
-                let s = tau * (v0 * self.r[j * w + c] + dot);
-                self.r[j * w + c] -= s * v0;
-                for (b, a) in bc.iter_mut().zip(bj) {
-                    *b -= s * a;
-                }
-            }
-            self.r[j * w + j] = alpha;
-        }
+        reduce(&mut self.r, w, &mut self.buf, BLOCK, m);
+    }
+
+    /// Folds in `m ≤ BLOCK` rows held column by column in `block` (regressors then target),
+    /// using `block` as scratch (it is overwritten). The caller guarantees finite values.
+    pub(crate) fn push_scratch<const W: usize>(&mut self, block: &mut [[f64; BLOCK]; W], m: usize) {
+        debug_assert_eq!(W, self.names.len() + 1);
+        let m = m.min(BLOCK);
+        reduce(&mut self.r, W, block.as_flattened_mut(), BLOCK, m);
+        self.rows += m;
     }
 
     /// Solves the accumulated problem.
@@ -218,6 +203,18 @@ impl QrAccumulator {
                 what: format!("a least-squares fit of {p} parameters"),
                 needed: p + 1,
                 found: n,
+            });
+        }
+        if let Some(k) = self.r.iter().position(|v| !v.is_finite()) {
+            return Err(IdentError::NonFinite {
+                source_name: "least squares".into(),
+                column: if k % w < p {
+                    self.names[k % w].clone()
+                } else {
+                    self.target.clone()
+                },
+                at: crate::error::SamplePos::index(n),
+                value: self.r[k],
             });
         }
         let r = DMatrix::from_fn(p, p, |i, j| if j >= i { self.r[i * w + j] } else { 0.0 });
@@ -305,6 +302,54 @@ impl QrAccumulator {
             samples: n,
         })
     }
+}
+
+/// Householder reduction of `[R; B]`: `r` the (w × w, row-major) upper-triangular factor, `buf`
+/// the `m` new rows as `w` columns of stride `stride` (overwritten).
+fn reduce(r: &mut [f64], w: usize, buf: &mut [f64], stride: usize, m: usize) {
+    for j in 0..w {
+        let (head, tail) = buf.split_at_mut((j + 1) * stride);
+        let bj = &head[j * stride..j * stride + m];
+        let sq = dot(bj, bj);
+        if sq == 0.0 {
+            continue; // column already triangular
+        }
+        let rjj = r[j * w + j];
+        let norm = stable_norm(rjj, bj, sq);
+        // α = −sign(R_jj) ‖x‖ avoids cancellation in v₀ = R_jj − α.
+        let alpha = if rjj >= 0.0 { -norm } else { norm };
+        let v0 = rjj - alpha;
+        // H = I − τ v vᵀ, vᵀv = 2α(α − R_jj) ⇒ τ = 1/(α(α − R_jj)).
+        let tau = 1.0 / (alpha * (alpha - rjj));
+        for c in j + 1..w {
+            let bc = &mut tail[(c - j - 1) * stride..(c - j - 1) * stride + m];
+            let s = tau * (v0 * r[j * w + c] + dot(bj, bc));
+            r[j * w + c] -= s * v0;
+            for (b, a) in bc.iter_mut().zip(bj) {
+                *b -= s * a;
+            }
+        }
+        r[j * w + j] = alpha;
+    }
+}
+
+/// Dot product with four partial sums (independent chains that pipeline and vectorise).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut acc = [0.0f64; 4];
+    let chunks = n / 4;
+    for i in 0..chunks {
+        for l in 0..4 {
+            acc[l] += a[4 * i + l] * b[4 * i + l];
+        }
+    }
+    let mut tail = 0.0;
+    for i in 4 * chunks..n {
+        tail += a[i] * b[i];
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 /// Largest column-scaled condition number accepted for `n` rows and `p` columns.

@@ -19,11 +19,18 @@
 //! twice by default), the nonlinear target assembled sample by sample, then **every** column
 //! of `M` and `N` passed through the same [`Prefilter`] (the book's causal
 //! `1/(0.075 s + 1)³` by default), then [`least_squares`] by Householder QR.
+//!
+//! **Streaming.** With three-point derivatives and a causal (or no) filter — the book's recipe
+//! — the `*_ls` functions never build the columns: each block of 256 rows is differentiated,
+//! assembled, filtered (the filter states carried from block to block) and folded into the QR
+//! factor while it is in cache. The arithmetic is the same, operation for operation, as that of
+//! the explicit [`Regression`] (which the `*_regression` functions return for plotting), so
+//! both routes give the same estimates up to the order of the least-squares sums.
 
-use crate::differentiate::{Derivatives, Differentiator};
+use crate::differentiate::{Derivatives, Differentiator, three_point_at};
 use crate::error::{IdentError, Result, SamplePos, UNNAMED};
-use crate::filter::{LowPass3, Prefilter};
-use crate::least_squares::{LeastSquares, least_squares};
+use crate::filter::{BANK_BLOCK, FilterBank, LowPass3, Prefilter};
+use crate::least_squares::{LeastSquares, QrAccumulator, least_squares};
 
 /// Options shared by the least-squares identifications.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -148,30 +155,10 @@ impl Regression {
             .zip(&self.columns)
             .map(|(n, c)| (n.as_str(), c.as_slice()))
             .collect();
-        least_squares(&cols, (&self.target_name, &self.target)).map_err(|e| match e {
-            IdentError::RankDeficient {
-                columns,
-                condition,
-                scaled_condition,
-                limit,
-                detail,
-            } => IdentError::RankDeficient {
-                detail: format!(
-                    "{detail} (columns: {})",
-                    self.names
-                        .iter()
-                        .zip(&self.signals)
-                        .map(|(n, s)| format!("{n} multiplies {s}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                columns,
-                condition,
-                scaled_condition,
-                limit,
-            },
-            other => other,
-        })
+        let names: Vec<&str> = self.names.iter().map(String::as_str).collect();
+        let signals: Vec<&str> = self.signals.iter().map(String::as_str).collect();
+        least_squares(&cols, (&self.target_name, &self.target))
+            .map_err(|e| describe_rank(e, &names, &signals))
     }
 
     fn filtered(mut self, prefilter: &Prefilter, ts: f64) -> Result<Self> {
@@ -215,8 +202,152 @@ fn filter_all(f: &LowPass3, zero_phase: bool, cols: &[Vec<f64>]) -> Vec<Vec<f64>
     out
 }
 
+/// Three-point first and second derivatives of a signal on one block `[k0, k1)`, computed
+/// from the neighbouring samples with exactly the formulas (and the operation order) of
+/// [`crate::differentiate::three_point`] applied once and twice to the whole signal.
+struct BlockDerivatives {
+    /// `ẋ` on `[lo, hi)` ⊇ the indices the block's second derivatives need.
+    d1: Vec<f64>,
+    /// `ẋ` on the block, `first[i]` for index `k0 + i`.
+    first: Vec<f64>,
+    /// `ẍ` on the block.
+    second: Vec<f64>,
+    n: usize,
+    h: f64,
+}
+
+impl BlockDerivatives {
+    fn new(n: usize, ts: f64) -> Self {
+        Self {
+            d1: Vec::with_capacity(BANK_BLOCK + 4),
+            first: Vec::with_capacity(BANK_BLOCK),
+            second: Vec::with_capacity(BANK_BLOCK),
+            n,
+            h: 0.5 / ts,
+        }
+    }
+
+    /// Computes `ẋ` and `ẍ` on `[k0, k1)`.
+    fn load(&mut self, x: &[f64], k0: usize, k1: usize) {
+        let (n, h) = (self.n, self.h);
+        let mut lo = k0.saturating_sub(1);
+        let mut hi = (k1 + 1).min(n);
+        if k0 == 0 {
+            hi = hi.max(3);
+        }
+        if k1 == n {
+            lo = lo.min(n - 3);
+        }
+        // ẋ on [lo, hi): interior by the central difference, ends by the one-sided formulas.
+        self.d1.clear();
+        let a = lo.max(1);
+        let b = hi.min(n - 1);
+        if lo == 0 {
+            self.d1.push(three_point_at(x, h, 0));
+        }
+        self.d1
+            .extend(x[a - 1..b + 1].windows(3).map(|w| (w[2] - w[0]) * h));
+        if hi == n {
+            self.d1.push(three_point_at(x, h, n - 1));
+        }
+        debug_assert_eq!(self.d1.len(), hi - lo);
+        self.first.clear();
+        self.first.extend_from_slice(&self.d1[k0 - lo..k1 - lo]);
+        // ẍ on [k0, k1): the same formulas on ẋ.
+        self.second.clear();
+        let d = &self.d1;
+        let (ia, ib) = (k0.max(1), k1.min(n - 1));
+        if k0 == 0 {
+            self.second.push((-3.0 * d[0] + 4.0 * d[1] - d[2]) * h);
+        }
+        if ib > ia {
+            self.second.extend(
+                d[ia - 1 - lo..ib + 1 - lo]
+                    .windows(3)
+                    .map(|w| (w[2] - w[0]) * h),
+            );
+        }
+        if k1 == n {
+            let e = n - lo;
+            self.second
+                .push((d[e - 3] - 4.0 * d[e - 2] + 3.0 * d[e - 1]) * h);
+        }
+        debug_assert_eq!(self.second.len(), k1 - k0);
+    }
+}
+
+/// `true` if the options allow the streamed route (three-point derivatives, causal or no
+/// filter).
+fn streamable(opts: &LsOptions) -> bool {
+    opts.differentiator == Differentiator::ThreePoint
+        && !matches!(opts.prefilter, Prefilter::ZeroPhase { .. })
+}
+
+/// Solves `M p = N` streamed block by block: `fill(k0, m, raw)` writes rows `k0 … k0+m−1` of
+/// the `W − 1` regressor columns and the target (last) into `raw[c][..m]`.
+fn stream_solve<const W: usize>(
+    signals: &[(&str, &[f64])],
+    ts: f64,
+    needed: usize,
+    prefilter: &Prefilter,
+    names: &[&str],
+    target: &str,
+    mut fill: impl FnMut(usize, usize, &mut [[f64; BANK_BLOCK]; W]),
+) -> Result<LeastSquares> {
+    debug_assert_eq!(names.len() + 1, W);
+    let n = check_signals_with(signals, ts, needed, false)?;
+    let mut bank = prefilter.design(ts)?.map(|(f, _)| FilterBank::<W>::new(&f));
+    let mut acc = QrAccumulator::new(names, target)?;
+    let mut raw = [[0.0; BANK_BLOCK]; W];
+    let mut out = [[0.0; BANK_BLOCK]; W];
+    let mut k0 = 0;
+    while k0 < n {
+        let m = (n - k0).min(BANK_BLOCK);
+        fill(k0, m, &mut raw);
+        if !raw.iter().all(|c| c[..m].iter().all(|v| v.is_finite())) {
+            // Name the offending input sample (a NaN/∞ in the data); a non-finite value
+            // computed from finite data (overflow) is named by its regressor column.
+            check_signals(signals, ts, needed)?;
+            let (c, i) = (0..W)
+                .find_map(|c| {
+                    raw[c][..m]
+                        .iter()
+                        .position(|v| !v.is_finite())
+                        .map(|i| (c, i))
+                })
+                .expect("a non-finite value was seen");
+            return Err(IdentError::NonFinite {
+                source_name: UNNAMED.into(),
+                column: if c + 1 < W { names[c] } else { target }.to_string(),
+                at: SamplePos::index(k0 + i),
+                value: raw[c][i],
+            });
+        }
+        match bank.as_mut() {
+            Some(b) => {
+                b.process(&raw, &mut out, m);
+                acc.push_scratch(&mut out, m);
+            }
+            None => acc.push_scratch(&mut raw, m),
+        }
+        k0 += m;
+    }
+    acc.finish()
+}
+
 /// Checks lengths, finiteness and the sample count of named input signals.
 fn check_signals(signals: &[(&str, &[f64])], ts: f64, needed: usize) -> Result<usize> {
+    check_signals_with(signals, ts, needed, true)
+}
+
+/// As [`check_signals`]; with `finite = false` the values are not scanned (the streamed route
+/// checks each block in cache and calls the full check only to name a bad sample).
+fn check_signals_with(
+    signals: &[(&str, &[f64])],
+    ts: f64,
+    needed: usize,
+    finite: bool,
+) -> Result<usize> {
     positive("sample time ts", ts)?;
     let n = signals[0].1.len();
     for (name, s) in signals {
@@ -227,6 +358,9 @@ fn check_signals(signals: &[(&str, &[f64])], ts: f64, needed: usize) -> Result<u
                 expected: n,
                 found: s.len(),
             });
+        }
+        if !finite {
+            continue;
         }
         if let Some(k) = s.iter().position(|v| !v.is_finite()) {
             return Err(IdentError::NonFinite {
@@ -343,7 +477,73 @@ fn drive_from(lsq: LeastSquares) -> DriveLs {
 /// As [`cart_drive_regression`] and [`least_squares`] (rank deficiency, e.g. `v ≡ 0`).
 #[doc(alias = "p1c322_cdip_id_least_square")]
 pub fn cart_drive_ls(ts: f64, z: &[f64], v: &[f64], opts: &LsOptions) -> Result<DriveLs> {
-    Ok(drive_from(cart_drive_regression(ts, z, v, opts)?.solve()?))
+    drive_ls(ts, ("z", z), v, ["ac", "bc"], opts)
+}
+
+fn drive_ls(
+    ts: f64,
+    y: (&str, &[f64]),
+    v: &[f64],
+    names: [&str; 2],
+    opts: &LsOptions,
+) -> Result<DriveLs> {
+    if !streamable(opts) {
+        return Ok(drive_from(
+            drive_regression(ts, y, v, names, opts)?.solve()?,
+        ));
+    }
+    opts.differentiator.validate()?;
+    let n = y.1.len();
+    let x = y.1;
+    let mut d = BlockDerivatives::new(n, ts);
+    let target = format!("{}_ddot", y.0);
+    let signals = [y, ("v", v)];
+    let lsq = stream_solve::<3>(
+        &signals,
+        ts,
+        needed(opts),
+        &opts.prefilter,
+        &names,
+        &target,
+        |k0, m, raw| {
+            d.load(x, k0, k0 + m);
+            for i in 0..m {
+                raw[0][i] = -d.first[i];
+            }
+            raw[1][..m].copy_from_slice(&v[k0..k0 + m]);
+            raw[2][..m].copy_from_slice(&d.second);
+        },
+    )
+    .map_err(|e| describe_rank(e, &names, &[&format!("−d{}/dt", y.0), "v"]))?;
+    Ok(drive_from(lsq))
+}
+
+/// Adds the meaning of each column to a rank-deficiency error.
+fn describe_rank(e: IdentError, names: &[&str], signals: &[&str]) -> IdentError {
+    match e {
+        IdentError::RankDeficient {
+            columns,
+            condition,
+            scaled_condition,
+            limit,
+            detail,
+        } => IdentError::RankDeficient {
+            detail: format!(
+                "{detail} (columns: {})",
+                names
+                    .iter()
+                    .zip(signals)
+                    .map(|(n, s)| format!("{n} multiplies {s}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            columns,
+            condition,
+            scaled_condition,
+            limit,
+        },
+        other => other,
+    }
 }
 
 /// Arm drive `φ̈₁ = −a₁ φ̇₁ + b₁ v` by least squares (`M₁ = [−φ̇₁, v]`, `N₁ = φ̈₁`).
@@ -352,9 +552,7 @@ pub fn cart_drive_ls(ts: f64, z: &[f64], v: &[f64], opts: &LsOptions) -> Result<
 /// As [`cart_drive_ls`].
 #[doc(alias = "p1c332_adip_id_least_square")]
 pub fn arm_drive_ls(ts: f64, phi1: &[f64], v: &[f64], opts: &LsOptions) -> Result<DriveLs> {
-    Ok(drive_from(
-        drive_regression(ts, ("phi1", phi1), v, ["a1", "b1"], opts)?.solve()?,
-    ))
+    drive_ls(ts, ("phi1", phi1), v, ["a1", "b1"], opts)
 }
 
 /// The cart-pendulum regression of eq. 3.45, filtered.
@@ -444,7 +642,36 @@ pub fn cart_pendulum_ls(
     c: &CartPendulumConstants,
     opts: &LsOptions,
 ) -> Result<CartPendulumLs> {
-    let lsq = cart_pendulum_regression(ts, z, phi, c, opts)?.solve()?;
+    let lsq = if streamable(opts) {
+        c.validate()?;
+        let n = z.len();
+        let (ml, ml2, mgl) = (c.mp * c.lp, c.mp * c.lp * c.lp, c.mp * c.g * c.lp);
+        let mut dz = BlockDerivatives::new(n, ts);
+        let mut dp = BlockDerivatives::new(n, ts);
+        let signals = [("z", z), ("phi", phi)];
+        stream_solve::<3>(
+            &signals,
+            ts,
+            needed(opts),
+            &opts.prefilter,
+            &["Jp", "mup"],
+            "N2",
+            |k0, m, raw| {
+                dz.load(z, k0, k0 + m);
+                dp.load(phi, k0, k0 + m);
+                for i in 0..m {
+                    let (s, co) = phi[k0 + i].sin_cos();
+                    let ddp = dp.second[i];
+                    raw[0][i] = ddp;
+                    raw[1][i] = dp.first[i];
+                    raw[2][i] = ml * co * dz.second[i] - ml2 * ddp - mgl * s;
+                }
+            },
+        )
+        .map_err(|e| describe_rank(e, &["Jp", "mup"], &["d²phi/dt²", "dphi/dt"]))?
+    } else {
+        cart_pendulum_regression(ts, z, phi, c, opts)?.solve()?
+    };
     Ok(CartPendulumLs {
         jp: lsq.estimate[0],
         mup: lsq.estimate[1],
@@ -522,7 +749,43 @@ pub fn arm_pendulum_ls(
     c: &ArmPendulumConstants,
     opts: &LsOptions,
 ) -> Result<ArmPendulumLs> {
-    let lsq = arm_pendulum_regression(ts, phi1, phi2, c, opts)?.solve()?;
+    let lsq = if streamable(opts) {
+        c.validate()?;
+        let n = phi1.len();
+        let (a3, a5) = (c.alpha3(), c.alpha5());
+        let mut d1 = BlockDerivatives::new(n, ts);
+        let mut d2 = BlockDerivatives::new(n, ts);
+        let signals = [("phi1", phi1), ("phi2", phi2)];
+        stream_solve::<3>(
+            &signals,
+            ts,
+            needed(opts),
+            &opts.prefilter,
+            &["alpha2", "mu2"],
+            "N2",
+            |k0, m, raw| {
+                d1.load(phi1, k0, k0 + m);
+                d2.load(phi2, k0, k0 + m);
+                for i in 0..m {
+                    let k = k0 + i;
+                    let (s12, c12) = (phi1[k] - phi2[k]).sin_cos();
+                    let w1 = d1.first[i];
+                    raw[0][i] = d2.second[i];
+                    raw[1][i] = d2.first[i] - w1;
+                    raw[2][i] = a3 * c12 * d1.second[i] - a3 * w1 * w1 * s12 - a5 * phi2[k].sin();
+                }
+            },
+        )
+        .map_err(|e| {
+            describe_rank(
+                e,
+                &["alpha2", "mu2"],
+                &["d²phi2/dt²", "dphi2/dt − dphi1/dt"],
+            )
+        })?
+    } else {
+        arm_pendulum_regression(ts, phi1, phi2, c, opts)?.solve()?
+    };
     Ok(ArmPendulumLs {
         alpha2: lsq.estimate[0],
         mu2: lsq.estimate[1],

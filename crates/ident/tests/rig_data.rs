@@ -354,3 +354,58 @@ fn pendulum_free_oscillation_feature_method() {
     assert!(nl_corr.fit_percent > 90.0, "fit {}", nl_corr.fit_percent);
     assert!(nl_corr.fit_percent > nl_book.fit_percent + 20.0);
 }
+
+#[test]
+fn streamed_and_explicit_regressions_agree() {
+    // The *_ls functions stream blocks through derivative, filter and QR; the *_regression
+    // functions build the columns first. Same formulas, same operation order: the estimates
+    // agree to rounding (in fact bit for bit).
+    let d = ls_window();
+    let ts = d.sample_time().unwrap();
+    let (z, phi, v) = (
+        d.column("z").unwrap(),
+        d.column("phi").unwrap(),
+        d.column("v").unwrap(),
+    );
+    let c = CartPendulumConstants::default();
+    for opts in [
+        LsOptions::default(),
+        LsOptions {
+            prefilter: Prefilter::None,
+            ..LsOptions::default()
+        },
+        LsOptions {
+            prefilter: Prefilter::Causal {
+                tf: 0.05,
+                hold: FilterHold::Foh,
+            },
+            ..LsOptions::default()
+        },
+    ] {
+        let a = cart_drive_ls(ts, z, v, &opts).unwrap().lsq;
+        let b = regression::cart_drive_regression(ts, z, v, &opts)
+            .unwrap()
+            .solve()
+            .unwrap();
+        let p = cart_pendulum_ls(ts, z, phi, &c, &opts).unwrap().lsq;
+        let q = regression::cart_pendulum_regression(ts, z, phi, &c, &opts)
+            .unwrap()
+            .solve()
+            .unwrap();
+        // The arm pendulum regression on the cart data (z as "arm", phi as pendulum): only
+        // the two routes' agreement is checked.
+        let arm = ArmPendulumConstants::default();
+        let r = arm_pendulum_ls(ts, z, phi, &arm, &opts).unwrap().lsq;
+        let s = regression::arm_pendulum_regression(ts, z, phi, &arm, &opts)
+            .unwrap()
+            .solve()
+            .unwrap();
+        for (x, y) in [(&a, &b), (&p, &q), (&r, &s)] {
+            for j in 0..2 {
+                assert!(rel(x.estimate[j], y.estimate[j]) < 1e-12);
+                assert!(rel(x.std_error[j], y.std_error[j]) < 1e-12);
+            }
+            assert!(rel(x.condition, y.condition) < 1e-12);
+        }
+    }
+}

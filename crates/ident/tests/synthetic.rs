@@ -257,3 +257,36 @@ fn free_oscillation_survives_quantisation_flicker() {
         osc.decay_ratio
     );
 }
+
+#[test]
+fn streamed_route_handles_every_block_boundary() {
+    // Lengths around the 256-row block size and the smallest ones: the streamed *_ls route
+    // must reproduce the explicit regression (same formulas; rounding only).
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let noise = Normal::new(0.0, 1.0).unwrap();
+    for n in [3, 4, 5, 6, 255, 256, 257, 258, 511, 512, 513, 1000] {
+        let z: Vec<f64> = (0..n).map(|_| noise.sample(&mut rng)).collect();
+        let v: Vec<f64> = (0..n).map(|_| noise.sample(&mut rng)).collect();
+        for opts in [
+            LsOptions::default(),
+            LsOptions {
+                prefilter: Prefilter::None,
+                ..LsOptions::default()
+            },
+        ] {
+            let a = cart_drive_ls(TS, &z, &v, &opts).unwrap().lsq;
+            let b = regression::cart_drive_regression(TS, &z, &v, &opts)
+                .unwrap()
+                .solve()
+                .unwrap();
+            for j in 0..2 {
+                assert!(
+                    (a.estimate[j] - b.estimate[j]).abs() <= 1e-12 * b.estimate[j].abs(),
+                    "n = {n}: {} vs {}",
+                    a.estimate[j],
+                    b.estimate[j]
+                );
+            }
+        }
+    }
+}

@@ -4,6 +4,7 @@
 //! rate) and the accuracy evidence that the timed job did the right thing. With `--json` the
 //! output is one line `{"workload", "figure", "unit", "check"}`.
 
+mod ident;
 mod lsim;
 
 use anyhow::{Result, bail};
@@ -100,6 +101,11 @@ fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
+    all.push(Workload {
+        name: "ident-1e6",
+        description: "book least squares (3-point, 1/(0.075s+1)^3, QR) on 10^6 quantised cart samples (ms)",
+        run: ident::run,
+    });
     all.push(Workload {
         name: "lsim-1e6",
         description: "10^6 samples of a 5-state closed loop at 1 ms, FOH (samples/s)",
