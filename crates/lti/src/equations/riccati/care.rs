@@ -69,7 +69,7 @@ pub fn care(
         red: &red,
     };
     let candidates: Vec<RiccatiMethod> = match options.method {
-        RiccatiMethod::Auto => vec![RiccatiMethod::Schur, RiccatiMethod::ExtendedPencil],
+        RiccatiMethod::Auto => vec![RiccatiMethod::Schur, RiccatiMethod::Doubling],
         m => vec![m],
     };
     solve_with_fallback(&fin, &candidates, options, |m| match m {
