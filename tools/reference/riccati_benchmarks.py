@@ -167,6 +167,13 @@ def carex(group, number, eps=None, size=None):
 
 def darex(group, number, eps=None):
     """Returns a, b, q, r, s (s may be None)."""
+    if (group, number) == (1, 2):
+        a = np.array([[0.0, 1.0], [0.0, -1.0]])
+        b = np.array([[1.0, 0.0], [2.0, 1.0]])
+        q = np.array([[-4.0, -4.0], [-4.0, 7.0]]) / 11.0
+        r = np.array([[9.0, 3.0], [3.0, 1.0]])
+        s = np.array([[3.0, 1.0], [-1.0, 7.0]])
+        return a, b, q, r, s
     if (group, number) == (1, 5):
         m = fortran_reader("BB02105.dat")
         a, b = m(4, 4), m(4, 2)
@@ -279,6 +286,7 @@ CAREX = [
 ]
 
 DAREX = [
+    ("DAREX 1.2", (1, 2, None)),
     ("DAREX 1.5", (1, 5, None)),
     ("DAREX 1.6", (1, 6, None)),
     ("DAREX 1.7", (1, 7, None)),

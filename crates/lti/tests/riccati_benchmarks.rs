@@ -82,7 +82,15 @@ fn inverse_operator_norm(ac: &Mat, continuous: bool) -> f64 {
 fn condition(e: &Example, x: &Mat, k: &Mat, continuous: bool) -> f64 {
     let ac = &e.a - &e.b * k;
     let omega_inv = inverse_operator_norm(&ac, continuous);
-    let g = &e.b * e.r.clone().lu().solve(&e.b.transpose()).unwrap();
+    // G = BR⁻¹Bᵀ; for a singular R (DAREX 1.1, 1.2, 1.4) the equivalent input weight of the
+    // closed loop, B(R + BᵀXB)⁻¹Bᵀ.
+    let g = match e.r.clone().cholesky() {
+        Some(ch) => &e.b * ch.solve(&e.b.transpose()),
+        None => {
+            let rt = &e.r + e.b.transpose() * x * &e.b;
+            &e.b * rt.lu().solve(&e.b.transpose()).unwrap()
+        }
+    };
     let (xn, an, acn) = (x.norm(), e.a.norm(), ac.norm());
     let num = if continuous {
         e.q.norm() + 2.0 * an * xn + g.norm() * xn * xn
@@ -283,7 +291,9 @@ fn carex_against_scipy() {
 #[test]
 fn darex_closed_forms() {
     let cases: Vec<(Example, f64)> = vec![
+        (darex(1, 1, 0.0, None), RES),
         (darex(1, 3, 0.0, None), RES),
+        (darex(1, 4, 0.0, None), RES),
         (darex(2, 1, 1.0, None), RES),
         (darex(2, 1, 1e3, None), RES),
         (darex(2, 1, 1e6, None), RES),
@@ -301,7 +311,7 @@ fn darex_closed_forms() {
     let mut rows = Vec::new();
     for (e, tol) in &cases {
         let x = e.x.as_ref().unwrap();
-        let r = dare_residual(&e.a, &e.b, &e.q, &e.r, None, x);
+        let r = dare_residual(&e.a, &e.b, &e.q, &e.r, e.n.as_ref(), x);
         assert!(r <= 1e-13, "{}: closed form residual {r:e}", e.id);
         rows.push(check(e, false, None, *tol));
     }
@@ -313,6 +323,7 @@ fn darex_against_scipy() {
     let fx = fixture();
     let dare_fx = fx["dare"].as_object().unwrap();
     let cases: Vec<(Example, f64)> = vec![
+        (darex(1, 2, 0.0, None), RES),
         (darex(1, 5, 0.0, None), RES),
         (darex(1, 6, 0.0, None), RES),
         (darex(1, 7, 0.0, None), RES),
@@ -375,4 +386,23 @@ fn carex_2_1_at_eps_zero_is_not_stabilisable() {
         }
         other => panic!("expected NotStabilizable, got {other:?}"),
     }
+}
+
+/// A singular R is accepted by the DARE only when BᵀXB + R can be invertible: with B = [1; 0]
+/// and R = [[0, 0], [0, 0]] (two inputs, the second acting nowhere and costing nothing) it
+/// never is, and an indefinite R is no LQ weight at all.
+#[test]
+fn darex_singular_r_errors() {
+    let e = darex(1, 1, 0.0, None);
+    let b2 = Mat::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 0.0]);
+    let r2 = Mat::zeros(2, 2);
+    assert!(matches!(
+        dare(&e.a, &b2, &e.q, &r2, None, &RiccatiOptions::default()),
+        Err(LtiError::NotPositiveDefinite { .. })
+    ));
+    let r_ind = Mat::from_row_slice(1, 1, &[-1e-3]);
+    assert!(matches!(
+        dare(&e.a, &e.b, &e.q, &r_ind, None, &RiccatiOptions::default()),
+        Err(LtiError::NotPositiveDefinite { .. })
+    ));
 }

@@ -1,4 +1,4 @@
-//! Small dense kernels shared by the Schur, QZ and matrix-equation solvers.
+//! Small dense kernels shared by the Schur and matrix-equation solvers.
 //!
 //! Everything here works on column-major storage (`Mat::as_slice`, leading dimension = number
 //! of rows) and is written after the corresponding LAPACK auxiliaries (`dlartg`, `dlarfg`,

@@ -356,7 +356,7 @@ pub fn carex(group: u32, number: u32, eps: f64, size: Option<usize>) -> Example 
             for i in 1..=n {
                 if i % 2 == 1 {
                     a[(i - 1, i - 1)] = -1.0;
-                    b[(i - 1, (i + 1) / 2 - 1)] = 1.0;
+                    b[(i - 1, i.div_ceil(2) - 1)] = 1.0;
                 } else {
                     a[(i - 1, i - 2)] = 1.0;
                     a[(i - 1, i)] = -1.0;
@@ -563,7 +563,12 @@ pub fn darex(group: u32, number: u32, eps: f64, size: Option<usize>) -> Example 
             eye(1),
             Some(rows(2, 2, &[1.0, 2.0, 2.0, 2.0 + 5f64.sqrt()])),
         ),
-        // Sun 1998: R singular, Q indefinite.
+        // Sun 1998: R singular, Q indefinite. The collection prints X = diag(1e5, 1e3, 0),
+        // which solves the equation for q₃₃ = −0.1; with the distributed q₃₃ = −10 the
+        // stabilising solution is diag(1e5, 1e3, −9.9): for X = diag(x₁, x₂, x₃), AᵀXA =
+        // diag(0, 0.01x₁, 1e-4·x₂), AᵀXB = 0.1x₁e₂e₁ᵀ, R + BᵀXB = diag(x₁, 1 + x₃), so the
+        // diagonal equations read −x₁ + 1e5 = 0, 0.01x₁ − x₂ − 0.01x₁ + 1e3 = 0,
+        // 1e-4·x₂ − x₃ − 10 = 0; the gain K = 0.1·e₁e₂ᵀ leaves A − BK nilpotent (stable).
         (1, 4) => {
             let mut a = Mat::zeros(3, 3);
             a[(0, 1)] = 0.1;
@@ -577,7 +582,7 @@ pub fn darex(group: u32, number: u32, eps: f64, size: Option<usize>) -> Example 
                 b,
                 diag(&[1e5, 1e3, -10.0]),
                 packed_lower(2, &[0.0, 0.0, 1.0]),
-                Some(diag(&[1e5, 1e3, 0.0])),
+                Some(diag(&[1e5, 1e3, -9.9])),
             )
         }
         // Ackerson/Fu 1970 (satellite), Litkouhi 1983 (slow and fast modes): A, B from the

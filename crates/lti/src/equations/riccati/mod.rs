@@ -39,7 +39,6 @@
 
 mod care;
 mod dare;
-pub(crate) mod pencil;
 
 pub use care::care;
 pub use dare::dare;
@@ -72,17 +71,14 @@ pub const PBH_TOLERANCE: f64 = 1e-6;
 /// The algorithm used to compute the stabilising solution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RiccatiMethod {
-    /// Choose automatically: for the CARE the Schur method, then the extended pencil; for the
-    /// DARE the extended pencil, then the doubling method. The first result that passes the
-    /// residual and closed-loop stability checks is returned.
+    /// Choose automatically: for the CARE the Schur method, then the doubling method; for the
+    /// DARE the doubling method, then the Schur method. The first accepted result with a
+    /// residual at most [`GOOD_RESIDUAL`] is returned, otherwise the most accurate accepted one.
     #[default]
     Auto,
     /// Ordered real Schur form of the Hamiltonian matrix (CARE) or of the symplectic matrix
     /// (DARE, requires `A − B R⁻¹ Nᵀ` invertible), Laub's method.
     Schur,
-    /// Ordered generalised Schur (QZ) form of the extended `(2n + m)` pencil, which never
-    /// inverts `R` and allows a singular `A` (Van Dooren; SLICOT `SB02OD`).
-    ExtendedPencil,
     /// Structure-preserving doubling (SDA; Chu, Fan, Lin, Wang 2004 for the DARE and, after a
     /// Cayley transform, Chu, Fan, Lin 2005 for the CARE): quadratically convergent iteration
     /// on `n × n` matrices, refined by Newton's method. Requires `R ≻ 0`.
