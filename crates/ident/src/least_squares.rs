@@ -311,16 +311,9 @@ fn reduce(r: &mut [f64], w: usize, buf: &mut [f64], stride: usize, m: usize) {
         let (head, tail) = buf.split_at_mut((j + 1) * stride);
         let bj = &head[j * stride..j * stride + m];
         let sq = dot(bj, bj);
-        if sq == 0.0 {
-            continue; // column already triangular
-        }
-        let rjj = r[j * w + j];
-        let norm = stable_norm(rjj, bj, sq);
-        // α = −sign(R_jj) ‖x‖ avoids cancellation in v₀ = R_jj − α.
-        let alpha = if rjj >= 0.0 { -norm } else { norm };
-        let v0 = rjj - alpha;
-        // H = I − τ v vᵀ, vᵀv = 2α(α − R_jj) ⇒ τ = 1/(α(α − R_jj)).
-        let tau = 1.0 / (alpha * (alpha - rjj));
+        let Some((alpha, v0, tau)) = reflector(r[j * w + j], bj, sq) else {
+            continue;
+        };
         for c in j + 1..w {
             let bc = &mut tail[(c - j - 1) * stride..(c - j - 1) * stride + m];
             let s = tau * (v0 * r[j * w + c] + dot(bj, bc));
@@ -331,6 +324,19 @@ fn reduce(r: &mut [f64], w: usize, buf: &mut [f64], stride: usize, m: usize) {
         }
         r[j * w + j] = alpha;
     }
+}
+
+/// The Householder reflector `H = I − τ v vᵀ` that maps `[R_jj; b_j]` onto `α e₁`:
+/// `(α, v₀, τ)` with `α = −sign(R_jj)‖·‖` (no cancellation in `v₀ = R_jj − α`),
+/// `τ = 1/(α(α − R_jj))` (from `vᵀv = 2α(α − R_jj)`); `None` if `b_j = 0` (nothing to do).
+#[inline]
+fn reflector(rjj: f64, bj: &[f64], sq: f64) -> Option<(f64, f64, f64)> {
+    if sq == 0.0 {
+        return None;
+    }
+    let norm = stable_norm(rjj, bj, sq);
+    let alpha = if rjj >= 0.0 { -norm } else { norm };
+    Some((alpha, rjj - alpha, 1.0 / (alpha * (alpha - rjj))))
 }
 
 /// Dot product with four partial sums (independent chains that pipeline and vectorise).

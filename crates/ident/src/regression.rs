@@ -208,10 +208,6 @@ fn filter_all(f: &LowPass3, zero_phase: bool, cols: &[Vec<f64>]) -> Vec<Vec<f64>
 struct BlockDerivatives {
     /// `ẋ` on `[lo, hi)` ⊇ the indices the block's second derivatives need.
     d1: Vec<f64>,
-    /// `ẋ` on the block, `first[i]` for index `k0 + i`.
-    first: Vec<f64>,
-    /// `ẍ` on the block.
-    second: Vec<f64>,
     n: usize,
     h: f64,
 }
@@ -220,16 +216,15 @@ impl BlockDerivatives {
     fn new(n: usize, ts: f64) -> Self {
         Self {
             d1: Vec::with_capacity(BANK_BLOCK + 4),
-            first: Vec::with_capacity(BANK_BLOCK),
-            second: Vec::with_capacity(BANK_BLOCK),
             n,
             h: 0.5 / ts,
         }
     }
 
-    /// Computes `ẋ` and `ẍ` on `[k0, k1)`.
-    fn load(&mut self, x: &[f64], k0: usize, k1: usize) {
+    /// Writes `ẋ` and `ẍ` on `[k0, k1)` into `first[..k1−k0]` and `second[..k1−k0]`.
+    fn load(&mut self, x: &[f64], k0: usize, k1: usize, first: &mut [f64], second: &mut [f64]) {
         let (n, h) = (self.n, self.h);
+        let m = k1 - k0;
         let mut lo = k0.saturating_sub(1);
         let mut hi = (k1 + 1).min(n);
         if k0 == 0 {
@@ -251,29 +246,46 @@ impl BlockDerivatives {
             self.d1.push(three_point_at(x, h, n - 1));
         }
         debug_assert_eq!(self.d1.len(), hi - lo);
-        self.first.clear();
-        self.first.extend_from_slice(&self.d1[k0 - lo..k1 - lo]);
+        first[..m].copy_from_slice(&self.d1[k0 - lo..k1 - lo]);
         // ẍ on [k0, k1): the same formulas on ẋ.
-        self.second.clear();
         let d = &self.d1;
-        let (ia, ib) = (k0.max(1), k1.min(n - 1));
+        let mut i = 0;
         if k0 == 0 {
-            self.second.push((-3.0 * d[0] + 4.0 * d[1] - d[2]) * h);
+            second[0] = (-3.0 * d[0] + 4.0 * d[1] - d[2]) * h;
+            i = 1;
         }
+        let (ia, ib) = (k0.max(1), k1.min(n - 1));
         if ib > ia {
-            self.second.extend(
-                d[ia - 1 - lo..ib + 1 - lo]
-                    .windows(3)
-                    .map(|w| (w[2] - w[0]) * h),
-            );
+            for (o, w) in second[i..i + (ib - ia)]
+                .iter_mut()
+                .zip(d[ia - 1 - lo..ib + 1 - lo].windows(3))
+            {
+                *o = (w[2] - w[0]) * h;
+            }
+            i += ib - ia;
         }
         if k1 == n {
             let e = n - lo;
-            self.second
-                .push((d[e - 3] - 4.0 * d[e - 2] + 3.0 * d[e - 1]) * h);
+            second[i] = (d[e - 3] - 4.0 * d[e - 2] + 3.0 * d[e - 1]) * h;
+            i += 1;
         }
-        debug_assert_eq!(self.second.len(), k1 - k0);
+        debug_assert_eq!(i, m);
     }
+}
+
+/// `true` if every value is finite: `x − x` is 0 for finite `x` and NaN otherwise, and NaN
+/// survives a sum (four partial sums, so the loop vectorises).
+fn all_finite(x: &[f64]) -> bool {
+    let mut acc = [0.0f64; 4];
+    let chunks = x.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for l in 0..4 {
+            acc[l] += c[l] - c[l];
+        }
+    }
+    let tail: f64 = rest.iter().map(|v| v - v).sum();
+    (acc[0] + acc[1] + acc[2] + acc[3] + tail) == 0.0
 }
 
 /// `true` if the options allow the streamed route (three-point derivatives, causal or no
@@ -304,7 +316,7 @@ fn stream_solve<const W: usize>(
     while k0 < n {
         let m = (n - k0).min(BANK_BLOCK);
         fill(k0, m, &mut raw);
-        if !raw.iter().all(|c| c[..m].iter().all(|v| v.is_finite())) {
+        if !raw.iter().all(|c| all_finite(&c[..m])) {
             // Name the offending input sample (a NaN/∞ in the data); a non-finite value
             // computed from finite data (overflow) is named by its regressor column.
             check_signals(signals, ts, needed)?;
@@ -506,12 +518,12 @@ fn drive_ls(
         &names,
         &target,
         |k0, m, raw| {
-            d.load(x, k0, k0 + m);
-            for i in 0..m {
-                raw[0][i] = -d.first[i];
+            let [dy, vv, ddy] = raw;
+            d.load(x, k0, k0 + m, dy, ddy);
+            for a in &mut dy[..m] {
+                *a = -*a;
             }
-            raw[1][..m].copy_from_slice(&v[k0..k0 + m]);
-            raw[2][..m].copy_from_slice(&d.second);
+            vv[..m].copy_from_slice(&v[k0..k0 + m]);
         },
     )
     .map_err(|e| describe_rank(e, &names, &[&format!("−d{}/dt", y.0), "v"]))?;
@@ -648,6 +660,7 @@ pub fn cart_pendulum_ls(
         let (ml, ml2, mgl) = (c.mp * c.lp, c.mp * c.lp * c.lp, c.mp * c.g * c.lp);
         let mut dz = BlockDerivatives::new(n, ts);
         let mut dp = BlockDerivatives::new(n, ts);
+        let mut scratch = [0.0; BANK_BLOCK];
         let signals = [("z", z), ("phi", phi)];
         stream_solve::<3>(
             &signals,
@@ -657,14 +670,13 @@ pub fn cart_pendulum_ls(
             &["Jp", "mup"],
             "N2",
             |k0, m, raw| {
-                dz.load(z, k0, k0 + m);
-                dp.load(phi, k0, k0 + m);
+                let [ddp, dp1, target] = raw;
+                // ż is not needed: `scratch` takes it; the target slot first holds z̈.
+                dz.load(z, k0, k0 + m, &mut scratch, target);
+                dp.load(phi, k0, k0 + m, dp1, ddp);
                 for i in 0..m {
                     let (s, co) = phi[k0 + i].sin_cos();
-                    let ddp = dp.second[i];
-                    raw[0][i] = ddp;
-                    raw[1][i] = dp.first[i];
-                    raw[2][i] = ml * co * dz.second[i] - ml2 * ddp - mgl * s;
+                    target[i] = ml * co * target[i] - ml2 * ddp[i] - mgl * s;
                 }
             },
         )
@@ -755,6 +767,7 @@ pub fn arm_pendulum_ls(
         let (a3, a5) = (c.alpha3(), c.alpha5());
         let mut d1 = BlockDerivatives::new(n, ts);
         let mut d2 = BlockDerivatives::new(n, ts);
+        let mut w1 = [0.0; BANK_BLOCK];
         let signals = [("phi1", phi1), ("phi2", phi2)];
         stream_solve::<3>(
             &signals,
@@ -764,15 +777,16 @@ pub fn arm_pendulum_ls(
             &["alpha2", "mu2"],
             "N2",
             |k0, m, raw| {
-                d1.load(phi1, k0, k0 + m);
-                d2.load(phi2, k0, k0 + m);
+                let [dd2, rel, target] = raw;
+                // The target slot first holds φ̈₁; `w1` takes φ̇₁.
+                d1.load(phi1, k0, k0 + m, &mut w1, target);
+                d2.load(phi2, k0, k0 + m, rel, dd2);
                 for i in 0..m {
                     let k = k0 + i;
                     let (s12, c12) = (phi1[k] - phi2[k]).sin_cos();
-                    let w1 = d1.first[i];
-                    raw[0][i] = d2.second[i];
-                    raw[1][i] = d2.first[i] - w1;
-                    raw[2][i] = a3 * c12 * d1.second[i] - a3 * w1 * w1 * s12 - a5 * phi2[k].sin();
+                    let w = w1[i];
+                    rel[i] -= w;
+                    target[i] = a3 * c12 * target[i] - a3 * w * w * s12 - a5 * phi2[k].sin();
                 }
             },
         )
