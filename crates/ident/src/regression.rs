@@ -273,7 +273,7 @@ impl BlockDerivatives {
     }
 }
 
-/// `true` if every value is finite: `x − x` is 0 for finite `x` and NaN otherwise, and NaN
+/// `true` if every value is finite: `0·x` is (±)0 for finite `x` and NaN otherwise, and NaN
 /// survives a sum (four partial sums, so the loop vectorises).
 fn all_finite(x: &[f64]) -> bool {
     let mut acc = [0.0f64; 4];
@@ -281,10 +281,10 @@ fn all_finite(x: &[f64]) -> bool {
     let rest = chunks.remainder();
     for c in chunks {
         for l in 0..4 {
-            acc[l] += c[l] - c[l];
+            acc[l] += 0.0 * c[l];
         }
     }
-    let tail: f64 = rest.iter().map(|v| v - v).sum();
+    let tail: f64 = rest.iter().map(|v| 0.0 * v).sum();
     (acc[0] + acc[1] + acc[2] + acc[3] + tail) == 0.0
 }
 
