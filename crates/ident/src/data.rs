@@ -384,6 +384,34 @@ mod tests {
     }
 
     #[test]
+    fn from_trajectory_names_signals() {
+        use pendulab_lti::Mat;
+        let tr = Trajectory::new(
+            vec![0.0, 0.001, 0.002],
+            Mat::from_row_slice(3, 2, &[1.0, 10.0, 2.0, 20.0, 3.0, 30.0]),
+            Mat::from_row_slice(3, 1, &[0.5, 0.6, 0.7]),
+            Mat::zeros(3, 0),
+        )
+        .unwrap()
+        .with_names(vec!["z".into(), "phi".into()], vec!["v".into()], vec![])
+        .unwrap();
+        let ds = Dataset::from_trajectory("sim", &tr).unwrap();
+        assert_eq!(ds.names(), &["t", "z", "phi", "v"]);
+        assert_eq!(ds.column("phi").unwrap(), &[10.0, 20.0, 30.0]);
+        assert_eq!(ds.column("v").unwrap(), &[0.5, 0.6, 0.7]);
+        // Unnamed signals get positional names.
+        let tr = Trajectory::new(
+            vec![0.0, 1.0],
+            Mat::zeros(2, 1),
+            Mat::zeros(2, 0),
+            Mat::zeros(2, 1),
+        )
+        .unwrap();
+        let ds = Dataset::from_trajectory("sim", &tr).unwrap();
+        assert_eq!(ds.names(), &["t", "x0", "y0"]);
+    }
+
+    #[test]
     fn errors_name_the_place() {
         let e = Dataset::from_csv_str("f.csv", "t,z\n0,1\n0.001,x\n").unwrap_err();
         assert!(matches!(&e, IdentError::Csv { line: 3, .. }), "{e}");

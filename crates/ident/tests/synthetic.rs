@@ -176,6 +176,13 @@ fn rank_deficient_and_bad_inputs_are_typed_errors() {
     assert!(
         matches!(&e, IdentError::NonFinite { column, at, .. } if column == "z" && at.index == 10)
     );
+    let mut vi = v.clone();
+    vi[1500] = f64::INFINITY;
+    let e = cart_drive_ls(TS, &z, &vi, &LsOptions::default()).unwrap_err();
+    assert!(
+        matches!(&e, IdentError::NonFinite { column, at, .. } if column == "v" && at.index == 1500),
+        "{e}"
+    );
     let e = cart_drive_ls(TS, &z[..5], &v, &LsOptions::default()).unwrap_err();
     assert!(matches!(e, IdentError::LengthMismatch { .. }));
     let e = cart_drive_ls(TS, &z[..2], &v[..2], &LsOptions::default()).unwrap_err();
