@@ -159,9 +159,15 @@ fn feature_methods_on_the_rig_data() {
 /// φ̇₁, φ̈₁ are known in closed form), the pendulum obeys SPEC.md §1.2 with φ₂ = θ₂ − π,
 /// integrated by RK4 at 0.1 ms and sampled at 1 ms; quantised to the arm rig's encoders.
 fn arm_pendulum_csv(j2: f64, mu2: f64) -> String {
+    arm_pendulum_csv_with(j2, mu2, 1.0, 0.0, 10.0)
+}
+
+/// As [`arm_pendulum_csv`] with the arm motion scaled by `arm_scale`, the pendulum released
+/// from `phi2_0` at rest, over `t_end` seconds.
+fn arm_pendulum_csv_with(j2: f64, mu2: f64, arm_scale: f64, phi2_0: f64, t_end: f64) -> String {
     let (l1, m2, l2, g) = (0.227, 0.096, 0.195, 9.81);
     let (a3, a5, alpha2) = (m2 * l1 * l2, m2 * l2 * g, j2 + m2 * l2 * l2);
-    let (amp, w, amp2) = (0.5, 4.0, 0.2);
+    let (amp, w, amp2) = (0.5 * arm_scale, 4.0, 0.2 * arm_scale);
     let arm = |t: f64| {
         let (s1, c1) = (w * t).sin_cos();
         let (s2, c2) = (2.3 * w * t).sin_cos();
@@ -181,17 +187,18 @@ fn arm_pendulum_csv(j2: f64, mu2: f64) -> String {
         2.0 * std::f64::consts::PI / 14_400.0,
     );
     let h = 1e-4;
-    let (mut x, mut v) = (0.0f64, 0.0f64);
-    let mut out = String::from("t,phi1,phi2\n");
-    for k in 0..=100_000usize {
+    let (mut x, mut v) = (phi2_0, 0.0f64);
+    let mut out = String::from("t,phi1,phi2,theta2\n");
+    let steps = (t_end / h).round() as usize;
+    for k in 0..=steps {
         let t = k as f64 * h;
         if k % 10 == 0 {
             let p1 = arm(t).0;
+            let p2 = (x / q2).round() * q2;
             out.push_str(&format!(
-                "{},{},{}\n",
+                "{},{},{p2},{p2}\n",
                 (k / 10) as f64 * 1e-3,
                 (p1 / q1).round() * q1,
-                (x / q2).round() * q2
             ));
         }
         let (k1x, k1v) = (v, f(t, x, v));
@@ -230,6 +237,55 @@ fn arm_methods_on_simulated_data() {
     let o = run(&["arm-ls", "--data", &f]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("'v'") && stderr(&o).contains("arm_pend.csv"));
+}
+
+#[test]
+fn arm_feature_methods_on_simulated_data() {
+    let d = Dir::new("armfeat");
+    // Free swing of the arm pendulum with the arm held (SPEC.md §1.2 with θ̇₁ = θ̈₁ = 0):
+    // from 0.4 rad, 30 s, quantised. With the amplitude correction the period gives J₂ to 1 %
+    // (the decay is viscous only, so μ₂ comes back within a few percent: 5 %).
+    let f = d.file(
+        "arm_free.csv",
+        &arm_pendulum_csv_with(9.06e-4, 1.01e-4, 0.0, 0.4, 30.0),
+    );
+    let v = json(&run(&[
+        "arm-pend-free",
+        "--data",
+        &f,
+        "--amplitude-correction",
+        "--json",
+    ]));
+    assert!(rel(est(&v, "J2"), 9.06e-4) < 0.01, "{v}");
+    assert!(rel(est(&v, "mu2"), 1.01e-4) < 0.05, "{v}");
+    assert!(v["fit"]["percent"].as_f64().unwrap() > 90.0);
+
+    // Arm P-control step (k_P = 3, 1 rad at 1 s) of the linear arm drive with table 3.7's
+    // a₁ = 6.20, b₁ = 15.8, written in closed form: ω_n² = b₁k_P, ζ = a₁/(2ω_n),
+    // θ₁ = 1 − e^{−ζω_n s}(cos ω_d s + ζ/√(1−ζ²) sin ω_d s), s = t − 1; quantised to the arm
+    // encoder. The method reads the peak of a plateau of equal samples: within 1 %.
+    let (a1, b1, kp): (f64, f64, f64) = (6.20, 15.8, 3.0);
+    let wn = (b1 * kp).sqrt();
+    let zeta = a1 / (2.0 * wn);
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
+    let q = 2.0 * std::f64::consts::PI / 200_000.0;
+    let mut csv = String::from("t,theta1,theta2\n");
+    for k in 0..4000 {
+        let t = k as f64 * 1e-3;
+        let s = t - 1.0;
+        let th = if s <= 0.0 {
+            0.0
+        } else {
+            1.0 - (-zeta * wn * s).exp()
+                * ((wd * s).cos() + zeta / (1.0 - zeta * zeta).sqrt() * (wd * s).sin())
+        };
+        csv.push_str(&format!("{t},{},0\n", (th / q).round() * q));
+    }
+    let f = d.file("arm_step.csv", &csv);
+    let v = json(&run(&["arm-step", "--data", &f, "--json"]));
+    assert!(rel(est(&v, "a1"), a1) < 0.01, "{v}");
+    assert!(rel(est(&v, "b1"), b1) < 0.01, "{v}");
+    assert_eq!(v["constants"]["kP"], 3.0);
 }
 
 #[test]
