@@ -5,6 +5,7 @@
 //! output is one line `{"workload", "figure", "unit", "check"}`.
 
 mod care;
+mod ident;
 mod lsim;
 
 use anyhow::{Result, bail};
@@ -102,6 +103,11 @@ fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
+    all.push(Workload {
+        name: "ident-1e6",
+        description: "book least squares (3-point, 1/(0.075s+1)^3, QR) on 10^6 quantised cart samples (ms)",
+        run: ident::run,
+    });
     all.push(Workload {
         name: "care-n4",
         description: "CARE of the linearised cart pendulum, Q = diag(100, 10, 1, 1), R = 1 (us/solve)",
