@@ -9,16 +9,19 @@
 //! | [`GainScheduled`] | `u = −K(ρ) (y − y_ref)`, `ρ = φ(y)` | any |
 //! | [`Switching`] | mode A until a condition on `y` holds, then mode B (switch times recorded) | as its modes |
 //! | [`Pid`] | P, PD, P–D, PI, PID, I–PD with a filtered derivative, Tustin or backward Euler | fixed |
+//! | [`OpenLoop`] | `u_k = s(t_k)`: a preset command sequence, sampled and held | any |
 //! | [`Saturated`] | any controller with its command clipped to `[lo, hi]` | as the inner one |
 //!
 //! Gains are stored row-major in flat vectors and applied without allocation.
 
 mod linear;
+mod open_loop;
 mod pid;
 mod scheduled;
 mod state_feedback;
 
 pub use linear::{DiscreteLinearController, EstimatorForm, ObserverBased};
+pub use open_loop::OpenLoop;
 pub use pid::{Pid, PidDiscretization, PidForm};
 pub use scheduled::{GainScheduled, Mode, Saturated, Switching};
 pub use state_feedback::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
