@@ -45,13 +45,20 @@ impl Axis {
             points,
         }
     }
-    /// Value `j` of the axis: `lo + j (hi − lo)/(points − 1)`.
+    /// Value `j` of the axis: `lo + j (hi − lo)/(points − 1)`, computed about the midpoint as
+    /// `m + h (2j − (points − 1))/(points − 1)`, `m = (lo + hi)/2`, `h = (hi − lo)/2`, with the
+    /// end points exact — so a symmetric range `[−a, a]` gives exactly mirrored values
+    /// (`value(points − 1 − j) = −value(j)`), and odd dynamics give exactly mirrored runs.
     pub fn value(&self, j: usize) -> f64 {
-        if self.points <= 1 {
-            self.lo
-        } else {
-            self.lo + (self.hi - self.lo) * j as f64 / (self.points - 1) as f64
+        if self.points <= 1 || j == 0 {
+            return self.lo;
         }
+        if j + 1 == self.points {
+            return self.hi;
+        }
+        let (m, h) = (0.5 * (self.lo + self.hi), 0.5 * (self.hi - self.lo));
+        let n1 = (self.points - 1) as f64;
+        m + h * ((2 * j) as f64 - n1) / n1
     }
 }
 
@@ -182,6 +189,10 @@ mod tests {
         assert_eq!(g[0], vec![-1.0, 9.0, 0.0]);
         assert_eq!(g[1], vec![-1.0, 9.0, 1.0]);
         assert_eq!(g[5], vec![1.0, 9.0, 1.0]);
+        let a = Axis::new(0, -1.2, 1.2, 15);
+        assert_eq!((a.value(0), a.value(14)), (-1.2, 1.2));
+        assert!((0..15).all(|j| a.value(14 - j) == -a.value(j)));
+        assert!((a.value(3) - (-1.2 + 2.4 * 3.0 / 14.0)).abs() < 1e-15);
         assert!(grid(&[0.0], &[Axis::new(1, 0.0, 1.0, 2)]).is_err());
         assert!(grid(&[0.0], &[Axis::new(0, 0.0, 1.0, 0)]).is_err());
         assert!(grid(&[0.0], &[Axis::new(0, f64::NAN, 1.0, 2)]).is_err());

@@ -185,14 +185,16 @@ pub struct SampledLoop<P, C> {
 
 impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
     /// Closes `plant` with `controller` under `options`, with the ideal sensor (`y = x`) and
-    /// actuator.
+    /// actuator. A controller that expects another measurement than the full state needs its
+    /// sensor chain ([`SampledLoop::with_sensor`]) before it can run; [`SampledLoop::run`]
+    /// checks it.
     ///
     /// # Errors
     /// [`SimError::InvalidSampleTime`]; [`SimError::InvalidTimeSpan`] for a span shorter
     /// than one sample; integrator errors ([`Integrator::validate`],
     /// [`SimError::StepDoesNotDivide`]); [`SimError::InvalidParameter`] for a delay outside
-    /// `[0, ts]`; [`SimError::DimensionMismatch`] if the controller's `nu`/`ny` do not fit
-    /// the plant and sensor or the initial input has the wrong length;
+    /// `[0, ts]`; [`SimError::DimensionMismatch`] if the controller's `nu` does not fit the
+    /// plant or the initial input has the wrong length;
     /// [`SimError::SampleTimeMismatch`] if the controller was designed for another `ts`.
     pub fn new(plant: P, controller: C, options: SampledOptions) -> Result<Self> {
         let nx = plant.nx();
@@ -205,7 +207,7 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
             options,
             timing,
         };
-        me.check_shapes()?;
+        me.check_shapes(false)?;
         Ok(me)
     }
 
@@ -216,7 +218,7 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
     /// controller's.
     pub fn with_sensor(mut self, sensor: SensorChain) -> Result<Self> {
         self.sensor = sensor;
-        self.check_shapes()?;
+        self.check_shapes(true)?;
         Ok(self)
     }
 
@@ -226,22 +228,20 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
     /// As [`Actuator::validate`].
     pub fn with_actuator(mut self, actuator: Actuator) -> Result<Self> {
         self.actuator = actuator;
-        self.check_shapes()?;
+        self.check_shapes(false)?;
         Ok(self)
     }
 
-    fn check_shapes(&mut self) -> Result<()> {
+    fn check_shapes(&mut self, measurement: bool) -> Result<()> {
         let (nx, nu) = (self.plant.nx(), self.plant.nu());
         check_len(
             "controller commands (plant inputs)",
             self.controller.nu(),
             nu,
         )?;
-        check_len(
-            "controller measurements (sensor channels)",
-            self.controller.ny(),
-            self.sensor.ny(),
-        )?;
+        if measurement {
+            self.check_measurement()?;
+        }
         if let Some(tc) = self.controller.sample_time()
             && (tc - self.options.ts).abs() > 1e-12 * self.options.ts
         {
@@ -260,6 +260,14 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
             });
         }
         Ok(())
+    }
+
+    fn check_measurement(&self) -> Result<()> {
+        check_len(
+            "controller measurements (sensor channels)",
+            self.controller.ny(),
+            self.sensor.ny(),
+        )
     }
 
     /// The plant.
@@ -295,6 +303,8 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
     ///
     /// # Errors
     /// [`SimError::DimensionMismatch`], [`SimError::NonFiniteInitialState`] for a bad `x0`;
+    /// [`SimError::DimensionMismatch`] if the controller's measurement length is not the
+    /// sensor chain's;
     /// [`SimError::NonFiniteCommand`] if the controller returns NaN/∞;
     /// [`SimError::NonFiniteState`] naming the time at which the state blew up; adaptive
     /// integrator failures.
@@ -313,6 +323,7 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
     ) -> Result<SampledRun> {
         let nx = self.plant.nx();
         check_initial_state(x0, nx)?;
+        self.check_measurement()?;
         self.controller.reset();
         self.sensor.reset();
         let Self {

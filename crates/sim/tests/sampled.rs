@@ -389,7 +389,7 @@ fn monitors_stop_runs_and_see_every_sample() {
     assert!(run.trajectory.is_empty());
     assert_eq!(run.diagnostics.samples, (t / 1e-3).round() as usize + 1);
     assert!(run.diagnostics.final_state[1] > 0.5);
-    drop(m);
+    let _ = m;
     assert_eq!(seen, run.diagnostics.samples);
 }
 
@@ -561,10 +561,17 @@ fn bad_configurations_are_typed_errors() {
         }),
         Err(SimError::InvalidParameter { .. })
     ));
-    // Controller of the wrong shape.
-    let wrong = StaticStateFeedback::new(Mat::zeros(1, 3)).unwrap();
+    // Controller of the wrong shape: too many commands (at construction), a measurement the
+    // sensor chain does not deliver (when run).
+    let wrong = StaticStateFeedback::new(Mat::zeros(2, 4)).unwrap();
     assert!(matches!(
         SampledLoop::new(plant, wrong, SampledOptions::default()),
+        Err(SimError::DimensionMismatch { .. })
+    ));
+    let wrong = StaticStateFeedback::new(Mat::zeros(1, 3)).unwrap();
+    let mut lw = SampledLoop::new(plant, wrong, SampledOptions::default()).unwrap();
+    assert!(matches!(
+        lw.run(&[0.0; 4]),
         Err(SimError::DimensionMismatch { .. })
     ));
     // Sensor reading a state that does not exist; sensor of the wrong width.
