@@ -4,6 +4,7 @@
 //! rate) and the accuracy evidence that the timed job did the right thing. With `--json` the
 //! output is one line `{"workload", "figure", "unit", "check"}`.
 
+mod care;
 mod lsim;
 
 use anyhow::{Result, bail};
@@ -11,6 +12,7 @@ use serde::Serialize;
 use std::time::{Duration, Instant};
 
 mod lmi;
+mod plants;
 mod plot;
 
 /// Arguments of `pendulab bench`.
@@ -101,9 +103,24 @@ fn workloads() -> Vec<Workload> {
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
     all.push(Workload {
+        name: "care-n4",
+        description: "CARE of the linearised cart pendulum, Q = diag(100, 10, 1, 1), R = 1 (us/solve)",
+        run: care::run_n4,
+    });
+    all.push(Workload {
+        name: "care-n100",
+        description: "CARE of a random stabilisable system, n = 100, m = 10, fixed seed (ms/solve)",
+        run: care::run_n100,
+    });
+    all.push(Workload {
         name: "lsim-1e6",
         description: "10^6 samples of a 5-state closed loop at 1 ms, FOH (samples/s)",
         run: lsim::run,
+    });
+    all.push(Workload {
+        name: "plants-rhs",
+        description: "cart/arm pendulum right-hand sides in a 1 kHz RK4 loop (evals/s)",
+        run: plants::run,
     });
     all
 }
