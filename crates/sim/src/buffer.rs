@@ -3,7 +3,7 @@
 //! a compile-time constant after inlining, so the loops unroll and nothing is allocated.
 
 /// A state-sized scratch vector.
-pub(crate) trait Buf: Clone + Send {
+pub(crate) trait Buf: Clone + Send + std::fmt::Debug {
     /// A zero vector of length `n` (for arrays, `n` equals the array length).
     fn zeros(n: usize) -> Self;
     /// The entries.

@@ -9,6 +9,7 @@ mod buffer;
 mod controller;
 pub mod controllers;
 mod dynamics;
+pub mod env;
 mod error;
 pub mod integrate;
 pub mod linearize;
@@ -22,6 +23,7 @@ pub mod systems;
 pub use actuator::{Actuator, DisturbancePoint, Friction, WithDriveFriction};
 pub use controller::Controller;
 pub use dynamics::Dynamics;
+pub use env::{Env, EnvConfig, Step};
 pub use error::{Result, SimError};
 pub use integrate::rk4::{Rk4Work, rk4_step, rk4_step_slice};
 pub use integrate::{

@@ -244,6 +244,110 @@ impl SensorChain {
         Ok(Self::from_channels(channels))
     }
 
+    /// The rig's measurement in the layout of the state: `y` has `nx` entries; entry `i` is
+    /// the encoder reading of state `i` if `encoders` lists `(i, step)`, the pseudo-derivative
+    /// `s/(T s + 1)` (default discretisation, Tustin) of position `p` if `velocities` lists
+    /// `(p, i, T)`, and the exact state `x_i` otherwise. Built from the plain numbers of a rig
+    /// description (e.g. `pendulab_plants::RigSpec`: encoders `(state, step)`, velocity
+    /// estimators `(position_state, velocity_state, time_constant)`), so a state-feedback
+    /// gain designed on `x` applies unchanged to `y`.
+    ///
+    /// ```
+    /// use pendulab_sim::SensorChain;
+    /// use std::f64::consts::PI;
+    /// # fn main() -> Result<(), pendulab_sim::SimError> {
+    /// let cart = SensorChain::state_layout(
+    ///     4,
+    ///     &[(0, 4.8414e-5), (1, 2.0 * PI / 14400.0)],
+    ///     &[(0, 2, 0.02), (1, 3, 0.02)],
+    /// )?;
+    /// assert_eq!(cart.ny(), 4);
+    /// # Ok(()) }
+    /// ```
+    ///
+    /// # Errors
+    /// [`SimError::InvalidArgument`] for an index `≥ nx`, a state listed twice, or a velocity
+    /// whose position is not an encoder or exact state; [`SimError::InvalidParameter`] for a
+    /// bad step or time constant.
+    pub fn state_layout(
+        nx: usize,
+        encoders: &[(usize, f64)],
+        velocities: &[(usize, usize, f64)],
+    ) -> Result<Self> {
+        let mut channels: Vec<Option<Channel>> = vec![None; nx];
+        let mut set = |i: usize, c: Channel, what: &str| -> Result<()> {
+            if i >= nx {
+                return Err(SimError::InvalidArgument(format!(
+                    "{what} refers to state {i}, but there are {nx} states"
+                )));
+            }
+            if channels[i].is_some() {
+                return Err(SimError::InvalidArgument(format!(
+                    "state {i} is listed twice in the measurement layout"
+                )));
+            }
+            channels[i] = Some(c);
+            Ok(())
+        };
+        for &(i, step) in encoders {
+            set(
+                i,
+                Channel::State {
+                    index: i,
+                    quantizer: Some(Quantizer::new(step)?),
+                },
+                "an encoder",
+            )?;
+        }
+        for &(p, v, t) in velocities {
+            check_positive("pseudo-differentiator time constant", t)?;
+            if p >= nx || p == v {
+                return Err(SimError::InvalidArgument(format!(
+                    "velocity estimate of state {v} from position {p}: not a distinct state of {nx}"
+                )));
+            }
+            set(
+                v,
+                Channel::Derivative {
+                    source: p,
+                    time_constant: t,
+                    method: Differentiation::default(),
+                },
+                "a velocity estimate",
+            )?;
+        }
+        let channels: Vec<Channel> = channels
+            .into_iter()
+            .enumerate()
+            .map(|(i, c)| {
+                c.unwrap_or(Channel::State {
+                    index: i,
+                    quantizer: None,
+                })
+            })
+            .collect();
+        for (j, c) in channels.iter().enumerate() {
+            if let Channel::Derivative { source, .. } = c
+                && !matches!(channels[*source], Channel::State { .. })
+            {
+                return Err(SimError::InvalidArgument(format!(
+                    "velocity estimate {j} differentiates state {source}, which is itself an estimate"
+                )));
+            }
+        }
+        Ok(Self::from_channels(channels))
+    }
+
+    /// Sets the discretisation of every pseudo-derivative channel.
+    pub fn differentiation(mut self, method: Differentiation) -> Self {
+        for c in &mut self.channels {
+            if let Channel::Derivative { method: m, .. } = c {
+                *m = method;
+            }
+        }
+        self
+    }
+
     /// Appends an exact measurement of state `index`.
     pub fn with_state(mut self, index: usize) -> Self {
         self.push(Channel::State {
@@ -303,11 +407,11 @@ impl SensorChain {
         Ok(self)
     }
 
-    /// Appends one velocity estimate of the earlier channel `source` (an index into `y`).
+    /// Appends one velocity estimate of the state channel `source` (an index into `y`).
     ///
     /// # Errors
     /// [`SimError::InvalidParameter`] unless `T > 0`; [`SimError::InvalidArgument`] if
-    /// `source` is not an earlier state channel.
+    /// `source` is not an existing state channel.
     pub fn with_derivative(
         mut self,
         source: usize,
@@ -451,32 +555,40 @@ impl SensorChain {
         }
         let first = !self.started;
         self.started = true;
-        for j in 0..self.channels.len() {
-            let noise = match (&self.noise, &mut self.rng) {
-                (Some((std, _)), Some(rng)) if std[j] > 0.0 => {
-                    let z: f64 = StandardNormal.sample(rng);
-                    std[j] * z
+        // Pass 1: state channels (encoders), pass 2: pseudo-derivatives of them, so a
+        // derivative may refer to any state channel. Noise is drawn in channel order.
+        for pass in 0..2 {
+            for j in 0..self.channels.len() {
+                let is_state = matches!(self.channels[j], Channel::State { .. });
+                if is_state != (pass == 0) {
+                    continue;
                 }
-                _ => 0.0,
-            };
-            y[j] = match self.channels[j] {
-                Channel::State { index, quantizer } => {
-                    let v = x[index] + noise;
-                    match quantizer {
-                        Some(q) => q.apply(v),
-                        None => v,
+                let noise = match (&self.noise, &mut self.rng) {
+                    (Some((std, _)), Some(rng)) if std[j] > 0.0 => {
+                        let z: f64 = StandardNormal.sample(rng);
+                        std[j] * z
                     }
-                }
-                Channel::Derivative { source, .. } => {
-                    let (alpha, beta) = self.derivative[j].expect("prepared");
-                    let p = y[source];
-                    let p_prev = if first { p } else { self.p_prev[j] };
-                    let v = alpha * self.v_prev[j] + beta * (p - p_prev);
-                    self.v_prev[j] = v;
-                    self.p_prev[j] = p;
-                    v + noise
-                }
-            };
+                    _ => 0.0,
+                };
+                y[j] = match self.channels[j] {
+                    Channel::State { index, quantizer } => {
+                        let v = x[index] + noise;
+                        match quantizer {
+                            Some(q) => q.apply(v),
+                            None => v,
+                        }
+                    }
+                    Channel::Derivative { source, .. } => {
+                        let (alpha, beta) = self.derivative[j].expect("prepared");
+                        let p = y[source];
+                        let p_prev = if first { p } else { self.p_prev[j] };
+                        let v = alpha * self.v_prev[j] + beta * (p - p_prev);
+                        self.v_prev[j] = v;
+                        self.p_prev[j] = p;
+                        v + noise
+                    }
+                };
+            }
         }
     }
 }
@@ -502,6 +614,11 @@ mod tests {
                 .with_derivative(3, 0.02, Differentiation::Tustin)
                 .is_err()
         );
+        assert!(SensorChain::state_layout(4, &[(0, 0.1), (0, 0.2)], &[]).is_err());
+        assert!(SensorChain::state_layout(4, &[(4, 0.1)], &[]).is_err());
+        assert!(SensorChain::state_layout(4, &[(0, 0.1)], &[(0, 0, 0.02)]).is_err());
+        assert!(SensorChain::state_layout(4, &[(0, 0.1)], &[(0, 2, 0.02), (2, 3, 0.02)]).is_err());
+        assert!(SensorChain::state_layout(4, &[(0, 0.1)], &[(0, 2, 0.0)]).is_err());
         assert!(PseudoDifferentiator::new(0.0, Differentiation::Tustin, 1e-3).is_err());
         assert!(PseudoDifferentiator::new(0.02, Differentiation::Tustin, -1.0).is_err());
     }
@@ -520,5 +637,17 @@ mod tests {
         // Backward Euler: v = (T·0 + 1.5 − 0.5)/(T + ts) = 1/0.11.
         assert_eq!(y[0], 1.5);
         assert!((y[1] - 1.0 / 0.11).abs() < 1e-12);
+        // The state layout: y = [x0 (exact), Q(x1), d/dt Q(x1)], the derivative before its
+        // source would be in channel order.
+        let mut c = SensorChain::state_layout(3, &[(1, 0.5)], &[(1, 2, 0.1)])
+            .unwrap()
+            .differentiation(Differentiation::BackwardEuler);
+        c.prepare(3, 0.01).unwrap();
+        let mut y = [0.0; 3];
+        c.measure(&[0.25, 0.7, 9.0], &mut y);
+        assert_eq!(y, [0.25, 0.5, 0.0]);
+        c.measure(&[0.5, 1.3, 9.0], &mut y);
+        assert_eq!(y[..2], [0.5, 1.5]);
+        assert!((y[2] - 1.0 / 0.11).abs() < 1e-12);
     }
 }

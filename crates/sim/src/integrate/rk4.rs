@@ -15,7 +15,7 @@ use crate::buffer::Buf;
 use crate::dynamics::Dynamics;
 
 /// Scratch of the generic kernel: the four stages and the stage state.
-#[derive(Clone)]
+#[derive(Debug, Clone)]
 pub(crate) struct Rk4Scratch<B: Buf> {
     pub(crate) k1: B,
     k2: B,
