@@ -321,6 +321,30 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
         x0: &[f64],
         monitor: &mut M,
     ) -> Result<SampledRun> {
+        self.run_inner(x0, monitor, None)
+    }
+
+    /// As [`SampledLoop::run_with`], recording into the storage of an earlier result
+    /// `previous` (which is consumed): repeated runs (tuning loops, benchmarks) then allocate
+    /// nothing and touch no fresh memory pages.
+    ///
+    /// # Errors
+    /// As [`SampledLoop::run`].
+    pub fn run_recycling<M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+        previous: SampledRun,
+    ) -> Result<SampledRun> {
+        self.run_inner(x0, monitor, Some(previous))
+    }
+
+    fn run_inner<M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+        storage: Option<SampledRun>,
+    ) -> Result<SampledRun> {
         let nx = self.plant.nx();
         check_initial_state(x0, nx)?;
         self.check_measurement()?;
@@ -338,11 +362,11 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
             Some(f @ Friction::Coulomb { .. }) => {
                 let wrapped = WithDriveFriction::new(&*plant, f)?;
                 with_buffer!(nx, B => run_core::<B, _, _, M>(
-                    &wrapped, controller, sensor, actuator, options, timing, x0, monitor
+                    &wrapped, controller, sensor, actuator, options, timing, x0, monitor, storage
                 ))
             }
             _ => with_buffer!(nx, B => run_core::<B, _, _, M>(
-                &*plant, controller, sensor, actuator, options, timing, x0, monitor
+                &*plant, controller, sensor, actuator, options, timing, x0, monitor, storage
             )),
         }
     }
@@ -541,6 +565,7 @@ fn run_core<B, S, C, M>(
     timing: &Timing,
     x0: &[f64],
     monitor: &mut M,
+    storage: Option<SampledRun>,
 ) -> Result<SampledRun>
 where
     B: Buf,
@@ -581,17 +606,21 @@ where
         Record::Off => None,
     };
     let cap = every.map_or(0, |e| n_samples / e + 1);
-    let mut rt = Vec::with_capacity(cap);
-    let mut rx = Vec::with_capacity(cap * nx);
-    let mut ru = Vec::with_capacity(cap * nu);
-    let mut ry = Vec::with_capacity(cap * ny);
-    let mut rc = Vec::with_capacity(cap * nu);
+    let [bt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
+    let mut rt = bt;
+    rt.clear();
+    rt.reserve(cap);
+    let mut rx = Columns::recycled(bx, cap, nx);
+    let mut ru = Columns::recycled(bu, cap, nu);
+    let mut ry = Columns::recycled(by, cap, ny);
+    let mut rc = Columns::recycled(bc, cap, nu);
     let mut stats = IntegrationStats::default();
     let mut saturated = 0usize;
     let mut status = RunStatus::Completed;
     let transparent = actuator.is_transparent();
     let mut last_t = t0;
     let mut samples_run = 0usize;
+    let mut next_record = 0usize;
     for k in 0..=n_samples {
         let tk = t0 + k as f64 * ts;
         last_t = tk;
@@ -610,14 +639,17 @@ where
         } else if actuator.apply(tk, &ucmd, &mut p) {
             saturated += 1;
         }
+        // Record every `e`-th sample (a countdown, no division in the loop).
         if let Some(e) = every
-            && k % e == 0
+            && next_record == k
         {
+            next_record += e;
+            let row = rt.len();
             rt.push(tk);
-            rx.extend_from_slice(x.s());
-            ru.extend_from_slice(&p);
-            ry.extend_from_slice(&y);
-            rc.extend_from_slice(&ucmd);
+            rx.set_row(row, x.s());
+            ru.set_row(row, &p);
+            ry.set_row(row, &y);
+            rc.set_row(row, &ucmd);
         }
         if monitor.observe(tk, x.s(), &y, &p) == Flow::Stop {
             status = RunStatus::Stopped { t: tk };
@@ -642,8 +674,9 @@ where
         }
         check_state(tk1, x.s())?;
     }
-    let trajectory = Trajectory::from_row_major(rt, (nx, &rx), (nu, &ru), (ny, &ry))?;
-    let commands = Mat::from_row_slice(trajectory.len(), nu, &rc);
+    let rows = rt.len();
+    let trajectory = Trajectory::new(rt, rx.into_mat(rows), ru.into_mat(rows), ry.into_mat(rows))?;
+    let commands = rc.into_mat(rows);
     Ok(SampledRun {
         trajectory,
         commands,
@@ -657,4 +690,54 @@ where
             final_state: x.s().to_vec(),
         },
     })
+}
+
+impl SampledRun {
+    /// The allocations of the trajectory and commands, emptied, for reuse.
+    fn into_storage(self) -> [Vec<f64>; 5] {
+        let (t, x, u, y) = self.trajectory.into_parts();
+        [
+            t,
+            Vec::from(x.data),
+            Vec::from(u.data),
+            Vec::from(y.data),
+            Vec::from(self.commands.data),
+        ]
+    }
+}
+
+/// Column-major recording buffer for `cap` rows of `w` signals: a sample is written in place
+/// (`data[i·cap + row]`), and the finished buffer becomes a matrix without copying (after
+/// compaction if fewer rows were written).
+struct Columns {
+    data: Vec<f64>,
+    cap: usize,
+    w: usize,
+}
+
+impl Columns {
+    /// Reuses `data`'s allocation (no fresh pages to fault in when it is large enough).
+    fn recycled(mut data: Vec<f64>, cap: usize, w: usize) -> Self {
+        data.clear();
+        data.resize(cap * w, 0.0);
+        Self { data, cap, w }
+    }
+
+    #[inline(always)]
+    fn set_row(&mut self, row: usize, v: &[f64]) {
+        for (i, &vi) in v.iter().enumerate() {
+            self.data[i * self.cap + row] = vi;
+        }
+    }
+
+    fn into_mat(mut self, rows: usize) -> Mat {
+        if rows < self.cap {
+            for i in 1..self.w {
+                self.data
+                    .copy_within(i * self.cap..i * self.cap + rows, i * rows);
+            }
+            self.data.truncate(rows * self.w);
+        }
+        Mat::from_vec(rows, self.w, self.data)
+    }
 }

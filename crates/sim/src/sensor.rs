@@ -547,12 +547,17 @@ impl SensorChain {
 
     /// The measurement `y_k` of the state `x(t_k)` (call once per sample, in time order, after
     /// [`SensorChain::prepare`]).
-    #[inline]
+    #[inline(always)]
     pub fn measure(&mut self, x: &[f64], y: &mut [f64]) {
         if self.identity {
             y.copy_from_slice(x);
-            return;
+        } else {
+            self.measure_chain(x, y);
         }
+    }
+
+    #[inline(never)]
+    fn measure_chain(&mut self, x: &[f64], y: &mut [f64]) {
         let first = !self.started;
         self.started = true;
         // Pass 1: state channels (encoders), pass 2: pseudo-derivatives of them, so a

@@ -20,7 +20,6 @@ pub struct StaticStateFeedback {
     y_ref: Vec<f64>,
     nu: usize,
     ny: usize,
-    err: Vec<f64>,
 }
 
 impl StaticStateFeedback {
@@ -35,7 +34,6 @@ impl StaticStateFeedback {
             y_ref: vec![0.0; ny],
             nu,
             ny,
-            err: vec![0.0; ny],
         })
     }
 
@@ -85,11 +83,15 @@ impl Controller for StaticStateFeedback {
     fn reset(&mut self) {}
     #[inline]
     fn update(&mut self, _t: f64, y: &[f64], u: &mut [f64]) {
-        for (e, (yi, ri)) in self.err.iter_mut().zip(y.iter().zip(&self.y_ref)) {
-            *e = yi - ri;
+        let n = self.ny;
+        for (i, ui) in u.iter_mut().enumerate() {
+            let row = &self.k[i * n..(i + 1) * n];
+            let mut acc = 0.0;
+            for ((k, yi), ri) in row.iter().zip(y).zip(&self.y_ref) {
+                acc += k * (yi - ri);
+            }
+            *ui = -acc;
         }
-        mat_vec(&self.k, &self.err, u);
-        u.iter_mut().for_each(|v| *v = -*v);
     }
 }
 
