@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 mod lmi;
 mod plants;
 mod plot;
+mod sim;
 
 /// Arguments of `pendulab bench`.
 #[derive(Debug, clap::Args)]
@@ -102,6 +103,7 @@ fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
+    all.extend(sim::workloads());
     all.push(Workload {
         name: "care-n4",
         description: "CARE of the linearised cart pendulum, Q = diag(100, 10, 1, 1), R = 1 (us/solve)",
