@@ -12,6 +12,7 @@
 //! | allocation-free RK4 kernels | [`rk4_step`] (`[f64; N]`), [`rk4_step_slice`] | |
 //! | the sampled-data loop | [`SampledLoop`], [`SampledOptions`] | ZOH at `t_k = t₀ + k·ts`, substeps never cross a sample, computation [`Delay`] |
 //! | the rig's imperfections | [`SensorChain`] (encoders, pseudo-differentiator, noise), [`Actuator`] (saturation, D/A, disturbances, friction), [`Quantizer`] | each off by default, one call each |
+//! | book rig presets (plain, with quantizer) from plain numbers | [`rig::RigChains`], [`SampledLoop::with_rig`] | |
 //! | test signals | [`Signal`] | step, ramp, pulse, pulse train, sine, piecewise, sums |
 //! | per-sample summaries, safety stops | [`Monitor`], [`StayWithin`], [`MaxAbs`], [`SettlingTime`] | |
 //! | batch runs on all cores | [`batch`] | grids of initial states, seeded Monte Carlo, region-of-attraction maps |
@@ -60,6 +61,7 @@ pub mod integrate;
 pub mod linearize;
 pub mod monitor;
 pub mod quantizer;
+pub mod rig;
 pub mod sampled;
 pub mod sensor;
 pub mod signal;

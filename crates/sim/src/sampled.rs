@@ -222,6 +222,14 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
         Ok(self)
     }
 
+    /// Replaces both chains by a rig preset ([`crate::rig::RigChains`]).
+    ///
+    /// # Errors
+    /// As [`SampledLoop::with_sensor`] and [`SampledLoop::with_actuator`].
+    pub fn with_rig(self, rig: crate::rig::RigChains) -> Result<Self> {
+        self.with_sensor(rig.sensor)?.with_actuator(rig.actuator)
+    }
+
     /// Replaces the actuator chain.
     ///
     /// # Errors

@@ -321,10 +321,20 @@ fn dac_and_encoders_deliver_levels() {
     .unwrap()
     .gain;
     let (qz, qth) = (4.8414e-5, 2.0 * std::f64::consts::PI / 14400.0);
+    let rig = pendulab_sim::rig::RigChains::with_quantizer(
+        4,
+        &[(0, qz), (1, qth)],
+        &[(0, 2, 0.02), (1, 3, 0.02)],
+        5.0,
+        16,
+    )
+    .unwrap();
+    // The same chain as the builder calls give.
     let chain = SensorChain::encoders(&[(0, qz), (1, qth)])
         .unwrap()
         .pseudo_differentiator(0.02)
         .unwrap();
+    assert_eq!(rig.sensor, chain);
     let mut lp = SampledLoop::new(
         CartPendulum::default(),
         StaticStateFeedback::new(k).unwrap(),
@@ -334,9 +344,7 @@ fn dac_and_encoders_deliver_levels() {
         },
     )
     .unwrap()
-    .with_sensor(chain)
-    .unwrap()
-    .with_actuator(Actuator::rig(5.0, 16).unwrap())
+    .with_rig(rig)
     .unwrap();
     let run = lp.run(&[0.0, 15f64.to_radians(), 0.0, 0.0]).unwrap();
     let tr = &run.trajectory;
