@@ -642,11 +642,11 @@ where
                 value,
             });
         }
-        if transparent {
-            p.copy_from_slice(&ucmd);
-        } else if actuator.apply(tk, &ucmd, &mut p) {
+        // The plant input: the command itself through a transparent actuator (no copy).
+        if !transparent && actuator.apply(tk, &ucmd, &mut p) {
             saturated += 1;
         }
+        let pk: &[f64] = if transparent { &ucmd } else { &p };
         // Record every `e`-th sample (a countdown, no division in the loop).
         if let Some(e) = every
             && next_record == k
@@ -655,11 +655,11 @@ where
             let row = rt.len();
             rt.push(tk);
             rx.set_row(row, x.s());
-            ru.set_row(row, &p);
+            ru.set_row(row, pk);
             ry.set_row(row, &y);
             rc.set_row(row, &ucmd);
         }
-        if monitor.observe(tk, x.s(), &y, &p) == Flow::Stop {
+        if monitor.observe(tk, x.s(), &y, pk) == Flow::Stop {
             status = RunStatus::Stopped { t: tk };
             break;
         }
@@ -670,15 +670,15 @@ where
         if let Some((d, n1, n2)) = timing.split {
             let tm = tk + d;
             seg.advance(sys, tk, tm, n1, &mut x, &prev, &mut stats)?;
-            seg.advance(sys, tm, tk1, n2, &mut x, &p, &mut stats)?;
-            prev.copy_from_slice(&p);
+            seg.advance(sys, tm, tk1, n2, &mut x, pk, &mut stats)?;
+            prev.copy_from_slice(pk);
         } else if ring_len > 0 {
             let slot = (k % ring_len) * nu;
             applied.copy_from_slice(&ring[slot..slot + nu]);
-            ring[slot..slot + nu].copy_from_slice(&p);
+            ring[slot..slot + nu].copy_from_slice(pk);
             seg.advance(sys, tk, tk1, timing.nsub, &mut x, &applied, &mut stats)?;
         } else {
-            seg.advance(sys, tk, tk1, timing.nsub, &mut x, &p, &mut stats)?;
+            seg.advance(sys, tk, tk1, timing.nsub, &mut x, pk, &mut stats)?;
         }
         check_state(tk1, x.s())?;
     }
