@@ -8,8 +8,9 @@
 //! [`simulate`] integrates `ẋ = f(t, x, u(t))` from `x(t₀) = x₀` to `t_final` with an open-loop
 //! [`Input`], records the solution at every step or on a requested time grid (through the
 //! dense output), and locates [`Event`]s: zeros of a scalar function `g(t, x)` with a chosen
-//! crossing direction, found by Brent's method on the dense output (so to ~1e-15 relative in
-//! time, independent of the step size), each either recorded or terminal.
+//! crossing direction, found by Brent's method on the dense output to rounding level (so an
+//! event time is as accurate as the dense output, not limited by the step size), each either
+//! recorded or terminal.
 //!
 //! Event detection compares the sign of `g` at consecutive step ends: two zeros inside one step
 //! cancel out and are missed — bound the step with `h_max` if `g` can oscillate that fast.
