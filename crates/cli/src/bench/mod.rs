@@ -15,6 +15,7 @@ use std::time::{Duration, Instant};
 mod lmi;
 mod plants;
 mod plot;
+mod sim;
 
 /// Arguments of `pendulab bench`.
 #[derive(Debug, clap::Args)]
@@ -103,6 +104,7 @@ fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
+    all.extend(sim::workloads());
     all.push(Workload {
         name: "ident-1e6",
         description: "book least squares (3-point, 1/(0.075s+1)^3, QR) on 10^6 quantised cart samples (ms)",
