@@ -2,6 +2,7 @@
 
 mod bench;
 mod book;
+mod identify;
 mod lqr;
 
 use clap::{Parser, Subcommand};
@@ -22,6 +23,8 @@ enum Command {
     Book(book::BookArgs),
     /// Run a performance workload and report its headline figure.
     Bench(bench::BenchArgs),
+    /// Identify plant parameters from measured data (CSV), as the book does and better.
+    Identify(identify::IdentifyArgs),
     /// Solve an LQ regulator problem (continuous CARE or discrete DARE) from CSV matrices.
     Lqr(lqr::LqrArgs),
 }
@@ -31,6 +34,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Book(args) => book::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Identify(args) => identify::run(&args),
         Command::Lqr(args) => lqr::run(&args),
     };
     match result {

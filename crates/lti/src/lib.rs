@@ -14,7 +14,7 @@
 //! | [`response`] | `lsim` (exact ZOH/FOH), `initial`, `step`, `impulse`, zero-input/zero-state split | `lsim`, `initial`, `step`, `impulse` |
 //! | [`design`] | LQR (continuous, discrete, sampled-data), pole placement, observers, Kalman gain, LQ integral servo, [`StateFeedback`](design::StateFeedback) | `lqr`, `dlqr`, `lqrd`, `place`, `acker`, `lqe`, `reg` |
 //! | [`equations`] | Sylvester, Lyapunov (`lyap`, `dlyap`), Riccati (`care`, `dare`), each with its relative residual | `sylvester`, `lyap`, `dlyap`, `care`, `dare` |
-//! | [`linalg`] | the matrix types ([`Mat`]), checks, eigenvalues, Schur/QZ kernels | `eig` |
+//! | [`linalg`] | the matrix types ([`Mat`]), checks, eigenvalues, the real Schur kernel with reordering | `eig` |
 //! | [`trajectory`] | [`Trajectory`]: the one time-series type of the workspace (rows = samples) | — |
 //!
 //! Conventions: SI units, radians, frequencies in rad/s; state feedback is `u = −K x` (the

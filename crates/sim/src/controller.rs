@@ -22,6 +22,21 @@ pub trait Controller {
     fn reset(&mut self);
     /// Computes `u_k` from the measurement `y_k` at time `t` (seconds).
     fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]);
+
+    /// The sample time (s) the controller was designed for, if it has one (provided: `None`).
+    ///
+    /// Controllers with internal discrete dynamics (integrators, observers, filters) return
+    /// `Some(ts)`; the sampled-data loop then refuses to run them at another rate.
+    fn sample_time(&self) -> Option<f64> {
+        None
+    }
+
+    /// Times (s) at which the controller switched mode since the last [`Controller::reset`]
+    /// (provided: none). Switching controllers report them; the simulator copies them into its
+    /// diagnostics.
+    fn switch_times(&self) -> &[f64] {
+        &[]
+    }
 }
 
 impl<T: Controller + ?Sized> Controller for Box<T> {
@@ -37,5 +52,33 @@ impl<T: Controller + ?Sized> Controller for Box<T> {
     #[inline]
     fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
         (**self).update(t, y, u)
+    }
+    fn sample_time(&self) -> Option<f64> {
+        (**self).sample_time()
+    }
+    fn switch_times(&self) -> &[f64] {
+        (**self).switch_times()
+    }
+}
+
+impl<T: Controller + ?Sized> Controller for &mut T {
+    fn ny(&self) -> usize {
+        (**self).ny()
+    }
+    fn nu(&self) -> usize {
+        (**self).nu()
+    }
+    fn reset(&mut self) {
+        (**self).reset()
+    }
+    #[inline]
+    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
+        (**self).update(t, y, u)
+    }
+    fn sample_time(&self) -> Option<f64> {
+        (**self).sample_time()
+    }
+    fn switch_times(&self) -> &[f64] {
+        (**self).switch_times()
     }
 }

@@ -19,6 +19,19 @@ pub trait Dynamics {
     fn nu(&self) -> usize;
     /// Writes `ẋ = f(t, x, u)` into `dx`.
     fn derivative(&self, t: f64, x: &[f64], u: &[f64], dx: &mut [f64]);
+
+    /// Number of outputs of the output map `y = h(t, x, u)` (provided: 0, no output map).
+    ///
+    /// Simulations record `y` in the `Trajectory` when it is non-zero; `linearize` returns
+    /// `C = ∂h/∂x`, `D = ∂h/∂u` for it (and `C = I`, `D = 0` without an output map).
+    fn ny(&self) -> usize {
+        0
+    }
+
+    /// Writes `y = h(t, x, u)` into `y` (`y.len() == self.ny()`; provided: nothing to write).
+    fn output(&self, t: f64, x: &[f64], u: &[f64], y: &mut [f64]) {
+        let _ = (t, x, u, y);
+    }
 }
 
 impl<T: Dynamics + ?Sized> Dynamics for &T {
@@ -31,5 +44,30 @@ impl<T: Dynamics + ?Sized> Dynamics for &T {
     #[inline]
     fn derivative(&self, t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
         (**self).derivative(t, x, u, dx)
+    }
+    fn ny(&self) -> usize {
+        (**self).ny()
+    }
+    fn output(&self, t: f64, x: &[f64], u: &[f64], y: &mut [f64]) {
+        (**self).output(t, x, u, y)
+    }
+}
+
+impl<T: Dynamics + ?Sized> Dynamics for Box<T> {
+    fn nx(&self) -> usize {
+        (**self).nx()
+    }
+    fn nu(&self) -> usize {
+        (**self).nu()
+    }
+    #[inline]
+    fn derivative(&self, t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
+        (**self).derivative(t, x, u, dx)
+    }
+    fn ny(&self) -> usize {
+        (**self).ny()
+    }
+    fn output(&self, t: f64, x: &[f64], u: &[f64], y: &mut [f64]) {
+        (**self).output(t, x, u, y)
     }
 }

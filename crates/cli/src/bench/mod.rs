@@ -4,6 +4,8 @@
 //! rate) and the accuracy evidence that the timed job did the right thing. With `--json` the
 //! output is one line `{"workload", "figure", "unit", "check"}`.
 
+mod care;
+mod ident;
 mod lsim;
 
 use anyhow::{Result, bail};
@@ -14,6 +16,7 @@ mod lmi;
 mod nmpc;
 mod plants;
 mod plot;
+mod sim;
 
 /// Arguments of `pendulab bench`.
 #[derive(Debug, clap::Args)]
@@ -102,6 +105,22 @@ fn workloads() -> Vec<Workload> {
     let mut all = Vec::new();
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
+    all.extend(sim::workloads());
+    all.push(Workload {
+        name: "ident-1e6",
+        description: "book least squares (3-point, 1/(0.075s+1)^3, QR) on 10^6 quantised cart samples (ms)",
+        run: ident::run,
+    });
+    all.push(Workload {
+        name: "care-n4",
+        description: "CARE of the linearised cart pendulum, Q = diag(100, 10, 1, 1), R = 1 (us/solve)",
+        run: care::run_n4,
+    });
+    all.push(Workload {
+        name: "care-n100",
+        description: "CARE of a random stabilisable system, n = 100, m = 10, fixed seed (ms/solve)",
+        run: care::run_n100,
+    });
     all.push(Workload {
         name: "nmpc-update",
         description: "one C/GMRES update of the arm pendulum's swing-up NMPC, over a 10 s swing (us/update)",

@@ -1,4 +1,4 @@
-//! Small dense kernels shared by the Schur, QZ and matrix-equation solvers.
+//! Small dense kernels shared by the Schur and matrix-equation solvers.
 //!
 //! Everything here works on column-major storage (`Mat::as_slice`, leading dimension = number
 //! of rows) and is written after the corresponding LAPACK auxiliaries (`dlartg`, `dlarfg`,
@@ -17,7 +17,7 @@ pub(crate) fn lartg(f: f64, g: f64) -> (f64, f64, f64) {
     } else if f == 0.0 {
         (0.0, g.signum(), g.abs())
     } else {
-        let d = f.hypot(g);
+        let d = hypot_fast(f, g);
         let r = d.copysign(f);
         (f.abs() / d, g / r, r)
     }
@@ -81,7 +81,7 @@ pub(crate) fn larfg(alpha: f64, x: &mut [f64]) -> (f64, f64) {
         return (alpha, 0.0);
     }
     let mut alpha = alpha;
-    let mut beta = -alpha.hypot(xnorm).copysign(alpha);
+    let mut beta = -hypot_fast(alpha, xnorm).copysign(alpha);
     let rsafmn = 1.0 / (SAFMIN / EPS);
     let mut knt = 0;
     if beta.abs() < SAFMIN / EPS {
@@ -93,7 +93,7 @@ pub(crate) fn larfg(alpha: f64, x: &mut [f64]) -> (f64, f64) {
             alpha *= rsafmn;
         }
         xnorm = norm2(x);
-        beta = -alpha.hypot(xnorm).copysign(alpha);
+        beta = -hypot_fast(alpha, xnorm).copysign(alpha);
     }
     let tau = (beta - alpha) / beta;
     let scal = 1.0 / (alpha - beta);
@@ -102,6 +102,19 @@ pub(crate) fn larfg(alpha: f64, x: &mut [f64]) -> (f64, f64) {
         beta *= SAFMIN / EPS;
     }
     (beta, tau)
+}
+
+/// `sqrt(a² + b²)` without spurious overflow or underflow: the plain formula when the larger
+/// magnitude lies in `[1e-150, 1e150]` (where neither square can overflow and an underflowing
+/// smaller square is negligible), `f64::hypot` otherwise; within two ulps of the exact value.
+#[inline]
+pub(crate) fn hypot_fast(a: f64, b: f64) -> f64 {
+    let m = a.abs().max(b.abs());
+    if (1e-150..=1e150).contains(&m) {
+        (a * a + b * b).sqrt()
+    } else {
+        a.hypot(b)
+    }
 }
 
 /// Euclidean norm with scaling against overflow/underflow.
@@ -169,7 +182,7 @@ pub(crate) fn lanv2(a: f64, b: f64, c: f64, d: f64) -> Lanv2 {
             z = p + (scale.sqrt() * z.sqrt()).copysign(p);
             a = d + z;
             d -= (bcmax / z) * bcmis;
-            let tau = c.hypot(z);
+            let tau = hypot_fast(c, z);
             cs = z / tau;
             sn = c / tau;
             b -= c;
@@ -177,7 +190,7 @@ pub(crate) fn lanv2(a: f64, b: f64, c: f64, d: f64) -> Lanv2 {
         } else {
             // Complex eigenvalues, or real (almost) equal ones: make the diagonal equal.
             let sigma = b + c;
-            let tau = sigma.hypot(temp);
+            let tau = hypot_fast(sigma, temp);
             cs = (0.5 * (1.0 + sigma.abs() / tau)).sqrt();
             sn = -(p / (tau * cs)) * if sigma >= 0.0 { 1.0 } else { -1.0 };
             let aa = a * cs + b * sn;

@@ -5,12 +5,10 @@
 //! helpers every numerical routine needs: shape and finiteness checks (which produce the
 //! workspace's typed errors), Frobenius norms, symmetrisation and eigenvalue sorting.
 //!
-//! Dense eigen-kernels that nalgebra does not provide live in submodules:
-//! [`schur`] (real Schur form with reordering) and [`qz`] (generalised real Schur form with
-//! reordering).
+//! The dense eigen-kernel that nalgebra does not provide lives in a submodule: [`schur`] (real
+//! Schur form with reordering).
 
 pub(crate) mod dense;
-pub mod qz;
 pub mod schur;
 
 use crate::error::LtiError;

@@ -28,7 +28,6 @@ use crate::linalg::{Mat, symmetrize};
 /// - **Doubling**: structure-preserving doubling after a Cayley transform (Chu, Fan & Lin,
 ///   "A structure-preserving doubling algorithm for continuous-time algebraic Riccati
 ///   equations", Linear Algebra Appl. 396, 2005).
-/// - **ExtendedPencil**: QZ on the `(2n+m)` extended pencil (see [`RiccatiMethod`]).
 ///
 /// The result is then refined by Kleinman–Newton steps in residual-correction form
 /// (`(A−BK)ᵀΔ + Δ(A−BK) = −Res(X)`, kept only if the residual drops) and checked: relative
@@ -69,13 +68,12 @@ pub fn care(
         red: &red,
     };
     let candidates: Vec<RiccatiMethod> = match options.method {
-        RiccatiMethod::Auto => vec![RiccatiMethod::Schur, RiccatiMethod::ExtendedPencil],
+        RiccatiMethod::Auto => vec![RiccatiMethod::Schur, RiccatiMethod::Doubling],
         m => vec![m],
     };
     solve_with_fallback(&fin, &candidates, options, |m| match m {
         RiccatiMethod::Schur | RiccatiMethod::Auto => care_schur(&red, options.scaling),
         RiccatiMethod::Doubling => care_doubling(&red, options.scaling),
-        RiccatiMethod::ExtendedPencil => super::pencil::care_pencil(a, b, q, r, n, options.scaling),
     })
 }
 

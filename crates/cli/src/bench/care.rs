@@ -1,0 +1,157 @@
+//! `care-n4` and `care-n100`: the continuous algebraic Riccati equation.
+//!
+//! - `care-n4`: the linearised cart pendulum of the book (SPEC.md §1.1, table 3.5),
+//!   `Q = diag(100, 10, 1, 1)`, `R = 1`. Figure: microseconds per `care` call (default
+//!   options: method choice, scaling, refinement, gain, closed-loop poles and residual
+//!   included).
+//! - `care-n100`: a random stabilisable system of order 100 with 10 inputs from a fixed seed
+//!   (entries of `A` uniform in `[−1, 1)·3/√n`, so about half of the eigenvalues are unstable;
+//!   `B` uniform in `[−1, 1)`; `Q = CᵀC + 0.1 I` with `C` random `n × n`; `R = I`). Figure:
+//!   milliseconds per `care` call.
+//!
+//! The `check` field recomputes the relative residual of the returned solution independently
+//! of the solver (`care_residual`), the largest real part of the closed-loop poles (computed
+//! again from `A − BK`) and, for `care-n4`, the closed-form first gain entry: `A e₁ = 0`
+//! (the cart position does not enter the dynamics), so `e₁ᵀ(AᵀX + XA − XBR⁻¹BᵀX + Q)e₁ = 0`
+//! gives `K₁² = q₁₁ = 100`.
+
+use super::{BenchReport, Budget, time};
+use anyhow::{Result, ensure};
+use pendulab_lti::Mat;
+use pendulab_lti::equations::riccati::care_residual;
+use pendulab_lti::equations::{RiccatiOptions, RiccatiSolution, care};
+use pendulab_lti::linalg::eigenvalues;
+use serde_json::json;
+
+/// The linearised cart pendulum (SPEC.md §1.1, table 3.5 parameters).
+fn cart_pendulum() -> (Mat, Mat) {
+    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
+    let j = jp + mp * lp * lp;
+    #[rustfmt::skip]
+    let a = Mat::from_row_slice(4, 4, &[
+        0.0, 0.0, 1.0, 0.0,
+        0.0, 0.0, 0.0, 1.0,
+        0.0, 0.0, -ac, 0.0,
+        0.0, mp * g * lp / j, ac * mp * lp / j, -mup / j,
+    ]);
+    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
+    (a, b)
+}
+
+/// SplitMix64: a small, fixed, well-mixed generator (Steele, Lea & Flood 2014), so the
+/// workload is identical on every machine without a dependency.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in `[−1, 1)`.
+    fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0
+    }
+    fn matrix(&mut self, r: usize, c: usize) -> Mat {
+        Mat::from_fn(r, c, |_, _| self.uniform())
+    }
+}
+
+/// The `care-n100` data (see the module documentation).
+pub fn random_problem(n: usize, m: usize, seed: u64) -> (Mat, Mat, Mat, Mat) {
+    let mut g = SplitMix64(seed);
+    let a = g.matrix(n, n) * (3.0 / (n as f64).sqrt());
+    let b = g.matrix(n, m);
+    let c = g.matrix(n, n);
+    let q = c.transpose() * &c * (1.0 / n as f64) + Mat::identity(n, n) * 0.1;
+    let q = (&q + q.transpose()) * 0.5;
+    (a, b, q, Mat::identity(m, m))
+}
+
+/// Independent accuracy evidence for a solution.
+fn evidence(a: &Mat, b: &Mat, q: &Mat, r: &Mat, sol: &RiccatiSolution) -> Result<(f64, f64)> {
+    let residual = care_residual(a, b, q, r, None, &sol.x);
+    let acl = a - b * &sol.gain;
+    let poles = eigenvalues(&acl)?;
+    let max_re = poles.iter().map(|p| p.re).fold(f64::NEG_INFINITY, f64::max);
+    Ok((residual, max_re))
+}
+
+/// Runs `care-n4`.
+pub fn run_n4(budget: &Budget) -> Result<BenchReport> {
+    let (a, b) = cart_pendulum();
+    let q = Mat::from_diagonal(&pendulab_lti::Vector::from_column_slice(&[
+        100.0, 10.0, 1.0, 1.0,
+    ]));
+    let r = Mat::identity(1, 1);
+    let opts = RiccatiOptions::default();
+    let mut last = None;
+    let timing = time(budget, || {
+        last = Some(care(&a, &b, &q, &r, None, &opts).expect("care-n4 solves"));
+    });
+    let sol = last.expect("ran at least once");
+    let (residual, max_re) = evidence(&a, &b, &q, &r, &sol)?;
+    ensure!(max_re < 0.0, "closed loop not stable: max Re = {max_re}");
+    Ok(BenchReport {
+        workload: "care-n4".into(),
+        figure: timing.median_s * 1e6,
+        unit: "us/solve".into(),
+        check: json!({
+            "n": 4,
+            "m": 1,
+            "system": "linearised cart pendulum (SPEC 1.1), Q = diag(100, 10, 1, 1), R = 1",
+            "relative_residual": residual,
+            "solver_reported_residual": sol.residual,
+            "closed_loop_max_real_part": max_re,
+            "closed_loop_stable": max_re < 0.0,
+            "gain": sol.gain.iter().copied().collect::<Vec<_>>(),
+            "gain_1_abs_minus_sqrt_q11": (sol.gain[(0, 0)].abs() - 10.0).abs(),
+            "method": format!("{:?}", sol.method),
+            "refinement_steps": sol.refinement_steps,
+            "median_s_per_call": timing.median_s,
+            "min_s_per_call": timing.min_s,
+            "calls": timing.iterations,
+            "peers_us": {"python-control 0.10.2 (SLICOT)": 157.0, "SciPy 1.17": 1042.0},
+        }),
+    })
+}
+
+/// Runs `care-n100`.
+pub fn run_n100(budget: &Budget) -> Result<BenchReport> {
+    let (n, m, seed) = (100, 10, 2024);
+    let (a, b, q, r) = random_problem(n, m, seed);
+    let opts = RiccatiOptions::default();
+    let mut last = None;
+    let timing = time(budget, || {
+        last = Some(care(&a, &b, &q, &r, None, &opts).expect("care-n100 solves"));
+    });
+    let sol = last.expect("ran at least once");
+    let (residual, max_re) = evidence(&a, &b, &q, &r, &sol)?;
+    let open_unstable = eigenvalues(&a)?.iter().filter(|p| p.re >= 0.0).count();
+    ensure!(max_re < 0.0, "closed loop not stable: max Re = {max_re}");
+    Ok(BenchReport {
+        workload: "care-n100".into(),
+        figure: timing.median_s * 1e3,
+        unit: "ms/solve".into(),
+        check: json!({
+            "n": n,
+            "m": m,
+            "seed": seed,
+            "open_loop_unstable_poles": open_unstable,
+            "relative_residual": residual,
+            "residual_target": 1e-10,
+            "residual_ok": residual <= 1e-10,
+            "solver_reported_residual": sol.residual,
+            "closed_loop_max_real_part": max_re,
+            "closed_loop_stable": max_re < 0.0,
+            "method": format!("{:?}", sol.method),
+            "refinement_steps": sol.refinement_steps,
+            "median_s_per_call": timing.median_s,
+            "min_s_per_call": timing.min_s,
+            "calls": timing.iterations,
+            "peers_ms": {"python-control 0.10.2 (SLICOT)": 37.5, "SciPy 1.17": 86.0},
+        }),
+    })
+}

@@ -1,0 +1,534 @@
+//! `pendulab identify <method> --data FILE.csv`: parameter identification from a measured CSV.
+//!
+//! The CSV has a header line naming its columns, as the files of `data/rig/` do; the time
+//! column is `t` (seconds, uniformly sampled). Angles are measured from the hanging rest
+//! (`φ = θ − π`), the arm angle from where the recording starts (`φ₁ = θ₁`). Columns by
+//! method:
+//!
+//! | method | columns | estimates |
+//! |---|---|---|
+//! | `cart-ls` | `t, z, v` | `ac`, `bc` |
+//! | `pend-ls` | `t, z, phi` | `Jp`, `mup` |
+//! | `arm-ls` | `t, phi1, v` | `a1`, `b1` |
+//! | `arm-pend-ls` | `t, phi1, phi2` | `J2`, `mu2` (and `alpha2`) |
+//! | `cart-step` | `t, z` | `ac`, `bc`, `Tp`, `overshoot` |
+//! | `arm-step` | `t, theta1` | `a1`, `b1`, `Tp`, `overshoot` |
+//! | `pend-free` | `t, theta` | `Jp`, `mup`, `period`, `decay_ratio` |
+//! | `arm-pend-free` | `t, theta2` | `J2`, `mu2`, `period`, `decay_ratio` |
+//!
+//! Every identification is validated by simulating the identified model on the measured
+//! input (`fit`, MATLAB's `compare` percentage). Estimates that make no physical sense
+//! (negative inertia, a non-damped drive) are errors, never printed as results.
+
+use anyhow::{Context, Result, bail};
+use pendulab_ident::{
+    ArmPendulumConstants, CartPendulumConstants, Dataset, Differentiator, FilterHold, LsOptions,
+    OscillationOptions, PStepOptions, PeriodCorrection, Prefilter, Validation, arm_drive_ls,
+    arm_pendulum_ls, cart_drive_ls, cart_pendulum_ls, free_oscillation, p_step,
+    pendulum_from_oscillation, validate_arm_pendulum, validate_cart_pendulum, validate_drive,
+    validate_free_pendulum, validate_oscillation, validate_p_step,
+};
+use serde::Serialize;
+use serde_json::{Map, Value, json};
+use std::path::PathBuf;
+
+/// Identification methods.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    /// Cart drive [a_c, b_c] by least squares (columns t, z, v).
+    CartLs,
+    /// Cart-type pendulum [J_p, μ_p] by least squares (columns t, z, phi).
+    PendLs,
+    /// Arm drive [a1, b1] by least squares (columns t, phi1, v).
+    ArmLs,
+    /// Arm-type pendulum [α2, μ2] → J2 by least squares (columns t, phi1, phi2).
+    ArmPendLs,
+    /// Cart drive from a P-control step response (columns t, z).
+    CartStep,
+    /// Arm drive from a P-control step response (columns t, theta1).
+    ArmStep,
+    /// Cart-type pendulum from a free oscillation (columns t, theta).
+    PendFree,
+    /// Arm-type pendulum from a free oscillation (columns t, theta2).
+    ArmPendFree,
+}
+
+impl Method {
+    fn name(self) -> &'static str {
+        match self {
+            Method::CartLs => "cart-ls",
+            Method::PendLs => "pend-ls",
+            Method::ArmLs => "arm-ls",
+            Method::ArmPendLs => "arm-pend-ls",
+            Method::CartStep => "cart-step",
+            Method::ArmStep => "arm-step",
+            Method::PendFree => "pend-free",
+            Method::ArmPendFree => "arm-pend-free",
+        }
+    }
+}
+
+/// Arguments of `pendulab identify`.
+#[derive(Debug, clap::Args)]
+pub struct IdentifyArgs {
+    /// Identification method.
+    #[arg(value_enum)]
+    pub method: Method,
+    /// Measured data: CSV with a header line (columns as in data/rig/).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Time window T0:T1 in seconds (either end may be left empty: "1:" or ":5").
+    #[arg(long, value_name = "T0:T1")]
+    pub window: Option<String>,
+    /// Pre-filter time constant T_f of 1/(T_f s + 1)^3, seconds (least-squares methods).
+    #[arg(long, default_value_t = 0.075)]
+    pub tf: f64,
+    /// Do not pre-filter (least-squares methods; the book shows why not to).
+    #[arg(long, conflicts_with_all = ["zero_phase"])]
+    pub no_filter: bool,
+    /// Filter forward and backward (zero phase) instead of causally.
+    #[arg(long)]
+    pub zero_phase: bool,
+    /// Discretise the filter with a first-order hold instead of a zero-order hold.
+    #[arg(long)]
+    pub foh: bool,
+    /// Savitzky–Golay derivatives with this odd window (samples) instead of three-point ones.
+    #[arg(long, value_name = "WINDOW")]
+    pub savgol: Option<usize>,
+    /// Polynomial order of the Savitzky–Golay derivatives.
+    #[arg(long, default_value_t = 3)]
+    pub savgol_order: usize,
+    /// Cart pendulum mass m_p, kg.
+    #[arg(long, default_value_t = 0.107)]
+    pub mp: f64,
+    /// Cart pendulum pivot to centre of mass l_p, m.
+    #[arg(long, default_value_t = 0.230)]
+    pub lp: f64,
+    /// Gravitational acceleration g, m/s².
+    #[arg(long, default_value_t = 9.81)]
+    pub g: f64,
+    /// Arm length L1, m.
+    #[arg(long = "L1", alias = "arm-length", default_value_t = 0.227)]
+    pub l1: f64,
+    /// Arm pendulum mass m2, kg.
+    #[arg(long, default_value_t = 0.096)]
+    pub m2: f64,
+    /// Arm pendulum joint to centre of mass l2, m.
+    #[arg(long, default_value_t = 0.195)]
+    pub l2: f64,
+    /// P gain k_P of the step experiment (default: 10 for cart-step, 3 for arm-step).
+    #[arg(long)]
+    pub kp: Option<f64>,
+    /// Step target (default: 0.2 m for cart-step, 1 rad for arm-step).
+    #[arg(long)]
+    pub target: Option<f64>,
+    /// Time of the reference step, s (default: the window start, or 1 s — when the rig
+    /// recordings step their reference — without a window).
+    #[arg(long)]
+    pub step_time: Option<f64>,
+    /// Signal column of the feature methods (default: z, theta1, theta, theta2).
+    #[arg(long)]
+    pub column: Option<String>,
+    /// Correct free-oscillation periods for the pendulum's large-amplitude lengthening.
+    #[arg(long)]
+    pub amplitude_correction: bool,
+    /// Hysteresis of the free-oscillation cycle detector (unit of the signal; default
+    /// automatic).
+    #[arg(long)]
+    pub hysteresis: Option<f64>,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// One output of the identification.
+#[derive(Debug, Serialize)]
+struct Report {
+    method: &'static str,
+    data: String,
+    window: [f64; 2],
+    samples: usize,
+    ts: f64,
+    options: Value,
+    constants: Value,
+    estimates: Map<String, Value>,
+    std_errors: Map<String, Value>,
+    condition: Option<f64>,
+    residual_rms: Option<f64>,
+    fit: Value,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fit_linear: Option<Value>,
+    #[serde(skip)]
+    units: Vec<(&'static str, &'static str)>,
+}
+
+fn parse_window(s: &str) -> Result<(Option<f64>, Option<f64>)> {
+    let Some((a, b)) = s.split_once(':') else {
+        bail!("--window must be T0:T1 (seconds), got '{s}'");
+    };
+    let parse = |x: &str, which: &str| -> Result<Option<f64>> {
+        let x = x.trim();
+        if x.is_empty() {
+            return Ok(None);
+        }
+        let v: f64 = x
+            .parse()
+            .with_context(|| format!("--window {which} '{x}' is not a number"))?;
+        if !v.is_finite() {
+            bail!("--window {which} must be finite, got {x}");
+        }
+        Ok(Some(v))
+    };
+    Ok((parse(a, "start")?, parse(b, "end")?))
+}
+
+fn ls_options(args: &IdentifyArgs) -> LsOptions {
+    let hold = if args.foh {
+        FilterHold::Foh
+    } else {
+        FilterHold::Zoh
+    };
+    LsOptions {
+        differentiator: match args.savgol {
+            Some(window) => Differentiator::SavitzkyGolay {
+                window,
+                order: args.savgol_order,
+            },
+            None => Differentiator::ThreePoint,
+        },
+        prefilter: if args.no_filter {
+            Prefilter::None
+        } else if args.zero_phase {
+            Prefilter::ZeroPhase { tf: args.tf, hold }
+        } else {
+            Prefilter::Causal { tf: args.tf, hold }
+        },
+    }
+}
+
+fn options_json(o: &LsOptions) -> Value {
+    let differentiator = match o.differentiator {
+        Differentiator::ThreePoint => json!({"kind": "three-point"}),
+        Differentiator::SavitzkyGolay { window, order } => {
+            json!({"kind": "savitzky-golay", "window": window, "order": order})
+        }
+    };
+    let hold = |h: FilterHold| match h {
+        FilterHold::Zoh => "zoh",
+        FilterHold::Foh => "foh",
+    };
+    let filter = match o.prefilter {
+        Prefilter::None => json!({"kind": "none"}),
+        Prefilter::Causal { tf, hold: h } => json!({"kind": "causal", "tf": tf, "hold": hold(h)}),
+        Prefilter::ZeroPhase { tf, hold: h } => {
+            json!({"kind": "zero-phase", "tf": tf, "hold": hold(h)})
+        }
+    };
+    json!({"differentiator": differentiator, "filter": filter})
+}
+
+fn fit_json(v: &Validation) -> Value {
+    json!({"output": v.output, "percent": v.fit_percent, "rms_error": v.rms_error})
+}
+
+fn put(map: &mut Map<String, Value>, name: &str, v: f64) {
+    map.insert(name.into(), json!(v));
+}
+
+/// Runs `pendulab identify`.
+///
+/// # Errors
+/// Unreadable file, malformed CSV, missing columns, bad time stamps, a window outside the
+/// data, too few samples, a rank-deficient regressor, absent features and implausible
+/// estimates — each naming the file, column or row.
+pub fn run(args: &IdentifyArgs) -> Result<()> {
+    let report = identify(args)?;
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        print_table(&report);
+    }
+    Ok(())
+}
+
+fn identify(args: &IdentifyArgs) -> Result<Report> {
+    let source = args.data.display().to_string();
+    let text =
+        std::fs::read_to_string(&args.data).with_context(|| format!("cannot read {source}"))?;
+    let full = Dataset::from_csv_str(&source, &text)?;
+    let (w0, w1) = match &args.window {
+        Some(s) => parse_window(s)?,
+        None => (None, None),
+    };
+    let data = full.window(w0, w1)?;
+    let ts = data.sample_time()?;
+    let t = data.time()?;
+    let span = [t[0], t[t.len() - 1]];
+    let opts = ls_options(args);
+    let cart = CartPendulumConstants {
+        mp: args.mp,
+        lp: args.lp,
+        g: args.g,
+    };
+    let arm = ArmPendulumConstants {
+        l1: args.l1,
+        m2: args.m2,
+        l2: args.l2,
+        g: args.g,
+    };
+    let mut est = Map::new();
+    let mut se = Map::new();
+    let mut report = Report {
+        method: args.method.name(),
+        data: source.clone(),
+        window: span,
+        samples: data.len(),
+        ts,
+        options: Value::Null,
+        constants: Value::Null,
+        estimates: Map::new(),
+        std_errors: Map::new(),
+        condition: None,
+        residual_rms: None,
+        fit: Value::Null,
+        fit_linear: None,
+        units: Vec::new(),
+    };
+    match args.method {
+        Method::CartLs | Method::ArmLs => {
+            let (ycol, names) = if args.method == Method::CartLs {
+                ("z", ["ac", "bc"])
+            } else {
+                ("phi1", ["a1", "b1"])
+            };
+            let (y, v) = (data.column(ycol)?, data.column("v")?);
+            let d = if args.method == Method::CartLs {
+                cart_drive_ls(ts, y, v, &opts)?
+            } else {
+                arm_drive_ls(ts, y, v, &opts)?
+            };
+            d.check_plausible()?;
+            for (i, n) in names.iter().enumerate() {
+                put(&mut est, n, d.lsq.estimate[i]);
+                put(&mut se, n, d.lsq.std_error[i]);
+            }
+            report.condition = Some(d.lsq.condition);
+            report.residual_rms = Some(d.lsq.residual_rms);
+            report.fit = fit_json(&validate_drive(ts, y, v, d.a, d.b, ycol)?);
+            report.options = options_json(&opts);
+            report.constants = json!({});
+            report.units = if args.method == Method::CartLs {
+                vec![("ac", "1/s"), ("bc", "m/(s^2 V)")]
+            } else {
+                vec![("a1", "1/s"), ("b1", "rad/(s^2 V)")]
+            };
+        }
+        Method::PendLs => {
+            let (z, phi) = (data.column("z")?, data.column("phi")?);
+            let p = cart_pendulum_ls(ts, z, phi, &cart, &opts)?;
+            p.check_plausible()?;
+            put(&mut est, "Jp", p.jp);
+            put(&mut est, "mup", p.mup);
+            put(&mut se, "Jp", p.lsq.std_error[0]);
+            put(&mut se, "mup", p.lsq.std_error[1]);
+            report.condition = Some(p.lsq.condition);
+            report.residual_rms = Some(p.lsq.residual_rms);
+            report.fit = fit_json(&validate_cart_pendulum(ts, z, phi, p.jp, p.mup, &cart)?);
+            report.options = options_json(&opts);
+            report.constants = json!({"mp": cart.mp, "lp": cart.lp, "g": cart.g});
+            report.units = vec![("Jp", "kg m^2"), ("mup", "N m s/rad")];
+        }
+        Method::ArmPendLs => {
+            let (p1, p2) = (data.column("phi1")?, data.column("phi2")?);
+            let p = arm_pendulum_ls(ts, p1, p2, &arm, &opts)?;
+            p.check_plausible()?;
+            put(&mut est, "J2", p.j2);
+            put(&mut est, "mu2", p.mu2);
+            put(&mut est, "alpha2", p.alpha2);
+            put(&mut se, "J2", p.lsq.std_error[0]);
+            put(&mut se, "mu2", p.lsq.std_error[1]);
+            put(&mut se, "alpha2", p.lsq.std_error[0]);
+            report.condition = Some(p.lsq.condition);
+            report.residual_rms = Some(p.lsq.residual_rms);
+            report.fit = fit_json(&validate_arm_pendulum(ts, p1, p2, p.alpha2, p.mu2, &arm)?);
+            report.options = options_json(&opts);
+            report.constants = json!({"L1": arm.l1, "m2": arm.m2, "l2": arm.l2, "g": arm.g});
+            report.units = vec![("J2", "kg m^2"), ("mu2", "N m s/rad"), ("alpha2", "kg m^2")];
+        }
+        Method::CartStep | Method::ArmStep => {
+            let cart_step = args.method == Method::CartStep;
+            let col = args
+                .column
+                .clone()
+                .unwrap_or_else(|| if cart_step { "z" } else { "theta1" }.to_string());
+            let y = data.column(&col)?;
+            let o = PStepOptions {
+                step_time: args.step_time.or(w0).unwrap_or(1.0),
+                target: args.target.unwrap_or(if cart_step { 0.2 } else { 1.0 }),
+                k_p: args.kp.unwrap_or(if cart_step { 10.0 } else { 3.0 }),
+            };
+            let e = p_step(t, y, &o).with_context(|| format!("{source}: column '{col}'"))?;
+            let (a, b) = if cart_step {
+                ("ac", "bc")
+            } else {
+                ("a1", "b1")
+            };
+            put(&mut est, a, e.a);
+            put(&mut est, b, e.b);
+            put(&mut est, "Tp", e.tp);
+            put(&mut est, "overshoot", e.overshoot);
+            put(&mut est, "omega_n", e.omega_n);
+            put(&mut est, "zeta", e.zeta);
+            let mut val = validate_p_step(t, y, o.step_time, o.target, o.k_p, e.a, e.b)?;
+            val.output = col.clone();
+            report.fit = fit_json(&val);
+            report.options = json!({"column": col, "step_time": o.step_time});
+            report.constants = json!({"kP": o.k_p, "target": o.target});
+            report.units = vec![
+                (a, "1/s"),
+                (
+                    b,
+                    if cart_step {
+                        "m/(s^2 V)"
+                    } else {
+                        "rad/(s^2 V)"
+                    },
+                ),
+                ("Tp", "s"),
+                ("overshoot", if cart_step { "m" } else { "rad" }),
+                ("omega_n", "rad/s"),
+                ("zeta", "-"),
+            ];
+        }
+        Method::PendFree | Method::ArmPendFree => {
+            let cart_pend = args.method == Method::PendFree;
+            let col = args
+                .column
+                .clone()
+                .unwrap_or_else(|| if cart_pend { "theta" } else { "theta2" }.to_string());
+            let y = data.column(&col)?;
+            let osc = free_oscillation(
+                t,
+                y,
+                &OscillationOptions {
+                    hysteresis: args.hysteresis,
+                },
+            )
+            .with_context(|| format!("{source}: column '{col}'"))?;
+            let (m, l, g) = if cart_pend {
+                (cart.mp, cart.lp, cart.g)
+            } else {
+                (arm.m2, arm.l2, arm.g)
+            };
+            let correction = if args.amplitude_correction {
+                PeriodCorrection::LargeAmplitude
+            } else {
+                PeriodCorrection::None
+            };
+            let p = pendulum_from_oscillation(&osc, m, l, g, correction)?;
+            let (jn, mun) = if cart_pend {
+                ("Jp", "mup")
+            } else {
+                ("J2", "mu2")
+            };
+            put(&mut est, jn, p.j);
+            put(&mut est, mun, p.mu);
+            put(&mut est, "period", osc.period);
+            put(&mut est, "decay_ratio", osc.decay_ratio);
+            put(&mut est, "omega_n", p.omega_n);
+            put(&mut est, "zeta", p.zeta);
+            if let Some((sj, sm)) = p.std_errors {
+                put(&mut se, jn, sj);
+                put(&mut se, mun, sm);
+            }
+            if let Some(s) = osc.period_std_error {
+                put(&mut se, "period", s);
+            }
+            if let Some(s) = osc.decay_ratio_std_error {
+                put(&mut se, "decay_ratio", s);
+            }
+            // Two checks from the first peak: the nonlinear pendulum the parameters belong
+            // to (`fit`), and the book's linear oscillation (`fit_linear`).
+            let start = osc.peaks[0].first;
+            let mut nonlinear = validate_free_pendulum(ts, y, start, p.j, p.mu, (m, l, g))?;
+            nonlinear.output = col.clone();
+            let mut linear = validate_oscillation(ts, y, start, p.omega_n, p.zeta)?;
+            linear.output = col.clone();
+            report.fit = fit_json(&nonlinear);
+            report.fit_linear = Some(fit_json(&linear));
+            report.options = json!({
+                "column": col,
+                "peaks": osc.peaks.len(),
+                "hysteresis": osc.hysteresis,
+                "amplitude_correction": args.amplitude_correction,
+                "corrected_period": p.period,
+            });
+            report.constants = if cart_pend {
+                json!({"mp": m, "lp": l, "g": g})
+            } else {
+                json!({"m2": m, "l2": l, "g": g})
+            };
+            report.units = vec![
+                (jn, "kg m^2"),
+                (mun, "N m s/rad"),
+                ("period", "s"),
+                ("decay_ratio", "-"),
+                ("omega_n", "rad/s"),
+                ("zeta", "-"),
+            ];
+        }
+    }
+    report.estimates = est;
+    report.std_errors = se;
+    Ok(report)
+}
+
+fn print_table(r: &Report) {
+    println!(
+        "pendulab identify {} — {}: {} samples, t = {} … {} s, ts = {} s",
+        r.method, r.data, r.samples, r.window[0], r.window[1], r.ts
+    );
+    if !r.options.is_null() {
+        println!("options: {}", r.options);
+    }
+    if r.constants.as_object().is_some_and(|m| !m.is_empty()) {
+        println!("known constants: {}", r.constants);
+    }
+    println!();
+    println!(
+        "{:<12} {:>14} {:>12}  unit",
+        "parameter", "estimate", "std. error"
+    );
+    for (name, unit) in &r.units {
+        let Some(v) = r.estimates.get(*name).and_then(Value::as_f64) else {
+            continue;
+        };
+        let se = r
+            .std_errors
+            .get(*name)
+            .and_then(Value::as_f64)
+            .map_or("—".to_string(), |s| format!("{s:.3e}"));
+        println!("{name:<12} {:>14} {se:>12}  {unit}", format!("{v:.6e}"));
+    }
+    println!();
+    if let Some(c) = r.condition {
+        println!("condition number of the regressor: {c:.4}");
+    }
+    if let Some(rms) = r.residual_rms {
+        println!("residual RMS: {rms:.4e}");
+    }
+    if let Some(p) = r.fit.get("percent").and_then(Value::as_f64) {
+        println!(
+            "validation fit ({}): {p:.2} %  (100 (1 − ‖y − ŷ‖/‖y − mean y‖), model simulated on the measured input)",
+            r.fit.get("output").and_then(Value::as_str).unwrap_or("y")
+        );
+    }
+    if let Some(p) = r
+        .fit_linear
+        .as_ref()
+        .and_then(|f| f.get("percent"))
+        .and_then(Value::as_f64)
+    {
+        println!("validation fit of the linearised oscillation (the book's check): {p:.2} %");
+    }
+}

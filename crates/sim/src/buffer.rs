@@ -1,0 +1,90 @@
+//! State storage for the hot loops: fixed-size arrays when the state size is known at compile
+//! time, vectors otherwise. One generic kernel serves both; with arrays every slice length is
+//! a compile-time constant after inlining, so the loops unroll and nothing is allocated.
+
+/// A state-sized scratch vector.
+pub(crate) trait Buf: Clone + Send + std::fmt::Debug {
+    /// A zero vector of length `n` (for arrays, `n` equals the array length).
+    fn zeros(n: usize) -> Self;
+    /// The entries.
+    fn s(&self) -> &[f64];
+    /// The entries, mutably.
+    fn m(&mut self) -> &mut [f64];
+}
+
+impl<const N: usize> Buf for [f64; N] {
+    #[inline(always)]
+    fn zeros(n: usize) -> Self {
+        debug_assert_eq!(n, N);
+        [0.0; N]
+    }
+    #[inline(always)]
+    fn s(&self) -> &[f64] {
+        self
+    }
+    #[inline(always)]
+    fn m(&mut self) -> &mut [f64] {
+        self
+    }
+}
+
+impl Buf for Vec<f64> {
+    #[inline]
+    fn zeros(n: usize) -> Self {
+        vec![0.0; n]
+    }
+    #[inline(always)]
+    fn s(&self) -> &[f64] {
+        self
+    }
+    #[inline(always)]
+    fn m(&mut self) -> &mut [f64] {
+        self
+    }
+}
+
+/// Calls `$body` with the type alias `$B` bound to `[f64; n]` for `n ≤ 8` and to `Vec<f64>`
+/// otherwise: the dispatch from a run-time state size to a monomorphised kernel.
+macro_rules! with_buffer {
+    ($n:expr, $B:ident => $body:expr) => {
+        match $n {
+            1 => {
+                type $B = [f64; 1];
+                $body
+            }
+            2 => {
+                type $B = [f64; 2];
+                $body
+            }
+            3 => {
+                type $B = [f64; 3];
+                $body
+            }
+            4 => {
+                type $B = [f64; 4];
+                $body
+            }
+            5 => {
+                type $B = [f64; 5];
+                $body
+            }
+            6 => {
+                type $B = [f64; 6];
+                $body
+            }
+            7 => {
+                type $B = [f64; 7];
+                $body
+            }
+            8 => {
+                type $B = [f64; 8];
+                $body
+            }
+            _ => {
+                type $B = Vec<f64>;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_buffer;

@@ -1,0 +1,136 @@
+//! Test systems of the simulator's tests (independent of pendulab-plants): the cart-type
+//! pendulum of SPEC.md §1.1 written from its equations, and its linearisation at the upright
+//! rest as printed there.
+#![allow(dead_code)]
+
+use pendulab_lti::{Continuous, Mat, StateSpace};
+use pendulab_sim::Dynamics;
+
+/// SPEC.md §1.1, book table 3.5.
+#[derive(Debug, Clone, Copy)]
+pub struct CartPendulum {
+    pub ac: f64,
+    pub bc: f64,
+    pub mp: f64,
+    pub lp: f64,
+    pub jp: f64,
+    pub mup: f64,
+    pub g: f64,
+}
+
+impl Default for CartPendulum {
+    fn default() -> Self {
+        Self {
+            ac: 6.25,
+            bc: 4.36,
+            mp: 0.107,
+            lp: 0.230,
+            jp: 1.59e-3,
+            mup: 2.35e-4,
+            g: 9.81,
+        }
+    }
+}
+
+impl CartPendulum {
+    /// J = J_p + m_p l_p².
+    pub fn j(&self) -> f64 {
+        self.jp + self.mp * self.lp * self.lp
+    }
+
+    /// The linearisation at the upright rest, SPEC.md §1.1.
+    pub fn linear(&self) -> StateSpace<Continuous> {
+        let j = self.j();
+        let a = Mat::from_row_slice(
+            4,
+            4,
+            &[
+                0.0,
+                0.0,
+                1.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+                0.0,
+                0.0,
+                -self.ac,
+                0.0,
+                0.0,
+                self.mp * self.g * self.lp / j,
+                self.ac * self.mp * self.lp / j,
+                -self.mup / j,
+            ],
+        );
+        let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, self.bc, -self.bc * self.mp * self.lp / j]);
+        StateSpace::continuous(a, b, Mat::identity(4, 4), Mat::zeros(4, 1)).unwrap()
+    }
+
+    /// Analytic Jacobians (∂f/∂x, ∂f/∂u) at any state and input, differentiated by hand:
+    /// z̈ = −a ż + b v, θ̈ = (m g l sin θ − μ θ̇ − m l cos θ z̈)/J.
+    pub fn jacobians(&self, x: &[f64], v: f64) -> (Mat, Mat) {
+        let (m, l, j) = (self.mp, self.lp, self.j());
+        let (s, c) = x[1].sin_cos();
+        let zdd = -self.ac * x[2] + self.bc * v;
+        let a = Mat::from_row_slice(
+            4,
+            4,
+            &[
+                0.0,
+                0.0,
+                1.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+                0.0,
+                0.0,
+                -self.ac,
+                0.0,
+                0.0,
+                (m * self.g * l * c + m * l * s * zdd) / j,
+                self.ac * m * l * c / j,
+                -self.mup / j,
+            ],
+        );
+        let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, self.bc, -m * l * c * self.bc / j]);
+        (a, b)
+    }
+}
+
+impl Dynamics for CartPendulum {
+    fn nx(&self) -> usize {
+        4
+    }
+    fn nu(&self) -> usize {
+        1
+    }
+    #[inline]
+    fn derivative(&self, _t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
+        let zdd = -self.ac * x[2] + self.bc * u[0];
+        let (s, c) = x[1].sin_cos();
+        let thdd = (self.mp * self.g * self.lp * s - self.mup * x[3] - self.mp * self.lp * c * zdd)
+            / self.j();
+        dx[0] = x[2];
+        dx[1] = x[3];
+        dx[2] = zdd;
+        dx[3] = thdd;
+    }
+}
+
+/// Row-major entries of a matrix.
+pub fn entries(m: &Mat) -> Vec<f64> {
+    (0..m.nrows())
+        .flat_map(|i| (0..m.ncols()).map(move |j| (i, j)))
+        .map(|(i, j)| m[(i, j)])
+        .collect()
+}
+
+/// `M v`.
+pub fn mul(m: &Mat, v: &[f64]) -> Vec<f64> {
+    (0..m.nrows())
+        .map(|i| (0..m.ncols()).map(|j| m[(i, j)] * v[j]).sum())
+        .collect()
+}
