@@ -9,6 +9,7 @@
 use pendulab_lmi::LmiError;
 use pendulab_lti::LtiError;
 use pendulab_plants::PlantError;
+use pendulab_sim::SimError;
 
 /// Errors of the control designs and controllers.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -98,6 +99,9 @@ pub enum ControlError {
     /// An error of a plant model (invalid parameters, non-finite operating point).
     #[error(transparent)]
     Plant(#[from] PlantError),
+    /// An error of the simulation layer (a run-time controller's construction).
+    #[error(transparent)]
+    Sim(#[from] SimError),
 }
 
 /// Result alias of this crate.

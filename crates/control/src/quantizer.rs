@@ -66,6 +66,7 @@ pub fn round_to_step(s: f64, d: f64) -> f64 {
 #[derive(Debug, Clone, PartialEq)]
 pub struct DynamicQuantizer {
     step: f64,
+    sample_time: Option<f64>,
     a: Mat,
     b: Mat,
     c: Mat,
@@ -97,6 +98,7 @@ impl DynamicQuantizer {
         }
         Ok(Self {
             step,
+            sample_time: None,
             a,
             b,
             c,
@@ -143,6 +145,22 @@ impl DynamicQuantizer {
     /// Quantisation step `d`.
     pub fn step(&self) -> f64 {
         self.step
+    }
+
+    /// The sample time (s) the quantizer was designed for (its filter has memory, so it must
+    /// run at that rate); `None` for one built from bare matrices.
+    pub fn sample_time(&self) -> Option<f64> {
+        self.sample_time
+    }
+
+    /// Declares the sample time (s) the filter runs at.
+    ///
+    /// # Errors
+    /// [`ControlError::InvalidParameter`] unless `ts > 0`.
+    pub fn with_sample_time(mut self, ts: f64) -> Result<Self> {
+        check_param("quantizer sample time", ts, ts > 0.0, "must be > 0 s")?;
+        self.sample_time = Some(ts);
+        Ok(self)
     }
 
     /// Number of quantised inputs `m`.
@@ -251,7 +269,9 @@ impl InputQuantizer {
 }
 
 /// A controller whose commands pass through an [`InputQuantizer`] before they are held:
-/// `u_k = quantizer(inner(y_k))`.
+/// `u_k = quantizer(inner(y_k))`. A dynamic quantizer must run at the rate it was designed for:
+/// the controller reports that sample time (when the inner controller has none), so the
+/// sampled loop refuses any other.
 #[derive(Debug, Clone)]
 pub struct QuantizedController<C> {
     inner: C,
@@ -264,7 +284,8 @@ impl<C: Controller> QuantizedController<C> {
     ///
     /// # Errors
     /// [`ControlError::DimensionMismatch`] if a dynamic quantizer's input count differs from
-    /// the controller's.
+    /// the controller's; [`ControlError::InvalidParameter`] if both declare different sample
+    /// times.
     pub fn new(inner: C, quantizer: InputQuantizer) -> Result<Self> {
         if let InputQuantizer::Dynamic(q) = &quantizer
             && q.inputs() != inner.nu()
@@ -273,6 +294,16 @@ impl<C: Controller> QuantizedController<C> {
                 what: "dynamic quantizer inputs".into(),
                 expected: inner.nu(),
                 found: q.inputs(),
+            });
+        }
+        if let (InputQuantizer::Dynamic(q), Some(tc)) = (&quantizer, inner.sample_time())
+            && let Some(tq) = q.sample_time()
+            && (tq - tc).abs() > 1e-12 * tc
+        {
+            return Err(ControlError::InvalidParameter {
+                name: "dynamic quantizer sample time".into(),
+                value: tq,
+                requirement: format!("must equal the controller's sample time {tc} s"),
             });
         }
         let nu = inner.nu();
@@ -312,6 +343,18 @@ impl<C: Controller> Controller for QuantizedController<C> {
         self.inner.reset();
         self.quantizer.reset();
         self.buffer.iter_mut().for_each(|v| *v = 0.0);
+    }
+
+    fn sample_time(&self) -> Option<f64> {
+        match (&self.quantizer, self.inner.sample_time()) {
+            (_, Some(ts)) => Some(ts),
+            (InputQuantizer::Dynamic(q), None) => q.sample_time(),
+            _ => None,
+        }
+    }
+
+    fn switch_times(&self) -> &[f64] {
+        self.inner.switch_times()
     }
 
     fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
@@ -596,7 +639,8 @@ pub fn odq_analytic(sys: &StateSpace<Discrete>, step: f64) -> Result<OdqDesign> 
             ),
         });
     }
-    let quantizer = DynamicQuantizer::new(af, sys.b().clone(), cf, step)?;
+    let quantizer =
+        DynamicQuantizer::new(af, sys.b().clone(), cf, step)?.with_sample_time(sys.ts())?;
     let design_cost = (0..p)
         .map(|i| (0..m).map(|j| mr[(i, j)].abs()).sum::<f64>())
         .fold(0.0, f64::max)
@@ -782,7 +826,8 @@ pub fn odq_lp(sys: &StateSpace<Discrete>, step: f64, options: &OdqLpOptions) -> 
     let quantizer = match options.realization {
         Realization::Fir => DynamicQuantizer::fir(&taps, m, step)?,
         Realization::Reduced { order } => ho_kalman(&taps, m, order, step)?,
-    };
+    }
+    .with_sample_time(sys.ts())?;
     let cost = quantizer_cost(sys, Some(&quantizer), step, COST_SAMPLES)?;
     let static_cost = quantizer_cost(sys, None, step, COST_SAMPLES)?;
     // The horizon-T cost of the taps themselves (not the LP's γ, which may sit below it by

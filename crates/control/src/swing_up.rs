@@ -21,13 +21,15 @@
 //!   target `E_ref` and stops pumping there, plus a PD term `−k_p (q − q_ref) − k_d q̇` that
 //!   keeps the cart (arm) near its reference; beyond the travel limit `|q − q_ref| ≥ q_lim` the
 //!   energy term is switched off so only the centring acts.
-//! - [`SwitchingController`]: runs the swing-up law until every watched angle, wrapped to
+//! - [`swing_up_then_balance`]: runs the swing-up law until every watched angle, wrapped to
 //!   `(−π, π]`, is inside its window (the book: `|θ| ≤ π/4`), then hands over — for good — to
-//!   the balancing controller with those angles wrapped, and records the switch time.
+//!   the balancing controller with those angles wrapped ([`WrapAngles`]); the switch time is
+//!   recorded.
 
-use crate::error::{ControlError, Result, check_param};
+use crate::error::{Result, check_param};
 use pendulab_plants::{ArmPendulum, CartPendulum};
 use pendulab_sim::Controller;
+use pendulab_sim::controllers::Switching;
 use std::f64::consts::PI;
 
 /// `θ` wrapped to `(−π, π]`.
@@ -303,140 +305,115 @@ impl Controller for ArmEnergyShaping {
     }
 }
 
-/// The two phases of a [`SwitchingController`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Phase {
-    /// The swing-up law is active.
-    SwingUp,
-    /// The balancing law is active (for good).
-    Balance,
-}
-
-/// Swing-up until every watched angle `y_i`, wrapped to `(−π, π]`, satisfies
-/// `|wrap(y_i)| ≤ w_i`; then the balancing controller, fed the measurement with the watched
-/// angles wrapped, for the rest of the run (it is reset at the switch). The time of the switch
-/// is recorded.
+/// A controller fed its measurement with some entries wrapped to `(−π, π]` (angles that a
+/// linear balancing law expects near the upright, after a swing-up has wound them up).
 #[derive(Debug, Clone)]
-pub struct SwitchingController<S, B> {
-    swing_up: S,
-    balance: B,
-    windows: Vec<(usize, f64)>,
-    phase: Phase,
-    switch_time: Option<f64>,
+pub struct WrapAngles<C> {
+    inner: C,
+    indices: Vec<usize>,
     buffer: Vec<f64>,
 }
 
-impl<S: Controller, B: Controller> SwitchingController<S, B> {
-    /// Switches from `swing_up` to `balance` when every `(index, half_width)` of `windows` is
-    /// satisfied (the book: `[(1, π/4)]` on `[z, θ, ż, θ̇]`).
+impl<C: Controller> WrapAngles<C> {
+    /// Wraps entries `indices` of the measurement before `inner` sees it.
     ///
     /// # Errors
-    /// [`ControlError::DimensionMismatch`] if the two controllers' measurement or command sizes
-    /// differ; [`ControlError::InvalidParameter`] for an index out of range, a half-width not
-    /// in `(0, π]`, or no window at all.
-    pub fn new(swing_up: S, balance: B, windows: Vec<(usize, f64)>) -> Result<Self> {
-        if swing_up.ny() != balance.ny() {
-            return Err(ControlError::DimensionMismatch {
-                what: "balancing controller measurement".into(),
-                expected: swing_up.ny(),
-                found: balance.ny(),
-            });
-        }
-        if swing_up.nu() != balance.nu() {
-            return Err(ControlError::DimensionMismatch {
-                what: "balancing controller commands".into(),
-                expected: swing_up.nu(),
-                found: balance.nu(),
-            });
-        }
-        check_param(
-            "number of switching windows",
-            windows.len() as f64,
-            !windows.is_empty(),
-            "must be ≥ 1",
-        )?;
-        for &(i, w) in &windows {
+    /// [`ControlError::InvalidParameter`] for an index `≥ inner.ny()`.
+    pub fn new(inner: C, indices: Vec<usize>) -> Result<Self> {
+        for &i in &indices {
             check_param(
-                &format!("switching window index {i}"),
+                &format!("wrapped measurement index {i}"),
                 i as f64,
-                i < swing_up.ny(),
-                &format!("must be < {}", swing_up.ny()),
-            )?;
-            check_param(
-                &format!("switching window half-width for index {i}"),
-                w,
-                w > 0.0 && w <= PI,
-                "must be in (0, π]",
+                i < inner.ny(),
+                &format!("must be < {}", inner.ny()),
             )?;
         }
-        let ny = swing_up.ny();
+        let ny = inner.ny();
         Ok(Self {
-            swing_up,
-            balance,
-            windows,
-            phase: Phase::SwingUp,
-            switch_time: None,
+            inner,
+            indices,
             buffer: vec![0.0; ny],
         })
     }
 
-    /// The active phase.
-    pub fn phase(&self) -> Phase {
-        self.phase
-    }
-
-    /// Time of the switch to balancing (`None` while swinging up).
-    pub fn switch_time(&self) -> Option<f64> {
-        self.switch_time
-    }
-
-    /// The swing-up controller.
-    pub fn swing_up(&self) -> &S {
-        &self.swing_up
-    }
-
-    /// The balancing controller.
-    pub fn balance(&self) -> &B {
-        &self.balance
+    /// The wrapped controller.
+    pub fn inner(&self) -> &C {
+        &self.inner
     }
 }
 
-impl<S: Controller, B: Controller> Controller for SwitchingController<S, B> {
+impl<C: Controller> Controller for WrapAngles<C> {
     fn ny(&self) -> usize {
-        self.swing_up.ny()
+        self.inner.ny()
     }
 
     fn nu(&self) -> usize {
-        self.swing_up.nu()
+        self.inner.nu()
     }
 
     fn reset(&mut self) {
-        self.swing_up.reset();
-        self.balance.reset();
-        self.phase = Phase::SwingUp;
-        self.switch_time = None;
+        self.inner.reset();
     }
 
     fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
-        if self.phase == Phase::SwingUp
-            && self
-                .windows
-                .iter()
-                .all(|&(i, w)| wrap_angle(y[i]).abs() <= w)
-        {
-            self.phase = Phase::Balance;
-            self.switch_time = Some(t);
-            self.balance.reset();
+        self.buffer.copy_from_slice(y);
+        for &i in &self.indices {
+            self.buffer[i] = wrap_angle(y[i]);
         }
-        match self.phase {
-            Phase::SwingUp => self.swing_up.update(t, y, u),
-            Phase::Balance => {
-                self.buffer.copy_from_slice(y);
-                for &(i, _) in &self.windows {
-                    self.buffer[i] = wrap_angle(y[i]);
-                }
-                self.balance.update(t, &self.buffer, u);
-            }
-        }
+        self.inner.update(t, &self.buffer, u);
     }
+
+    fn sample_time(&self) -> Option<f64> {
+        self.inner.sample_time()
+    }
+
+    fn switch_times(&self) -> &[f64] {
+        self.inner.switch_times()
+    }
+}
+
+/// The swing-up → balance switch of the book: `swing_up` runs until every watched angle
+/// `y_i`, wrapped to `(−π, π]`, satisfies `|wrap(y_i)| ≤ w_i` (the book: `[(1, π/4)]` on
+/// `[z, θ, ż, θ̇]`); then `balance`, fed the measurement with the watched angles wrapped, runs
+/// for the rest of the run (latched; it is reset at the switch). Built on `pendulab-sim`'s
+/// [`Switching`], which records the switch time ([`Controller::switch_times`], copied into the
+/// sampled loop's diagnostics).
+///
+/// # Errors
+/// [`ControlError::InvalidParameter`] for no window, an index out of range or a half-width
+/// not in `(0, π]`; [`Switching::new`]'s errors (different measurement or command sizes).
+pub fn swing_up_then_balance<S, B>(
+    swing_up: S,
+    balance: B,
+    windows: Vec<(usize, f64)>,
+) -> Result<Switching<S, WrapAngles<B>>>
+where
+    S: Controller,
+    B: Controller,
+{
+    check_param(
+        "number of switching windows",
+        windows.len() as f64,
+        !windows.is_empty(),
+        "must be ≥ 1",
+    )?;
+    for &(i, w) in &windows {
+        check_param(
+            &format!("switching window index {i}"),
+            i as f64,
+            i < swing_up.ny(),
+            &format!("must be < {}", swing_up.ny()),
+        )?;
+        check_param(
+            &format!("switching window half-width for index {i}"),
+            w,
+            w > 0.0 && w <= PI,
+            "must be in (0, π]",
+        )?;
+    }
+    let indices: Vec<usize> = windows.iter().map(|&(i, _)| i).collect();
+    let balance = WrapAngles::new(balance, indices)?;
+    Ok(Switching::new(swing_up, balance, move |_t, y: &[f64]| {
+        windows.iter().all(|&(i, w)| wrap_angle(y[i]).abs() <= w)
+    })?)
 }

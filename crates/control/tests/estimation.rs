@@ -3,9 +3,7 @@
 //! error covariance.
 
 use pendulab_control::ControlError;
-use pendulab_control::estimation::{
-    EstimatedStateFeedback, KalmanFilter, LinearController, kalman_filter,
-};
+use pendulab_control::estimation::{kalman_controller, kalman_filter, output_feedback_controller};
 use pendulab_lti::design::{StateFeedback, lqr, observer_controller, place, place_observer};
 use pendulab_lti::response::{LsimOptions, lsim};
 use pendulab_lti::{Complex64, Discretization, Mat, StateSpace};
@@ -66,9 +64,17 @@ fn linear_controller_reproduces_lsim_of_its_system() {
         Discretization::Zoh,
         Discretization::Tustin { prewarp: None },
     ] {
-        let mut c = LinearController::from_continuous(&ctrl, 0.01, method).unwrap();
-        assert_eq!((c.ny(), c.nu()), (2, 1));
-        let reference = lsim(&c.system().unwrap(), &y, &t, None, &LsimOptions::default()).unwrap();
+        let feedback = StateFeedback::new(k.clone()).unwrap();
+        let mut c = output_feedback_controller(&plant, &feedback, &l, 0.01, method).unwrap();
+        assert_eq!((c.ny(), c.nu(), c.sample_time()), (2, 1, Some(0.01)));
+        let reference = lsim(
+            &ctrl.c2d(0.01, method).unwrap(),
+            &y,
+            &t,
+            None,
+            &LsimOptions::default(),
+        )
+        .unwrap();
         let mut u = [0.0];
         for i in 0..steps {
             c.update(t[i], &[y[(i, 0)], y[(i, 1)]], &mut u);
@@ -79,8 +85,6 @@ fn linear_controller_reproduces_lsim_of_its_system() {
                 "{method:?} step {i}"
             );
         }
-        c.reset();
-        assert!(c.state().iter().all(|v| *v == 0.0));
     }
 }
 
@@ -129,8 +133,7 @@ fn monte_carlo_error_covariance_matches_the_posterior_covariance() {
     )
     .unwrap()
     .gain;
-    let filter = KalmanFilter::new(&plant, &kf.filter_gain).unwrap();
-    let mut ctrl = EstimatedStateFeedback::new(filter, &StateFeedback::new(k).unwrap()).unwrap();
+    let mut ctrl = kalman_controller(&plant, &StateFeedback::new(k).unwrap(), &kf).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(2024);
     let w = Normal::new(0.0, qn[(0, 0)].sqrt()).unwrap();
     let v: Vec<Normal<f64>> = sd.iter().map(|s| Normal::new(0.0, *s).unwrap()).collect();
@@ -145,7 +148,7 @@ fn monte_carlo_error_covariance_matches_the_posterior_covariance() {
         let ym = [y[0] + v[0].sample(&mut rng), y[1] + v[1].sample(&mut rng)];
         ctrl.update(k as f64 * 0.01, &ym, &mut u);
         if k >= burn_in {
-            let e = &x - nalgebra::DVector::from_column_slice(ctrl.filter().estimate());
+            let e = &x - nalgebra::DVector::from_column_slice(ctrl.estimate());
             sum += &e * e.transpose();
         }
         x = a * &x + b * u[0] + &g * w.sample(&mut rng);
@@ -169,10 +172,6 @@ fn monte_carlo_error_covariance_matches_the_posterior_covariance() {
 #[test]
 fn bad_estimation_inputs_are_typed_errors() {
     let plant = cdip().c2d(0.01, Discretization::Zoh).unwrap();
-    assert!(matches!(
-        KalmanFilter::new(&plant, &Mat::zeros(4, 3)),
-        Err(ControlError::ShapeMismatch { .. })
-    ));
     let with_d = StateSpace::discrete(
         plant.a().clone(),
         plant.b().clone(),
@@ -190,14 +189,25 @@ fn bad_estimation_inputs_are_typed_errors() {
         ),
         Err(ControlError::NotApplicable { .. })
     ));
-    let filter = KalmanFilter::new(&plant, &Mat::zeros(4, 2)).unwrap();
+    let kf = kalman_filter(
+        &plant,
+        plant.b(),
+        &Mat::identity(1, 1),
+        &Mat::identity(2, 2),
+    )
+    .unwrap();
     assert!(matches!(
-        EstimatedStateFeedback::new(filter, &StateFeedback::new(Mat::zeros(1, 3)).unwrap()),
-        Err(ControlError::ShapeMismatch { .. })
+        kalman_controller(&plant, &StateFeedback::new(Mat::zeros(1, 3)).unwrap(), &kf),
+        Err(ControlError::Sim(_))
     ));
-    let mut lc = LinearController::new(&plant);
+    let cont = cdip();
+    let zero = StateFeedback::new(Mat::zeros(1, 4)).unwrap();
     assert!(matches!(
-        lc.set_initial_state(&[0.0; 3]),
-        Err(ControlError::DimensionMismatch { .. })
+        output_feedback_controller(&cont, &zero, &Mat::zeros(4, 3), 0.01, Discretization::Zoh),
+        Err(ControlError::Lti(_))
+    ));
+    assert!(matches!(
+        output_feedback_controller(&cont, &zero, &Mat::zeros(4, 2), -0.01, Discretization::Zoh),
+        Err(ControlError::Lti(_))
     ));
 }

@@ -4,13 +4,14 @@
 
 use pendulab_control::ControlError;
 use pendulab_control::swing_up::{
-    ArmEnergyShaping, CartEnergyShaping, EnergyPumping, EnergyShapingGains, Phase,
-    SwitchingController, wrap_angle,
+    ArmEnergyShaping, CartEnergyShaping, EnergyPumping, EnergyShapingGains, swing_up_then_balance,
+    wrap_angle,
 };
 use pendulab_plants::{
     ArmPendulum, ArmPendulumParams, ArmPendulumState, CartPendulum, CartPendulumState,
 };
 use pendulab_sim::Controller;
+use pendulab_sim::controllers::Mode;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
@@ -169,7 +170,7 @@ impl Controller for Probe {
 
 #[test]
 fn switching_is_latched_at_the_first_time_inside_the_window() {
-    let mut c = SwitchingController::new(
+    let mut c = swing_up_then_balance(
         Probe(1.0, vec![], 0),
         Probe(2.0, vec![], 0),
         vec![(1, PI / 4.0)],
@@ -177,23 +178,24 @@ fn switching_is_latched_at_the_first_time_inside_the_window() {
     .unwrap();
     let mut u = [0.0];
     c.update(0.0, &[0.0, PI, 0.0, 0.0], &mut u);
-    assert_eq!((u[0], c.phase()), (1.0, Phase::SwingUp));
+    assert_eq!((u[0], c.mode()), (1.0, Mode::A));
     // θ = 2π − 0.5 wraps to −0.5: inside π/4.
     c.update(0.5, &[0.0, 2.0 * PI - 0.5, 0.0, 0.0], &mut u);
     assert_eq!(
-        (u[0], c.phase(), c.switch_time()),
-        (2.0, Phase::Balance, Some(0.5))
+        (u[0], c.mode(), c.switch_times()),
+        (2.0, Mode::B, &[0.5][..])
     );
+    let balance = c.second().inner();
     assert!(
-        (c.balance().1[1] + 0.5).abs() < 1e-12,
+        (balance.1[1] + 0.5).abs() < 1e-12,
         "balance sees the wrapped angle"
     );
-    assert_eq!(c.balance().2, 1, "balance controller reset at the switch");
+    assert_eq!(balance.2, 1, "balance controller reset at the switch");
     // Leaving the window does not switch back.
     c.update(0.6, &[0.0, PI, 0.0, 0.0], &mut u);
     assert_eq!(u[0], 2.0);
     c.reset();
-    assert_eq!((c.phase(), c.switch_time()), (Phase::SwingUp, None));
+    assert_eq!((c.mode(), c.switch_times().len()), (Mode::A, 0));
 }
 
 #[test]
@@ -210,11 +212,11 @@ fn bad_swing_up_settings_are_typed_errors() {
         Err(ControlError::InvalidParameter { .. })
     ));
     assert!(matches!(
-        SwitchingController::new(Probe(0.0, vec![], 0), Probe(0.0, vec![], 0), vec![(4, 0.5)]),
+        swing_up_then_balance(Probe(0.0, vec![], 0), Probe(0.0, vec![], 0), vec![(4, 0.5)]),
         Err(ControlError::InvalidParameter { .. })
     ));
     assert!(matches!(
-        SwitchingController::new(Probe(0.0, vec![], 0), Probe(0.0, vec![], 0), vec![]),
+        swing_up_then_balance(Probe(0.0, vec![], 0), Probe(0.0, vec![], 0), vec![]),
         Err(ControlError::InvalidParameter { .. })
     ));
 }

@@ -108,6 +108,10 @@ impl<P: OptimalControlProblem> Controller for NmpcController<P> {
         self.last.iter_mut().for_each(|v| *v = 0.0);
     }
 
+    fn sample_time(&self) -> Option<f64> {
+        Some(self.ts)
+    }
+
     fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
         if y.len() != self.solver.problem().nx() || y.iter().any(|v| !v.is_finite()) {
             self.stats.rejected_measurements += 1;
@@ -209,6 +213,14 @@ impl<C: Controller> Controller for TimedController<C> {
     fn reset(&mut self) {
         self.inner.reset();
         self.timing = UpdateTiming::default();
+    }
+
+    fn sample_time(&self) -> Option<f64> {
+        self.inner.sample_time()
+    }
+
+    fn switch_times(&self) -> &[f64] {
+        self.inner.switch_times()
     }
 
     fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
