@@ -72,6 +72,16 @@ impl<P: OptimalControlProblem> NmpcController<P> {
         })
     }
 
+    /// Initialises the solver at `(t0, x0)` now, from the stage guess given at construction
+    /// (otherwise the first [`Controller::update`] does it), surfacing a failure as an error.
+    ///
+    /// # Errors
+    /// As [`Cgmres::initialize`].
+    pub fn initialize(&mut self, t0: f64, x0: &[f64]) -> Result<super::InitReport> {
+        self.solver
+            .initialize(t0, x0, &self.stage_guess, &self.init)
+    }
+
     /// The solver (sequence, residuals, options).
     pub fn solver(&self) -> &Cgmres<P> {
         &self.solver
