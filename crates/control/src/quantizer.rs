@@ -242,8 +242,14 @@ pub enum InputQuantizer {
         /// Step `d` (> 0).
         step: f64,
     },
-    /// A dynamic quantizer.
-    Dynamic(DynamicQuantizer),
+    /// A dynamic quantizer (boxed: it owns its filter matrices and state).
+    Dynamic(Box<DynamicQuantizer>),
+}
+
+impl From<DynamicQuantizer> for InputQuantizer {
+    fn from(q: DynamicQuantizer) -> Self {
+        InputQuantizer::Dynamic(Box::new(q))
+    }
 }
 
 impl InputQuantizer {

@@ -410,7 +410,7 @@ fn simulated_deviation_respects_the_worst_case_bound_and_beats_the_static_quanti
     )
     .unwrap();
     let x0 = [0.0, 10f64.to_radians(), 0.0, 0.0];
-    let mut dynamic = InputQuantizer::Dynamic(design.quantizer.clone());
+    let mut dynamic = InputQuantizer::from(design.quantizer.clone());
     let mut stat = InputQuantizer::Static { step: d };
     let dev_dyn = simulate_deviation(&err, (dsys.a(), dsys.b(), &k), &mut dynamic, &x0, 500);
     let dev_stat = simulate_deviation(&err, (dsys.a(), dsys.b(), &k), &mut stat, &x0, 500);
