@@ -67,6 +67,8 @@ pub struct SteadyStateKalman {
 /// # Errors
 /// [`ControlError::NotApplicable`] for `D ≠ 0`; shape errors; [`lqe`]'s errors (e.g. `(C, A)`
 /// not detectable, `R_n` not positive definite).
+#[doc(alias = "kalman")]
+#[doc(alias = "dlqe")]
 pub fn kalman_filter(
     sys: &StateSpace<Discrete>,
     g: &Mat,

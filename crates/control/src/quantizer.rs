@@ -740,6 +740,7 @@ impl Default for OdqLpOptions {
 /// [`ControlError::InvalidParameter`] for `T < 2`, `γ_wv < 1`, order 0 or `d ≤ 0`;
 /// [`ControlError::NotApplicable`] for `D ≠ 0`; [`ControlError::LinearProgram`] when the LP is
 /// not solved (status given); the LMI layer's modelling errors.
+#[doc(alias = "odq")]
 pub fn odq_lp(sys: &StateSpace<Discrete>, step: f64, options: &OdqLpOptions) -> Result<OdqDesign> {
     check_param("quantisation step d", step, step > 0.0, "must be > 0")?;
     check_error_system(sys)?;

@@ -63,7 +63,7 @@ impl EnergyPumping {
     /// The law with gain `K₁ > 0` (m/rad·s… the book: 0.8) on the plant's drive.
     ///
     /// # Errors
-    /// [`ControlError::InvalidParameter`] for `K₁ ≤ 0`.
+    /// [`crate::ControlError::InvalidParameter`] for `K₁ ≤ 0`.
     pub fn new(plant: &CartPendulum, k1: f64) -> Result<Self> {
         check_param("pumping gain K1", k1, k1 > 0.0, "must be > 0")?;
         Ok(Self {
@@ -227,7 +227,7 @@ impl CartEnergyShaping {
     /// The law on `plant` with `gains`.
     ///
     /// # Errors
-    /// [`ControlError::InvalidParameter`] naming the offending gain.
+    /// [`crate::ControlError::InvalidParameter`] naming the offending gain.
     pub fn new(plant: &CartPendulum, gains: EnergyShapingGains) -> Result<Self> {
         gains.validate()?;
         let p = plant.params();
@@ -294,7 +294,7 @@ impl ArmEnergyShaping {
     /// The law on `plant` with `gains` (reference and travel limit in radians).
     ///
     /// # Errors
-    /// [`ControlError::InvalidParameter`] naming the offending gain.
+    /// [`crate::ControlError::InvalidParameter`] naming the offending gain.
     pub fn new(plant: &ArmPendulum, gains: EnergyShapingGains) -> Result<Self> {
         gains.validate()?;
         let p = plant.params();
@@ -357,7 +357,7 @@ impl<C: Controller> WrapAngles<C> {
     /// Wraps entries `indices` of the measurement before `inner` sees it.
     ///
     /// # Errors
-    /// [`ControlError::InvalidParameter`] for an index `≥ inner.ny()`.
+    /// [`crate::ControlError::InvalidParameter`] for an index `≥ inner.ny()`.
     pub fn new(inner: C, indices: Vec<usize>) -> Result<Self> {
         for &i in &indices {
             check_param(
@@ -419,7 +419,7 @@ impl<C: Controller> Controller for WrapAngles<C> {
 /// sampled loop's diagnostics).
 ///
 /// # Errors
-/// [`ControlError::InvalidParameter`] for no window, an index out of range or a half-width
+/// [`crate::ControlError::InvalidParameter`] for no window, an index out of range or a half-width
 /// not in `(0, π]`; [`Switching::new`]'s errors (different measurement or command sizes).
 pub fn swing_up_then_balance<S, B>(
     swing_up: S,

@@ -110,3 +110,43 @@ fn cgmres_update_and_nmpc_controller_do_not_allocate() {
     assert_eq!(n, 0, "NmpcController::update allocated {n} times");
     assert_eq!(c.statistics().updates, 1);
 }
+
+#[test]
+fn quantizer_sliding_mode_and_swing_up_controllers_do_not_allocate() {
+    use pendulab_control::quantizer::{DynamicQuantizer, InputQuantizer, QuantizedController};
+    use pendulab_control::sliding_mode::SlidingModeController;
+    use pendulab_control::swing_up::{
+        CartEnergyShaping, EnergyPumping, EnergyShapingGains, swing_up_then_balance,
+    };
+    use pendulab_lti::Mat;
+    use pendulab_plants::{CartEquilibrium, CartPendulum};
+
+    let plant = CartPendulum::book();
+    let lin = plant.linearize(CartEquilibrium::upright()).unwrap();
+    let smc =
+        SlidingModeController::new(&[3.3, 14.7, 3.3, 2.1], lin.a(), lin.b(), 30.0, 5.0).unwrap();
+    let taps = vec![Mat::from_element(1, 1, -0.5); 20];
+    let q = DynamicQuantizer::fir(&taps, 1, 0.5).unwrap();
+    let mut quantised = QuantizedController::new(smc.clone(), InputQuantizer::from(q)).unwrap();
+    let mut switching = swing_up_then_balance(
+        EnergyPumping::new(&plant, 0.8).unwrap(),
+        smc,
+        vec![(1, std::f64::consts::FRAC_PI_4)],
+    )
+    .unwrap();
+    let mut shaping = CartEnergyShaping::new(&plant, EnergyShapingGains::cart_rig()).unwrap();
+    let mut u = [0.0];
+    let n = allocations(|| {
+        for k in 0..500 {
+            let t = k as f64 * 1e-3;
+            // From hanging to upright and back: the switch happens inside the loop.
+            let th = std::f64::consts::PI * (1.0 - k as f64 / 250.0);
+            let y = [0.01, th, 0.1, -0.2];
+            quantised.update(t, &y, &mut u);
+            switching.update(t, &y, &mut u);
+            shaping.update(t, &y, &mut u);
+        }
+    });
+    assert_eq!(n, 0, "controllers allocated {n} times");
+    assert_eq!(switching.switch_times().len(), 1);
+}
