@@ -13,6 +13,7 @@ use serde::Serialize;
 use std::time::{Duration, Instant};
 
 mod lmi;
+mod nmpc;
 mod plants;
 mod plot;
 mod sim;
@@ -119,6 +120,11 @@ fn workloads() -> Vec<Workload> {
         name: "care-n100",
         description: "CARE of a random stabilisable system, n = 100, m = 10, fixed seed (ms/solve)",
         run: care::run_n100,
+    });
+    all.push(Workload {
+        name: "nmpc-update",
+        description: "one C/GMRES update of the arm pendulum's swing-up NMPC, over a 10 s swing (us/update)",
+        run: nmpc::run,
     });
     all.push(Workload {
         name: "lsim-1e6",
