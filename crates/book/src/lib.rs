@@ -16,5 +16,5 @@ pub mod output;
 pub mod registry;
 
 pub use error::BookError;
-pub use output::{ExampleOutput, Reference, Value};
+pub use output::{Comparison, ExampleOutput, Reference, Value};
 pub use registry::{Example, RunContext, find, registry};

@@ -62,6 +62,9 @@ pub struct Reference {
     pub value: Value,
     /// Where it is printed (e.g. "book p. 74", "examples.md").
     pub source: String,
+    /// Largest absolute difference per element that still counts as reproducing the printed
+    /// value: half a unit in the last printed digit for a rounded number, or a stated tolerance.
+    pub tolerance: f64,
 }
 
 /// The result of running one example.
@@ -83,17 +86,90 @@ impl ExampleOutput {
         self.values.push((name.to_string(), value));
         self
     }
-    /// Adds the book's value for `name`.
-    pub fn reference(&mut self, name: &str, value: Value, source: &str) -> &mut Self {
+    /// Adds the book's value for `name`, reproduced when every element of the computed value
+    /// lies within `tolerance` (absolute) of it.
+    pub fn reference(
+        &mut self,
+        name: &str,
+        value: Value,
+        source: &str,
+        tolerance: f64,
+    ) -> &mut Self {
         self.references.push(Reference {
             name: name.to_string(),
             value,
             source: source.to_string(),
+            tolerance,
         });
         self
     }
     /// Looks a value up by name.
     pub fn get(&self, name: &str) -> Option<&Value> {
         self.values.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+}
+
+/// How a computed value compares with the book's value.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Comparison {
+    /// Name of the value.
+    pub name: String,
+    /// Largest absolute difference over the elements (`None` if shapes or kinds differ, or the
+    /// example did not report the value).
+    pub max_abs_error: Option<f64>,
+    /// Whether the difference is within the reference's tolerance.
+    pub reproduced: bool,
+}
+
+impl Value {
+    /// Largest absolute elementwise difference to `other`, or `None` when the kinds or shapes
+    /// differ. Complex lists are compared element by element in order (sort both the same way).
+    pub fn max_abs_diff(&self, other: &Value) -> Option<f64> {
+        fn vec_diff(a: &[f64], b: &[f64]) -> Option<f64> {
+            (a.len() == b.len()).then(|| {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max)
+            })
+        }
+        match (self, other) {
+            (Value::Bool(a), Value::Bool(b)) => Some(if a == b { 0.0 } else { f64::INFINITY }),
+            (Value::Number(a), Value::Number(b)) => Some((a - b).abs()),
+            (Value::Vector(a), Value::Vector(b)) => vec_diff(a, b),
+            (Value::Matrix(a), Value::Matrix(b)) => {
+                if a.len() != b.len() {
+                    return None;
+                }
+                a.iter()
+                    .zip(b)
+                    .map(|(r, s)| vec_diff(r, s))
+                    .try_fold(0.0, |m, d| d.map(|d| f64::max(m, d)))
+            }
+            (Value::Complex(a), Value::Complex(b)) => (a.len() == b.len()).then(|| {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| (x - y).norm())
+                    .fold(0.0, f64::max)
+            }),
+            _ => None,
+        }
+    }
+}
+
+impl ExampleOutput {
+    /// Compares every reference with the computed value of the same name.
+    pub fn comparisons(&self) -> Vec<Comparison> {
+        self.references
+            .iter()
+            .map(|r| {
+                let err = self.get(&r.name).and_then(|v| v.max_abs_diff(&r.value));
+                Comparison {
+                    name: r.name.clone(),
+                    max_abs_error: err,
+                    reproduced: err.is_some_and(|e| e <= r.tolerance),
+                }
+            })
+            .collect()
     }
 }

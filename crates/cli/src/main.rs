@@ -4,6 +4,8 @@ mod bench;
 mod book;
 mod identify;
 mod lqr;
+mod report;
+mod rig;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -27,6 +29,10 @@ enum Command {
     Identify(identify::IdentifyArgs),
     /// Solve an LQ regulator problem (continuous CARE or discrete DARE) from CSV matrices.
     Lqr(lqr::LqrArgs),
+    /// Write the lab report: every example's numbers, figures and animations as HTML.
+    Report(report::ReportArgs),
+    /// Run the rig emulator or the real-time controller runtime.
+    Rig(rig::RigArgs),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +42,8 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(&args),
         Command::Identify(args) => identify::run(&args),
         Command::Lqr(args) => lqr::run(&args),
+        Command::Report(args) => report::run(&args),
+        Command::Rig(args) => rig::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

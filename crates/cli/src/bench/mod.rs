@@ -12,10 +12,12 @@ use anyhow::{Result, bail};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
+mod book;
 mod lmi;
 mod nmpc;
 mod plants;
 mod plot;
+mod rig;
 mod sim;
 
 /// Arguments of `pendulab bench`.
@@ -106,6 +108,8 @@ fn workloads() -> Vec<Workload> {
     all.extend(lmi::workloads());
     all.extend(plot::workloads());
     all.extend(sim::workloads());
+    all.extend(rig::workloads());
+    all.extend(book::workloads());
     all.push(Workload {
         name: "ident-1e6",
         description: "book least squares (3-point, 1/(0.075s+1)^3, QR) on 10^6 quantised cart samples (ms)",
