@@ -1,8 +1,403 @@
-//! Examples of this chapter.
+//! Part 1 chapter 5 — controllability, pole placement, LQR.
+//!
+//! Gains are reported in the book's convention `u = +K x` (pendulab's library uses
+//! `u = −K x`; `K_book = −K`).
 
-use crate::registry::Example;
+use super::toolbox::common::{
+    Rig, book_row, column, complex, diag, fail, filtered_rig, max_of, min_of, save_animation,
+    save_figure, sorted,
+};
+use crate::error::BookError;
+use crate::output::{ExampleOutput, Value};
+use crate::registry::{Example, RunContext};
+use pendulab_lti::analysis::{controllable_canonical_form, ctrb, rank};
+use pendulab_lti::design::{lqr, place};
+use pendulab_lti::{Continuous, Mat, StateSpace, Trajectory};
+use pendulab_plants::{
+    ArmEquilibrium, ArmPendulum, ArmPendulumParams, Posture, RigSpec, TwoPendulumCart,
+    TwoPendulumCartParams,
+};
+use pendulab_plot::{Axes, Channel, Color, Figure, PoleZeroMap, SignalPanel, TimeResponse};
+use pendulab_sim::controllers::StaticStateFeedback;
+use pendulab_sim::{SampledLoop, SampledOptions};
+use std::f64::consts::PI;
+
+const BOOK_CONVENTION: &str =
+    "gains in the book's convention u = +K x (pendulab's library: u = −K x)";
 
 /// The chapter's examples, in book order.
 pub(crate) fn examples() -> Vec<Example> {
-    Vec::new()
+    vec![
+        Example {
+            id: "p1c511_ex1",
+            title: "Controllability matrix of a 2-state system",
+            section: "Part 1 §5.1.1, example 5.1",
+            parameters: "A = [[1, 0], [1, 1]], B = [1; 1]",
+            needs_data: None,
+            run: ex1,
+        },
+        Example {
+            id: "p1c511_ex2",
+            title: "An uncontrollable 3-state system",
+            section: "Part 1 §5.1.1, example 5.2",
+            parameters: "A = [[a, 0, 0], [0, 0, 1], [0, 0, 0]], B = [0; 0; 1], a = 1",
+            needs_data: None,
+            run: ex2,
+        },
+        Example {
+            id: "p1c511_ex3_adip",
+            title: "Controllability of the arm pendulum against the arm angle",
+            section: "Part 1 §5.1.1, example 5.3",
+            parameters: "arm pendulum, table 3.7, linearised at θ1 = θ1e, θ2 = 0",
+            needs_data: None,
+            run: ex3_adip,
+        },
+        Example {
+            id: "p1c511_ex4_cdip",
+            title: "A cart with two parallel pendulums",
+            section: "Part 1 §5.1.1, example 5.4",
+            parameters: "cart pendulum, table 3.5; pendulum 2 scaled by 1.2 (or identical)",
+            needs_data: None,
+            run: ex4_cdip,
+        },
+        Example {
+            id: "p1c512_ex5",
+            title: "Controllable canonical form of example 5.1",
+            section: "Part 1 §5.1.2, example 5.5",
+            parameters: "A = [[1, 0], [1, 1]], B = [1; 1]",
+            needs_data: None,
+            run: ex5,
+        },
+        Example {
+            id: "p1c522_ex6",
+            title: "Pole placement by coefficient matching",
+            section: "Part 1 §5.2.2, example 5.6",
+            parameters: "A = [[1, 0], [1, 1]], B = [1; 1], poles {−1, −2}",
+            needs_data: None,
+            run: ex6,
+        },
+        Example {
+            id: "p1c522_ex7_adip_place",
+            title: "Pole placement for the arm pendulum at θ1e = π/4",
+            section: "Part 1 §5.2.2, example 5.7",
+            parameters: "arm pendulum, table 3.7, θ1e = π/4, poles {−2, −2.5, −3, −3.5}",
+            needs_data: None,
+            run: ex7_adip_place,
+        },
+        Example {
+            id: "p1c523_ex8_adip_lqr",
+            title: "LQR for the arm pendulum at θ1e = π/4",
+            section: "Part 1 §5.2.3, example 5.8",
+            parameters: "arm pendulum, table 3.7, θ1e = π/4; nonlinear plant, filtered derivatives, 1 ms",
+            needs_data: None,
+            run: ex8_adip_lqr,
+        },
+    ]
+}
+
+fn m(r: usize, c: usize, v: &[f64]) -> Mat {
+    Mat::from_row_slice(r, c, v)
+}
+
+fn ex1(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c511_ex1";
+    let mc =
+        ctrb(&m(2, 2, &[1.0, 0.0, 1.0, 1.0]), &m(2, 1, &[1.0, 1.0])).map_err(|e| fail(id, e))?;
+    let mut out = ExampleOutput::default();
+    out.value("Mc", Value::matrix(&mc))
+        .value("rank", Value::Number(rank(&mc).rank as f64));
+    // Exact small integers: the products of integer matrices are exact in floating point.
+    out.reference(
+        "Mc",
+        Value::Matrix(vec![vec![1.0, 1.0], vec![1.0, 2.0]]),
+        "examples.md",
+        0.0,
+    )
+    .reference("rank", Value::Number(2.0), "examples.md", 0.0);
+    out.notes
+        .push("M_c = [B, AB] has full rank 2: the pair is controllable.".into());
+    Ok(out)
+}
+
+fn ex2(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c511_ex2";
+    let a = m(3, 3, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
+    let b = m(3, 1, &[0.0, 0.0, 1.0]);
+    let mc = ctrb(&a, &b).map_err(|e| fail(id, e))?;
+    let mut out = ExampleOutput::default();
+    out.value("Mc", Value::matrix(&mc))
+        .value("rank", Value::Number(rank(&mc).rank as f64));
+    out.reference("rank", Value::Number(2.0), "examples.md", 0.0);
+    out.notes.push(
+        "The mode x1' = a x1 receives no input: rank M_c = 2 < 3, uncontrollable (a = 1).".into(),
+    );
+    Ok(out)
+}
+
+/// det M_c of the arm model linearised at `θ1e`.
+pub(crate) fn arm_det_mc(plant: &ArmPendulum, theta1e: f64) -> Result<f64, String> {
+    let sys = plant
+        .linearize(ArmEquilibrium::upright(theta1e))
+        .map_err(|e| e.to_string())?;
+    let mc = ctrb(sys.a(), sys.b()).map_err(|e| e.to_string())?;
+    Ok(mc.determinant())
+}
+
+fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c511_ex3_adip";
+    let book = ArmPendulum::book();
+    let frictionless = ArmPendulum::new(ArmPendulumParams {
+        mu2: 0.0,
+        ..ArmPendulumParams::book()
+    })
+    .map_err(|e| fail(id, e))?;
+    let d0 = arm_det_mc(&book, 0.0).map_err(|e| fail(id, e))?;
+    let d90 = arm_det_mc(&book, PI / 2.0).map_err(|e| fail(id, e))?;
+    let d90_free = arm_det_mc(&frictionless, PI / 2.0).map_err(|e| fail(id, e))?;
+    let mut out = ExampleOutput::default();
+    out.value("det_Mc_at_0", Value::Number(d0))
+        .value("det_Mc_at_pi_over_2", Value::Number(d90))
+        .value("det_Mc_at_pi_over_2_mu2_zero", Value::Number(d90_free));
+    out.notes.push(format!(
+        "det M_c vanishes only where cos θ1e = 0 and μ2 = 0: with the book's μ2 = 1.01e-4 it is \
+         {d90:.4e} at θ1e = π/2 (tiny against {d0:.4e} at 0), without friction {d90_free:.1e}."
+    ));
+    if ctx.out_dir.is_some() {
+        let th: Vec<f64> = (0..=360).map(|k| -PI + k as f64 * PI / 180.0).collect();
+        let deg: Vec<f64> = th.iter().map(|t| t.to_degrees()).collect();
+        let mut dets = Vec::with_capacity(th.len());
+        let mut dets0 = Vec::with_capacity(th.len());
+        for &t in &th {
+            dets.push(arm_det_mc(&book, t).map_err(|e| fail(id, e))?);
+            dets0.push(arm_det_mc(&frictionless, t).map_err(|e| fail(id, e))?);
+        }
+        let mut ax = Axes::new();
+        ax.xlabel("arm angle θ1e [deg]").ylabel("det M_c");
+        ax.plot(&deg, &dets)
+            .label("μ2 = 1.01e-4 (book)")
+            .color(Color::BLUE);
+        ax.plot(&deg, &dets0)
+            .label("μ2 = 0")
+            .color(Color::RED)
+            .dashed();
+        ax.hline(0.0);
+        ax.vline(90.0);
+        ax.vline(-90.0);
+        let fig = Figure::new(ax).title("p1c511_ex3_adip: det M_c against θ1e");
+        save_figure(ctx, id, "det_mc", &fig, &mut out)?;
+    }
+    Ok(out)
+}
+
+fn ex4_cdip(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c511_ex4_cdip";
+    let rank_of = |p: TwoPendulumCartParams| -> Result<usize, BookError> {
+        let plant = TwoPendulumCart::new(p).map_err(|e| fail(id, e))?;
+        let sys = plant
+            .linearize(0.0, Posture::Upright, Posture::Upright)
+            .map_err(|e| fail(id, e))?;
+        let mc = ctrb(sys.a(), sys.b()).map_err(|e| fail(id, e))?;
+        Ok(rank(&mc).rank)
+    };
+    let rd = rank_of(TwoPendulumCartParams::book_example())?;
+    let ri = rank_of(TwoPendulumCartParams::identical())?;
+    let mut out = ExampleOutput::default();
+    out.value("rank_different", Value::Number(rd as f64))
+        .value("rank_identical", Value::Number(ri as f64));
+    out.reference(
+        "rank_different",
+        Value::Number(6.0),
+        "examples.md (controllable: full rank 6)",
+        0.0,
+    );
+    out.notes.push(
+        "Identical pendulums: θa − θb obeys an input-free second-order equation, so two \
+         directions are uncontrollable (rank 4)."
+            .into(),
+    );
+    Ok(out)
+}
+
+fn ex5(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c512_ex5";
+    let sys = StateSpace::continuous(
+        m(2, 2, &[1.0, 0.0, 1.0, 1.0]),
+        m(2, 1, &[1.0, 1.0]),
+        m(1, 2, &[1.0, 0.0]),
+        Mat::zeros(1, 1),
+    )
+    .map_err(|e| fail(id, e))?;
+    let f = controllable_canonical_form(&sys).map_err(|e| fail(id, e))?;
+    let mut out = ExampleOutput::default();
+    out.value("T", Value::matrix(&f.t))
+        .value("A_hat", Value::matrix(f.system.a()));
+    // Printed as exact integers; the transformation is computed to rounding (residual ≤ 1e-15
+    // on this 2×2 system), so 1e-9 is generous and still far below any printed digit.
+    out.reference(
+        "T",
+        Value::Matrix(vec![vec![-1.0, 1.0], vec![0.0, 1.0]]),
+        "examples.md",
+        1e-9,
+    )
+    .reference(
+        "A_hat",
+        Value::Matrix(vec![vec![0.0, 1.0], vec![-1.0, 2.0]]),
+        "examples.md",
+        1e-9,
+    );
+    out.notes
+        .push("x = T x̂, Â = T⁻¹ A T, B̂ = T⁻¹ B = [0; 1].".into());
+    Ok(out)
+}
+
+/// Pole placement for example 5.1 by coefficient matching in controllable canonical
+/// coordinates: with `x = T x̂`, `det(sI − Â − B̂ K̂) = s² + (−a₁ − k̂₂) s + (−a₀ − k̂₁)`, so
+/// `K̂ = [a₀ − d₀, a₁ − d₁]` for the desired `s² + d₁ s + d₀`, and `K = K̂ T⁻¹` (book
+/// convention `u = +K x`).
+fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c522_ex6";
+    let a = m(2, 2, &[1.0, 0.0, 1.0, 1.0]);
+    let b = m(2, 1, &[1.0, 1.0]);
+    let sys = StateSpace::continuous(a.clone(), b.clone(), m(1, 2, &[1.0, 0.0]), Mat::zeros(1, 1))
+        .map_err(|e| fail(id, e))?;
+    let f = controllable_canonical_form(&sys).map_err(|e| fail(id, e))?;
+    // Desired (s + 1)(s + 2) = s² + 3 s + 2.
+    let (d0, d1) = (2.0, 3.0);
+    let c = &f.characteristic_coefficients;
+    let k_hat = m(1, 2, &[c[0] - d0, c[1] - d1]);
+    let t_inv =
+        f.t.clone()
+            .try_inverse()
+            .ok_or_else(|| fail(id, "the canonical transformation T is singular"))?;
+    let k = &k_hat * t_inv;
+    let closed = &a + &b * &k;
+    let poles = sorted(pendulab_lti::linalg::eigenvalues(&closed).map_err(|e| fail(id, e))?);
+    let mut out = ExampleOutput::default();
+    out.value("K", Value::vector(&[k[(0, 0)], k[(0, 1)]]))
+        .value("K_hat", Value::vector(&[k_hat[(0, 0)], k_hat[(0, 1)]]))
+        .value("poles", Value::Complex(poles));
+    // (s + 1)(s + 2) assigned: eigenvalues of a 2×2 with distinct real roots, to rounding.
+    out.reference(
+        "poles",
+        Value::Complex(complex(&[(-1.0, 0.0), (-2.0, 0.0)])),
+        "design specification",
+        1e-9,
+    );
+    out.notes.push(format!(
+        "Desired poles {{−1, −2}} (examples.md gives none; the book's method is shown). \
+         {BOOK_CONVENTION}."
+    ));
+    Ok(out)
+}
+
+fn arm_at(id: &str, theta1e: f64) -> Result<StateSpace<Continuous>, BookError> {
+    ArmPendulum::book()
+        .linearize(ArmEquilibrium::upright(theta1e))
+        .map_err(|e| fail(id, e))
+}
+
+fn ex7_adip_place(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c522_ex7_adip_place";
+    let sys = arm_at(id, PI / 4.0)?;
+    let want = complex(&[(-2.0, 0.0), (-2.5, 0.0), (-3.0, 0.0), (-3.5, 0.0)]);
+    let pl = place(sys.a(), sys.b(), &want).map_err(|e| fail(id, e))?;
+    let mut out = ExampleOutput::default();
+    out.value("K", Value::vector(&book_row(&pl.gain)))
+        .value("poles", Value::Complex(pl.achieved_poles.clone()));
+    out.reference(
+        "poles",
+        Value::Complex(sorted(want)),
+        "examples.md (design poles)",
+        1e-6,
+    );
+    out.notes.push(BOOK_CONVENTION.into());
+    if ctx.out_dir.is_some() {
+        let open = sorted(sys.poles().map_err(|e| fail(id, e))?);
+        let fig = PoleZeroMap::new()
+            .poles("open loop", &open)
+            .poles("A + BK", &pl.achieved_poles)
+            .title("p1c522_ex7_adip_place: poles at θ1e = π/4")
+            .figure();
+        save_figure(ctx, id, "poles", &fig, &mut out)?;
+    }
+    Ok(out)
+}
+
+/// The three LQR designs of example 5.8: `(label, Q diagonal, R)`.
+pub(crate) const EX8_CASES: [(&str, [f64; 4], f64); 3] = [
+    ("case1", [10.0, 10.0, 1.0, 1.0], 1.0),
+    ("case2", [10.0, 10.0, 1.0, 1.0], 10.0),
+    ("case3", [20.0, 10.0, 1.0, 1.0], 1.0),
+];
+
+fn ex8_adip_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p1c523_ex8_adip_lqr";
+    let theta1e = PI / 4.0;
+    let sys = arm_at(id, theta1e)?;
+    let mut out = ExampleOutput::default();
+    let mut runs: Vec<(String, Trajectory)> = Vec::new();
+    let rig = filtered_rig(id, &RigSpec::arm())?;
+    for (case, q, r) in EX8_CASES {
+        let l = lqr(&sys, &diag(&q), &diag(&[r]), None).map_err(|e| fail(id, e))?;
+        out.value(&format!("K_{case}"), Value::vector(&book_row(&l.gain)));
+        // u = −K (y − x_e): the arm is driven from θ1 = 0 to the equilibrium θ1e = π/4.
+        let ctrl = StaticStateFeedback::new(l.gain.clone())
+            .and_then(|c| c.with_reference(&[theta1e, 0.0, 0.0, 0.0]))
+            .map_err(|e| fail(id, e))?;
+        let opts = SampledOptions {
+            t_final: 3.0,
+            ..Default::default()
+        };
+        let mut lp = SampledLoop::new(ArmPendulum::book(), ctrl, opts)
+            .and_then(|l| l.with_rig(rig.clone()))
+            .map_err(|e| fail(id, e))?;
+        let run = lp.run(&[0.0, 0.0, 0.0, 0.0]).map_err(|e| fail(id, e))?;
+        let th1 = column(run.trajectory.x(), 0);
+        let th2 = column(run.trajectory.x(), 1);
+        out.value(
+            &format!("theta1_final_deg_{case}"),
+            Value::Number(th1.last().copied().unwrap_or(f64::NAN).to_degrees()),
+        );
+        out.value(
+            &format!("theta2_range_deg_{case}"),
+            Value::vector(&[min_of(&th2).to_degrees(), max_of(&th2).to_degrees()]),
+        );
+        let label = format!(
+            "{case}: Q = diag({}, {}, {}, {}), R = {r}",
+            q[0], q[1], q[2], q[3]
+        );
+        runs.push((label, run.trajectory));
+    }
+    out.notes.push(format!(
+        "Nonlinear arm pendulum from θ1 = 0 (pendulum upright) under u = K(x − x_e), \
+         x_e = [π/4, 0, 0, 0], velocities by the pseudo-differentiator, 1 ms; {BOOK_CONVENTION}."
+    ));
+    if ctx.out_dir.is_some() {
+        let mut tr = TimeResponse::new().title("p1c523_ex8_adip_lqr: LQR at θ1e = π/4");
+        for (label, t) in &runs {
+            tr = tr.run(label.clone(), t);
+        }
+        let deg = 180.0 / PI;
+        let fig = tr
+            .panel(
+                SignalPanel::new(Channel::State(0), "arm θ1 [deg]")
+                    .scaled(deg)
+                    .reference(45.0, Some("θ1e = 45°")),
+            )
+            .panel(SignalPanel::new(Channel::State(1), "pendulum θ2 [deg]").scaled(deg))
+            .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs())
+            .figure()
+            .map_err(|e| fail(id, e))?;
+        save_figure(ctx, id, "response", &fig, &mut out)?;
+        save_animation(
+            ctx,
+            id,
+            "animation",
+            Rig::Arm,
+            &runs[0].1,
+            "p1c523_ex8_adip_lqr, case 1",
+            &mut out,
+        )?;
+    }
+    Ok(out)
 }
