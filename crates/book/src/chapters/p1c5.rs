@@ -17,7 +17,7 @@ use pendulab_plants::{
     ArmEquilibrium, ArmPendulum, ArmPendulumParams, Posture, RigSpec, TwoPendulumCart,
     TwoPendulumCartParams,
 };
-use pendulab_plot::{Axes, Channel, Color, Figure, PoleZeroMap, SignalPanel, TimeResponse};
+use pendulab_plot::{Axes, Channel, Color, Figure, PoleZeroMap, Scale, SignalPanel, TimeResponse};
 use pendulab_sim::controllers::StaticStateFeedback;
 use pendulab_sim::{SampledLoop, SampledOptions};
 use std::f64::consts::PI;
@@ -183,7 +183,21 @@ fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         ax.hline(0.0);
         ax.vline(90.0);
         ax.vline(-90.0);
-        let fig = Figure::new(ax).title("p1c511_ex3_adip: det M_c against θ1e");
+        let abs: Vec<f64> = dets.iter().map(|d| d.abs()).collect();
+        let abs0: Vec<f64> = dets0.iter().map(|d| d.abs().max(1e-30)).collect();
+        let mut lg = Axes::new();
+        lg.xlabel("arm angle θ1e [deg]")
+            .ylabel("|det M_c|")
+            .yscale(Scale::Log)
+            .ylim(1e-2, 1e9);
+        lg.plot(&deg, &abs)
+            .label("μ2 = 1.01e-4 (book)")
+            .color(Color::BLUE);
+        lg.plot(&deg, &abs0)
+            .label("μ2 = 0")
+            .color(Color::RED)
+            .dashed();
+        let fig = Figure::column([ax, lg]).title("p1c511_ex3_adip: det M_c against θ1e");
         save_figure(ctx, id, "det_mc", &fig, &mut out)?;
     }
     Ok(out)

@@ -206,7 +206,7 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
         .value("pendulum_swing_max_deg", Value::Number(swing * DEG));
     out.notes.push(format!(
         "PD with the derivative on the measurement through s/(0.02 s + 1) (the rig's \
-         pseudo-differentiator), Tustin at 1 ms; pulse train 0 → {} {unit} for 2 s of every \
+         pseudo-differentiator), Tustin at 1 ms; pulse train 0 → {:.1} {unit} for 2 s of every \
          4 s; pendulum hanging.",
         c.amplitude * scale
     ));
@@ -470,7 +470,7 @@ fn servo_sample(ctx: &RunContext, c: &ServoCase) -> Result<ExampleOutput, BookEr
         .reference("K2", Value::vector(&[-10.0]), "examples.md", 5e-6);
     }
     out.notes.push(format!(
-        "{BOOK_CONVENTION} Reference step {} {unit} from 0, +0.5 V input disturbance from 4 s; \
+        "{BOOK_CONVENTION} Reference step {:.1} {unit} from 0, +0.5 V input disturbance from 4 s; \
          error at 8 s {e_end:.2e} {unit}.",
         c.r * scale
     ));
