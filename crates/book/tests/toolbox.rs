@@ -193,8 +193,8 @@ fn figures_and_animations_are_written() {
     };
     for id in ["cdip_lqr_sim", "adip_lqr_sim"] {
         let out = (find(id).unwrap().run)(&ctx).unwrap();
-        // Response (SVG + PNG) and animation (GIF + SMIL SVG).
-        assert_eq!(out.figures.len(), 4, "{id}");
+        // Pole map and response (SVG + PNG each) and animation (GIF + SMIL SVG).
+        assert_eq!(out.figures.len(), 6, "{id}");
         for f in &out.figures {
             let len = std::fs::metadata(f).unwrap().len();
             assert!(len > 5000, "{}: {len} bytes", f.display());

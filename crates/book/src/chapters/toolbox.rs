@@ -12,9 +12,9 @@ use common::{
     save_animation, save_figure,
 };
 use pendulab_lti::design::{lq_servo, lqr};
-use pendulab_lti::{Continuous, Mat, StateSpace, Trajectory};
+use pendulab_lti::{Complex64, Continuous, Mat, StateSpace, Trajectory};
 use pendulab_plants::{ArmEquilibrium, ArmPendulum, CartEquilibrium, CartPendulum, RigSpec};
-use pendulab_plot::{Channel, SignalPanel, TimeResponse};
+use pendulab_plot::{Channel, PoleZeroMap, SignalPanel, TimeResponse};
 use pendulab_sim::controllers::{
     IntegrationRule, LqIntegralServo, Pid, PidDiscretization, PidForm, StaticStateFeedback,
 };
@@ -283,10 +283,12 @@ fn cdip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut out = ExampleOutput::default();
     let mut runs = Vec::new();
     let mut settle = Vec::new();
+    let mut poles = Vec::new();
     for q2 in CDIP_Q2 {
         let l = lqr(&lin, &diag(&[10.0, q2, 0.0, 0.0]), &diag(&[1.0]), None)
             .map_err(|e| fail(id, e))?;
         out.value(&format!("K_q{q2}"), Value::vector(&book_row(&l.gain)));
+        poles.push((format!("q2 = {q2}"), l.closed_loop_poles.clone()));
         let ctrl = StaticStateFeedback::new(l.gain).map_err(|e| fail(id, e))?;
         let traj = run_quantized(
             id,
@@ -310,7 +312,7 @@ fn cdip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         out.reference(&format!("K_q{q2}"), Value::vector(&k), "examples.md", 5e-6);
     }
     out.notes.push(BOOK_CONVENTION.into());
-    lqr_figures(ctx, id, "LQR, θ0 = 15°", &runs, Rig::Cart, &mut out)?;
+    lqr_figures(ctx, id, "LQR, θ0 = 15°", &runs, &poles, Rig::Cart, &mut out)?;
     Ok(out)
 }
 
@@ -319,12 +321,19 @@ fn lqr_figures(
     id: &str,
     what: &str,
     runs: &[(String, Trajectory)],
+    poles: &[(String, Vec<Complex64>)],
     rig: Rig,
     out: &mut ExampleOutput,
 ) -> Result<(), BookError> {
     if ctx.out_dir.is_none() {
         return Ok(());
     }
+    let mut map =
+        PoleZeroMap::new().title(format!("{id}: closed-loop poles (linear model, u = Kx)"));
+    for (label, p) in poles {
+        map = map.poles(label.clone(), p);
+    }
+    save_figure(ctx, id, "poles", &map.figure(), out)?;
     let mut tr = TimeResponse::new().title(format!("{id}: {what}"));
     for (label, t) in runs {
         tr = tr.run(label.clone(), t);
@@ -367,10 +376,12 @@ fn adip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut out = ExampleOutput::default();
     let mut runs = Vec::new();
     let mut dips = Vec::new();
+    let mut poles = Vec::new();
     for q1 in ADIP_Q1 {
         let l = lqr(&lin, &diag(&[q1, 10.0, 0.1, 0.1]), &diag(&[1.0]), None)
             .map_err(|e| fail(id, e))?;
         out.value(&format!("K_q{q1}"), Value::vector(&book_row(&l.gain)));
+        poles.push((format!("q1 = {q1}"), l.closed_loop_poles.clone()));
         let ctrl = StaticStateFeedback::new(l.gain).map_err(|e| fail(id, e))?;
         let traj = run_quantized(
             id,
@@ -396,7 +407,15 @@ fn adip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.notes.push(format!(
         "The pendulum first dips the opposite way while the arm returns from 30° to 0. {BOOK_CONVENTION}"
     ));
-    lqr_figures(ctx, id, "LQR, θ1(0) = 30°", &runs, Rig::Arm, &mut out)?;
+    lqr_figures(
+        ctx,
+        id,
+        "LQR, θ1(0) = 30°",
+        &runs,
+        &poles,
+        Rig::Arm,
+        &mut out,
+    )?;
     Ok(out)
 }
 
