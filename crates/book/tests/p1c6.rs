@@ -151,9 +151,13 @@ fn figures_are_written() {
         out_dir: Some(dir.clone()),
         data_csv: None,
     };
-    for id in ["p1c62_ex3_cart_p_step_dis", "p1c63_ex5_cdip_lqr_servo"] {
+    // Response (SVG + PNG); the servo also animates the rig (GIF + SMIL SVG).
+    for (id, n) in [
+        ("p1c62_ex3_cart_p_step_dis", 2),
+        ("p1c63_ex5_cdip_lqr_servo", 4),
+    ] {
         let out = (find(id).unwrap().run)(&ctx).unwrap();
-        assert_eq!(out.figures.len(), 2, "{id}");
+        assert_eq!(out.figures.len(), n, "{id}");
         for f in &out.figures {
             let len = std::fs::metadata(f).unwrap().len();
             assert!(len > 2000, "{}: {len} bytes", f.display());

@@ -5,7 +5,8 @@
 //! reported in the book's convention `u = +K x`.
 
 use super::toolbox::common::{
-    book_row, column, complex, diag, fail, filtered_rig, max_abs_after, min_of, save_figure, sorted,
+    Rig, book_row, column, complex, diag, fail, filtered_rig, max_abs_after, min_of,
+    save_animation, save_figure, sorted,
 };
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
@@ -486,6 +487,15 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .figure()
             .map_err(|e| fail(id, e))?;
         save_figure(ctx, id, "response", &fig, &mut out)?;
+        save_animation(
+            ctx,
+            id,
+            "animation",
+            Rig::Cart,
+            &run.trajectory,
+            "p1c63_ex5: LQ integral servo",
+            &mut out,
+        )?;
     }
     Ok(out)
 }
