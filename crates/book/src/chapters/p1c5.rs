@@ -298,8 +298,9 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         1e-9,
     );
     out.notes.push(format!(
-        "Desired poles {{−1, −2}} (examples.md gives none; the book's method is shown). \
-         {BOOK_CONVENTION}."
+        "The book solves det(λI − A − BK) = (λ − s1)(λ − s2) symbolically: k1 = s1 s2 − 1, \
+         k2 = s1 + s2 − s1 s2 − 1. Shown for s1 = −1, s2 = −2 (examples.md gives no poles), \
+         through the controllable canonical form. {BOOK_CONVENTION}."
     ));
     Ok(out)
 }
