@@ -4,7 +4,7 @@
 //! library: `u = −K x`, `A − L C`).
 
 use super::toolbox::common::{
-    Rig, column, complex, fail, max_abs_after, save_animation, save_figure, sorted,
+    Rig, column, complex, fail, max_abs_after, quantized_rig, save_animation, save_figure, sorted,
 };
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
@@ -15,6 +15,7 @@ use pendulab_lti::design::{StateFeedback, place, place_observer};
 use pendulab_lti::{Complex64, Continuous, Discretization, Mat, StateSpace, Trajectory};
 use pendulab_plants::{CartEquilibrium, CartPendulum, RigSpec};
 use pendulab_plot::{Channel, PoleZeroMap, SignalPanel, TimeResponse};
+use pendulab_sim::controllers::StaticStateFeedback;
 use pendulab_sim::{Actuator, SampledLoop, SampledOptions, SensorChain};
 use std::f64::consts::PI;
 
@@ -177,14 +178,32 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          its Tustin discretisation at 1 ms on the quantised rig (encoders z, θ; ±5 V, 16-bit D/A)."
             .into(),
     );
-    ob_figure(
-        ctx,
-        id,
-        "p1c74_ex1: observer-based controller, θ0 = 10°",
-        &[("observer-based output feedback", &traj)],
-        &mut out,
-    )?;
     if ctx.out_dir.is_some() {
+        // For comparison: the same K as state feedback with the rig's pseudo-differentiated
+        // velocities (preset "with quantizer").
+        let sf = StaticStateFeedback::from_state_feedback(&fb).map_err(|e| fail(id, e))?;
+        let opts = SampledOptions {
+            t_final: 3.0,
+            ..Default::default()
+        };
+        let rig = quantized_rig(id, &RigSpec::cart())?;
+        let sf_run = SampledLoop::new(CartPendulum::book(), sf, opts)
+            .and_then(|l| l.with_rig(rig))
+            .and_then(|mut l| l.run(&[0.0, 10f64.to_radians(), 0.0, 0.0]))
+            .map_err(|e| fail(id, e))?;
+        ob_figure(
+            ctx,
+            id,
+            "p1c74_ex1: observer-based controller, θ0 = 10°",
+            &[
+                ("observer-based output feedback", &traj),
+                (
+                    "state feedback, pseudo-differentiated velocities",
+                    &sf_run.trajectory,
+                ),
+            ],
+            &mut out,
+        )?;
         let cl = sorted(
             pendulab_lti::linalg::eigenvalues(&(lin.a() - lin.b() * fb.gain()))
                 .map_err(|e| fail(id, e))?,
