@@ -10,7 +10,7 @@ matrix exponential and discrete Riccati solver.
   P(s) = b_c/(s² + a_c s): Tustin integral I_k = I_{k−1} + k_I ts (e_k + e_{k−1})/2, pure
   derivative k_D s by Tustin, D_k = −D_{k−1} + (2 k_D/ts)(s_k − s_{k−1}) with s_k = −z_k (first
   sample s_{−1} = s_0, D_{−1} = 0), u_k = −k_P z_k + I_k + D_k; overshoot of the samples
-  z_k over r = 0.1 m for 1 s (samples k = 0..40).
+  z_k over r = 0.1 m for 1 s (samples k = 0..40), and the spectral radius of the discrete loop.
 
 Run: python3 tools/reference/book_p2c2.py   (prints the numbers the test asserts)
 Tool versions used for the committed numbers: Python 3.11, NumPy 2.x, SciPy 1.17.1.
@@ -103,7 +103,20 @@ def ipd_discrete():
         u = -kp * z + integ + d
         x = Ad @ x + Bd * u
     zs = np.array(zs)
-    return (zs.max() - r) / r * 100, (ki, kp, kd)
+    # Homogeneous closed loop on ξ_k = [x_k, I_{k−1}, z_{k−1}, D_{k−1}]:
+    # I_k = I_{k−1} − (k_I ts/2)(z_k + z_{k−1}), D_k = −D_{k−1} − (2k_D/ts)(z_k − z_{k−1}),
+    # u_k = −k_P z_k + I_k + D_k, x_{k+1} = A_d x_k + B_d u_k.
+    c = np.array([1.0, 0.0])
+    rows_i = np.concatenate([-ki * ts / 2 * c, [1.0, -ki * ts / 2, 0.0]])
+    rows_d = np.concatenate([-2 * kd / ts * c, [0.0, 2 * kd / ts, -1.0]])
+    rows_u = -kp * np.concatenate([c, [0, 0, 0]]) + rows_i + rows_d
+    M = np.zeros((5, 5))
+    M[:2, :] = np.hstack([Ad, np.zeros((2, 3))]) + Bd @ rows_u[None, :]
+    M[2, :] = rows_i
+    M[3, :] = np.concatenate([c, [0, 0, 0]])
+    M[4, :] = rows_d
+    rho = np.abs(np.linalg.eigvals(M)).max()
+    return (zs.max() - r) / r * 100, (ki, kp, kd), rho
 
 
 if __name__ == "__main__":
@@ -111,6 +124,7 @@ if __name__ == "__main__":
     print("scipy", scipy.__version__, "numpy", np.__version__)
     print("Kd (library sign u = -Kd x):", repr(Kd.ravel().tolist()))
     print("Rd:", repr(float(Rd[0, 0])))
-    os_d, gains = ipd_discrete()
+    os_d, gains, rho = ipd_discrete()
     print("I-PD gains [kI, kP, kD]:", gains)
     print("overshoot_discrete % (samples):", repr(float(os_d)))
+    print("spectral radius of the discrete loop:", repr(float(rho)))

@@ -69,6 +69,10 @@ fn p2c242_ipd_gains_and_overshoots() {
     // ~1e-6 relative.
     let os = number(&out, "overshoot_discrete");
     assert!((os - 30.94677414909583).abs() < 1e-3, "{os}");
+    // That loop is unstable: SciPy's eigenvalues of the same closed loop give a spectral
+    // radius 1.220970845594806 (two eigenvalue routines on a 5 × 5 matrix: 1e-9).
+    let rho = number(&out, "discrete_spectral_radius");
+    assert!((rho - 1.220970845594806).abs() < 1e-9, "{rho}");
 }
 
 #[test]
