@@ -46,7 +46,10 @@ fn p2c323_swing_up_reaches_and_holds_the_upright() {
     assert_eq!(ts, number(&out, "switch_time_delta5"));
     assert!(ts > 1.0 && ts < 12.0, "{ts}");
     // Upright and held at 16 s (θ wrapped), cart inside the ±0.5 m track throughout.
-    for name in ["final_state", "final_state_delta5"] {
+    // On the quantised rig preset too (issue 7), switching at a time of the same order.
+    let tq = number(&out, "switch_time_quantised");
+    assert!(tq > 1.0 && tq < 12.0, "{tq}");
+    for name in ["final_state", "final_state_delta5", "final_state_quantised"] {
         let f = vector(&out, name);
         assert!(f[1].abs() < 1f64.to_radians(), "{name}: {f:?}");
         assert!(f[0].abs() < 0.5, "{name}: {f:?}");

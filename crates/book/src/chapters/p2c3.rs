@@ -68,7 +68,7 @@ fn surface(
     Ok((s, lin))
 }
 
-fn swing_up_run(id: &str, delta: f64) -> Result<SampledRun, BookError> {
+fn swing_up_run(id: &str, delta: f64, quantised: bool) -> Result<SampledRun, BookError> {
     let plant = CartPendulum::book();
     let (s, lin) = surface(id, &plant)?;
     let smc = SlidingModeController::from_surface(&s, lin.a(), lin.b(), 30.0, delta)
@@ -88,7 +88,11 @@ fn swing_up_run(id: &str, delta: f64) -> Result<SampledRun, BookError> {
         },
     )
     .map_err(|e| err(id, e))?
-    .with_rig(RigChains::plain(4))
+    .with_rig(if quantised {
+        quantized(id, &RigSpec::cart())?
+    } else {
+        RigChains::plain(4)
+    })
     .map_err(|e| err(id, e))?;
     l.run(&[0.1, PI + 0.001, 0.0, 0.0]).map_err(|e| err(id, e))
 }
@@ -97,8 +101,9 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c323_ex1_cdip_swing_up";
     let plant = CartPendulum::book();
     let (s, _) = surface(id, &plant)?;
-    let run0 = swing_up_run(id, 0.0)?;
-    let run5 = swing_up_run(id, 5.0)?;
+    let run0 = swing_up_run(id, 0.0, false)?;
+    let run5 = swing_up_run(id, 5.0, false)?;
+    let runq = swing_up_run(id, 5.0, true)?;
     let switch = |r: &SampledRun| -> Result<f64, BookError> {
         r.diagnostics.switch_times.first().copied().ok_or_else(|| {
             err(
@@ -107,14 +112,17 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             )
         })
     };
-    let (ts0, ts5) = (switch(&run0)?, switch(&run5)?);
+    let (ts0, ts5, tsq) = (switch(&run0)?, switch(&run5)?, switch(&runq)?);
+    let mut finq = runq.diagnostics.final_state.clone();
+    finq[1] = wrap_angle(finq[1]);
     let mut fin = run0.diagnostics.final_state.clone();
     fin[1] = wrap_angle(fin[1]);
     let mut fin5 = run5.diagnostics.final_state.clone();
     fin5[1] = wrap_angle(fin5[1]);
-    let zmax = max_abs_after(run0.trajectory.t(), run0.trajectory.x_signal(0), 0.0).max(
-        max_abs_after(run5.trajectory.t(), run5.trajectory.x_signal(0), 0.0),
-    );
+    let zmax = [&run0, &run5, &runq]
+        .iter()
+        .map(|r| max_abs_after(r.trajectory.t(), r.trajectory.x_signal(0), 0.0))
+        .fold(0.0, f64::max);
     let mut out = ExampleOutput::default();
     out.value("S", Value::Vector(s.s.clone()))
         .value("sliding_poles", Value::Complex(s.sliding_poles.clone()))
@@ -122,9 +130,11 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .value("final_state", Value::Vector(fin))
         .value("switch_time_delta5", Value::Number(ts5))
         .value("final_state_delta5", Value::Vector(fin5))
+        .value("switch_time_quantised", Value::Number(tsq))
+        .value("final_state_quantised", Value::Vector(finq))
         .value("max_abs_z", Value::Number(zmax));
     out.notes.push(
-        "final_state is [z, θ wrapped to (−π, π], ż, θ̇] at 16 s for δ = 0 (sign switching); the *_delta5 values for the boundary layer δ = 5. Plain plant, full state, 1 ms."
+        "final_state is [z, θ wrapped to (−π, π], ż, θ̇] at 16 s for δ = 0 (sign switching); the *_delta5 values for the boundary layer δ = 5 (plain plant, full state, 1 ms); *_quantised: δ = 5 on the rig preset with quantizer (encoders, pseudo-differentiated velocities, ±5 V, 16-bit D/A)."
             .into(),
     );
     out.notes.push(
@@ -136,6 +146,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .title("p2c323_ex1: swing-up and sliding-mode balancing")
             .run("δ = 0", &run0.trajectory)
             .run("δ = 5", &run5.trajectory)
+            .run("δ = 5, quantised rig", &runq.trajectory)
             .panel(SignalPanel::new(Channel::State(0), "z [m]"))
             .panel(SignalPanel::new(Channel::State(1), "θ [deg]").scaled(DEG))
             .panel(SignalPanel::new(Channel::Input(0), "u [V]"))
