@@ -186,6 +186,7 @@ fn check_vertices(out: &ExampleOutput, gain: &str) -> Vec<f64> {
 #[test]
 fn p2c13_nominal_lq_is_unstable_at_one_vertex_and_the_robust_design_is_not() {
     let lq = run("p2c13_ex5_adip_lqr_servo");
+    all_reproduced(&lq);
     let k = vector(&lq, "K");
     for (x, y) in k.iter().zip(k_lq_book()) {
         assert!((x - y).abs() < 1e-9 * y.abs().max(1.0));

@@ -524,6 +524,12 @@ fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let lq = riccati_servo_gain(id, &at, &bt)?;
     let mut out = ExampleOutput::default();
     p2c13_report(ctx, id, "K", &lq.gain, false, &mut out)?;
+    out.reference(
+        "stable_at_all_vertices",
+        Value::Bool(false),
+        "examples.md (unstable at a1 = 8.99, b1 = 8.69)",
+        0.0,
+    );
     out.notes
         .push("The nominal Riccati LQ servo is unstable at vertex (a1, b1) = (8.99, 8.69).".into());
     Ok(out)
@@ -798,7 +804,8 @@ impl Controller for ScheduledServo {
         let xm = self.x[0] + self.x[1] * rho + self.x[2] * (rho * rho);
         let lm = self.l[0] + self.l[1] * rho + self.l[2] * (rho * rho);
         let z = nalgebra::SVector::<f64, 5>::new(y[0], y[1], y[2], y[3], self.w);
-        // u = −K z = L X⁻¹ z.
+        // u = −K z = L X⁻¹ z. X(ρ) ≻ 0 is certified on the design range; outside it (ρ up to
+        // 2) a non-positive-definite X(ρ) gives no gain, and the command is 0.
         u[0] = match xm.cholesky() {
             Some(ch) => (lm * ch.solve(&z))[(0, 0)],
             None => 0.0,
