@@ -206,15 +206,15 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let zc: Vec<f64> = cont.y_signal(0).iter().map(|v| v * r).collect();
     let uc: Vec<f64> = cont.y_signal(1).iter().map(|v| v * r).collect();
     // Discrete: the PID family's I–PD at 25 ms by Tustin, integral and derivative. The book's
-    // derivative is unfiltered; the PID type needs T_f > 0, and T_f = 1 ns is that limit to
-    // ~1e-7 relative (the Tustin derivative's pole (2T_f − ts)/(2T_f + ts) → −1).
+    // derivative is unfiltered; the PID type needs T_f > 0, and T_f = 1 ps is that limit to
+    // ~1e-10 relative (the Tustin derivative's pole (2T_f − ts)/(2T_f + ts) → −1).
     let tsd = 0.025;
     let pid = Pid::new(
         PidForm::IPD {
             kp,
             ki,
             kd,
-            tf: 1e-9,
+            tf: 1e-12,
         },
         tsd,
         PidDiscretization::Tustin,
