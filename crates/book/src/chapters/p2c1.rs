@@ -599,7 +599,8 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .ok_or_else(|| err(id, format!("LMI not solved: {:?}", d.status)))?;
     // Simulation on the nonlinear plant, exact state measurement (the design's assumption),
     // ideal amplifier, 1 ms, 10 s.
-    let sim = |k: &Mat| -> Result<SampledRun, BookError> {
+    // Also on the rig preset with quantizer (encoders, pseudo-differentiated velocities).
+    let sim_on = |k: &Mat, rig: bool| -> Result<SampledRun, BookError> {
         let c = StaticStateFeedback::new(k.clone()).map_err(|e| err(id, e))?;
         let mut l = SampledLoop::new(
             plant,
@@ -610,8 +611,14 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             },
         )
         .map_err(|e| err(id, e))?;
+        if rig {
+            l = l
+                .with_rig(quantized(id, &RigSpec::arm())?)
+                .map_err(|e| err(id, e))?;
+        }
         l.run(&x0).map_err(|e| err(id, e))
     };
+    let sim = |k: &Mat| sim_on(k, false);
     let run = sim(&fb.gain)?;
     let max_u = max_abs_after(run.trajectory.t(), run.trajectory.u_signal(0), 0.0);
     let lin_sys = pendulab_lti::StateSpace::continuous(
@@ -624,21 +631,26 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let k_lq = lqr(&lin_sys, &q, &r, None).map_err(|e| err(id, e))?.gain;
     let lq_run = sim(&k_lq)?;
     let max_u_lq = max_abs_after(lq_run.trajectory.t(), lq_run.trajectory.u_signal(0), 0.0);
+    let rig_run = sim_on(&fb.gain, true)?;
+    let max_u_rig = max_abs_after(rig_run.trajectory.t(), rig_run.trajectory.u_signal(0), 0.0);
     let mut out = ExampleOutput::default();
     out.value("K", Value::Vector(book_row(&fb.gain)))
         .value("max_abs_u", Value::Number(max_u))
+        .value("max_abs_u_quantised_rig", Value::Number(max_u_rig))
         .value("K_lq", Value::Vector(book_row(&k_lq)))
         .value("max_abs_u_lq", Value::Number(max_u_lq));
     out.notes.push(GAIN_NOTE.into());
     out.notes.push(
         "Ellipsoid conditions [[X, Vᵀ], [V, σ²]] ⪰ 0 and [[X, x0], [x0ᵀ, 1]] ⪰ 0 with σ = 0.1 V: \
-         the input stays within 0.1 V along the nonlinear run from θ1 = 10° (1 ms, exact state)."
+         the input stays within 0.1 V along the nonlinear run from θ1 = 10° (1 ms, exact state), and on the \
+         rig preset with quantizer as well (max_abs_u_quantised_rig)."
             .into(),
     );
     if ctx.out_dir.is_some() {
         let fig = TimeResponse::new()
             .title("p2c14_ex6: saturation-aware LMI design vs LQR, θ1(0) = 10°")
             .run("LMI, |u| ≤ 0.1 V", &run.trajectory)
+            .run("LMI on the quantised rig", &rig_run.trajectory)
             .run("LQR (same Q, R)", &lq_run.trajectory)
             .panel(SignalPanel::new(Channel::State(0), "θ1 [deg]").scaled(DEG))
             .panel(SignalPanel::new(Channel::State(1), "θ2 [deg]").scaled(DEG))
