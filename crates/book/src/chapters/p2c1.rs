@@ -861,6 +861,12 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             ),
         )
     })?;
+    let k_opt_bar = design
+        .optimum
+        .as_ref()
+        .map(|o| o.gain(rho_bar))
+        .transpose()
+        .map_err(|e| err(id, e))?;
     let k0 = sched.gain(0.0).map_err(|e| err(id, e))?;
     let kbar = sched.gain(rho_bar).map_err(|e| err(id, e))?;
     let run = run_arm(
@@ -896,6 +902,9 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             "final_state",
             Value::Vector(run.diagnostics.final_state.clone()),
         );
+    if let Some(k) = &k_opt_bar {
+        out.value("K_at_rho_max_at_optimum", Value::Vector(book_row(k)));
+    }
     // examples.md: the optimum solved with a 256-bit SDP solver is γ* ≈ 222; printed to three
     // digits, and double-precision optima of this degenerate SDP spread by ±0.1 %: tolerance
     // 0.5 % (1.1).

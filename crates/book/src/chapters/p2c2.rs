@@ -327,6 +327,30 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let run_kd = sim(&sd.lqr.gain, ts)?;
     let run_held = sim(&k, ts)?;
     let run_cont = sim(&k, 1e-3)?;
+    // The continuous cost of a held input, Σ [x_k; u_k]ᵀ W_d [x_k; u_k] (exact on the linear
+    // model), measured along the nonlinear runs at 0.1 s.
+    let mut wd = Mat::zeros(5, 5);
+    wd.view_mut((0, 0), (4, 4)).copy_from(&sd.cost.q);
+    wd.view_mut((0, 4), (4, 1)).copy_from(&sd.cost.n);
+    wd.view_mut((4, 0), (1, 4))
+        .copy_from(&sd.cost.n.transpose());
+    wd.view_mut((4, 4), (1, 1)).copy_from(&sd.cost.r);
+    let cost = |run: &SampledRun| -> f64 {
+        let tr = &run.trajectory;
+        (0..tr.len())
+            .map(|i| {
+                let w = nalgebra::DVector::from_fn(5, |a, _| {
+                    if a < 4 {
+                        tr.x_signal(a)[i]
+                    } else {
+                        tr.u_signal(0)[i]
+                    }
+                });
+                (w.transpose() * &wd * &w)[(0, 0)]
+            })
+            .sum()
+    };
+    let (cost_kd, cost_held) = (cost(&run_kd), cost(&run_held));
     let mut out = ExampleOutput::default();
     out.value("Kd", Value::Vector(book_row(&sd.lqr.gain)))
         .value("Rd", Value::Number(sd.cost.r[(0, 0)]))
@@ -335,9 +359,15 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             "Sd",
             Value::Vector(sd.cost.n.column(0).iter().copied().collect()),
         )
-        .value("K", Value::Vector(book_row(&k)));
+        .value("K", Value::Vector(book_row(&k)))
+        .value("cost_Kd", Value::Number(cost_kd))
+        .value("cost_K_held", Value::Number(cost_held));
     out.notes
         .push("Gains in the book's convention u = +K x.".into());
+    out.notes.push(
+        "cost_* = ∫(xᵀQx + uᵀRu)dt over the 4 s nonlinear runs at 0.1 s, as Σ [x_k; u_k]ᵀ W_d [x_k; u_k]: K_d does better than the held continuous gain."
+            .into(),
+    );
     out.notes.push(
         "Van Loan: Q_d, S_d, R_d make Σ [x_k; u_k]ᵀ[[Q_d, S_d], [S_dᵀ, R_d]][x_k; u_k] equal ∫(xᵀQx + uᵀRu)dt for held inputs; K_d = dlqr(A_d, B_d, Q_d, R_d, S_d)."
             .into(),
