@@ -1,8 +1,391 @@
-//! Examples of this chapter.
+//! Part 2 ch. 2 — digital control: the optimal dynamic quantizer, the I–PD controller at a
+//! slow sample rate, and the sampled-data LQR.
 
-use crate::registry::Example;
+use super::p2c1::support::{book_row, cart_animation, diag, err, save, save_animation};
+use crate::error::BookError;
+use crate::output::{ExampleOutput, Value};
+use crate::registry::{Example, RunContext};
+use pendulab_control::quantizer::{
+    InputQuantizer, OdqLpOptions, QuantizedController, Realization, feedback_error_system, odq_lp,
+};
+use pendulab_lti::design::{StateFeedback, lqr, lqr_sampled_data};
+use pendulab_lti::{Discretization, Mat, StateSpace};
+use pendulab_plants::{CartEquilibrium, CartPendulum, Drive};
+use pendulab_plot::{Axes, Channel, Color, Figure, SignalPanel, TimeResponse, palette};
+use pendulab_sim::controllers::{Pid, PidDiscretization, PidForm, StaticStateFeedback};
+use pendulab_sim::{Integrator, SampledLoop, SampledOptions, SampledRun, Signal};
+use std::f64::consts::PI;
+
+const DEG: f64 = 180.0 / PI;
+const CART: &str = "cart pendulum, book table 3.5 (SPEC.md §1.1)";
 
 /// The chapter's examples, in book order.
 pub(crate) fn examples() -> Vec<Example> {
-    Vec::new()
+    vec![
+        Example {
+            id: "p2c234_ex1_cdip_odq",
+            title: "Quantised input (d = 2 V): optimal dynamic quantizer vs static vs none",
+            section: "Part 2 §2.3.4",
+            parameters: CART,
+            needs_data: None,
+            run: p2c234_ex1,
+        },
+        Example {
+            id: "p2c242_ex2_cart_ipd",
+            title: "I–PD cart position control: continuous vs discrete at 25 ms",
+            section: "Part 2 §2.4.2",
+            parameters: "cart drive P(s) = b_c/(s² + a_c s), a_c = 6.25, b_c = 4.36",
+            needs_data: None,
+            run: p2c242_ex2,
+        },
+        Example {
+            id: "p2c244_ex3_cdip_sampled_data_lqr_sim",
+            title: "Sampled-data LQR at 0.1 s vs the continuous LQR gain held at 0.1 s",
+            section: "Part 2 §2.4.4",
+            parameters: CART,
+            needs_data: None,
+            run: p2c244_ex3,
+        },
+    ]
+}
+
+fn options(ts: f64, t_final: f64) -> SampledOptions {
+    SampledOptions {
+        ts,
+        t_final,
+        integrator: Integrator::Rk4 { dt: 1e-3 },
+        ..Default::default()
+    }
+}
+
+fn cart_lin(id: &str) -> Result<StateSpace<pendulab_lti::Continuous>, BookError> {
+    CartPendulum::book()
+        .linearize(CartEquilibrium::upright())
+        .map_err(|e| err(id, e))
+}
+
+/// LQR Q = diag(10, 10, 0, 0), R = 1 on the upright cart model (library sign).
+fn cart_lqr(id: &str) -> Result<Mat, BookError> {
+    let lin = cart_lin(id)?;
+    Ok(
+        lqr(&lin, &diag(&[10.0, 10.0, 0.0, 0.0]), &diag(&[1.0]), None)
+            .map_err(|e| err(id, e))?
+            .gain,
+    )
+}
+
+fn state_panels<'a>(tr: TimeResponse<'a>) -> TimeResponse<'a> {
+    tr.panel(SignalPanel::new(Channel::State(0), "z [m]"))
+        .panel(SignalPanel::new(Channel::State(1), "θ [deg]").scaled(DEG))
+}
+
+fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p2c234_ex1_cdip_odq";
+    let lin = cart_lin(id)?;
+    let k = cart_lqr(id)?;
+    let ts = 0.01;
+    let d = 2.0;
+    let dsys = lin.c2d(ts, Discretization::Zoh).map_err(|e| err(id, e))?;
+    let cy = Mat::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+    let fb = StateFeedback::new(k.clone()).map_err(|e| err(id, e))?;
+    let errsys = feedback_error_system(&dsys, &fb, &cy).map_err(|e| err(id, e))?;
+    // The book's design: horizon T = 300, filter gain bound γ_wv = 3.35, order-2 realisation.
+    let design = odq_lp(
+        &errsys,
+        d,
+        &OdqLpOptions {
+            horizon: 300,
+            max_filter_gain: Some(3.35),
+            realization: Realization::Reduced { order: 2 },
+            ..Default::default()
+        },
+    )
+    .map_err(|e| err(id, e))?;
+    let run = |q: InputQuantizer| -> Result<SampledRun, BookError> {
+        let c = QuantizedController::new(
+            StaticStateFeedback::new(k.clone()).map_err(|e| err(id, e))?,
+            q,
+        )
+        .map_err(|e| err(id, e))?;
+        let mut l =
+            SampledLoop::new(CartPendulum::book(), c, options(ts, 5.0)).map_err(|e| err(id, e))?;
+        l.run(&[0.0, 10f64.to_radians(), 0.0, 0.0])
+            .map_err(|e| err(id, e))
+    };
+    let ideal = run(InputQuantizer::Ideal)?;
+    let stat = run(InputQuantizer::Static { step: d })?;
+    let odq = run(InputQuantizer::from(design.quantizer.clone()))?;
+    // max over samples of |y − y*| for y = [z, θ] against the unquantised run.
+    let deviation = |r: &SampledRun| -> Vec<f64> {
+        (0..2)
+            .map(|j| {
+                r.trajectory
+                    .x_signal(j)
+                    .iter()
+                    .zip(ideal.trajectory.x_signal(j))
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max)
+            })
+            .collect()
+    };
+    let (dev_s, dev_q) = (deviation(&stat), deviation(&odq));
+    let mut out = ExampleOutput::default();
+    out.value("K", Value::Vector(book_row(&k)))
+        .value(
+            "quantizer_order",
+            Value::Number(design.quantizer.order() as f64),
+        )
+        .value("worst_case_bound_odq", Value::Number(design.cost.bound))
+        .value(
+            "worst_case_bound_static",
+            Value::Number(design.static_cost.bound),
+        )
+        .value("deviation_static", Value::Vector(dev_s.clone()))
+        .value("deviation_odq", Value::Vector(dev_q.clone()));
+    // examples.md prints K to 6 significant digits (5 decimals): half a unit of the last.
+    out.reference(
+        "K",
+        Value::Vector(vec![3.16228, 13.47175, 4.48137, 2.26289]),
+        "examples.md",
+        5e-6,
+    );
+    out.notes
+        .push("Gains in the book's convention u = +K x.".into());
+    out.notes.push(format!(
+        "deviation_* = max |y − y*| over the run for y = [z, θ] (m, rad) against the unquantised loop: \
+         the ODQ's is {:.0}× (z) and {:.0}× (θ) smaller than static rounding's.",
+        dev_s[0] / dev_q[0],
+        dev_s[1] / dev_q[1]
+    ));
+    if ctx.out_dir.is_some() {
+        let fig = state_panels(
+            TimeResponse::new()
+                .title("p2c234_ex1: input quantisation d = 2 V, θ(0) = 10°")
+                .run("no quantizer", &ideal.trajectory)
+                .run("static quantizer", &stat.trajectory)
+                .run("optimal dynamic quantizer", &odq.trajectory),
+        )
+        .panel(SignalPanel::new(Channel::Input(0), "v [V]").stairs())
+        .figure();
+        save(ctx, &mut out, id, "response", fig)?;
+        save_animation(ctx, &mut out, id, "animation", || {
+            cart_animation(&odq.trajectory)
+        })?;
+    }
+    Ok(out)
+}
+
+/// Percent overshoot of `y` over the final value `r`.
+fn overshoot(y: &[f64], r: f64) -> f64 {
+    let m = y.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    ((m - r) / r * 100.0).max(0.0)
+}
+
+fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p2c242_ex2_cart_ipd";
+    let p = pendulab_plants::CartPendulumParams::book();
+    let (a, b) = (p.a_c, p.b_c);
+    // I–PD u = (k_I/s)(r − z) − k_P z − k_D ż on b/(s(s + a)): the closed loop is
+    // s³ + (a + b k_D)s² + b k_P s + b k_I; binomial (s + ω_n)³ gives the gains.
+    let wn: f64 = 25.0;
+    let (ki, kp, kd) = (wn.powi(3) / b, 3.0 * wn * wn / b, (3.0 * wn - a) / b);
+    let r = 0.1;
+    // Continuous loop, states [z, ż, w = ∫(r − z)], outputs [z, u], exact (ZOH-sampled
+    // constant reference) at 1 ms.
+    let acl = Mat::from_row_slice(
+        3,
+        3,
+        &[0.0, 1.0, 0.0, -b * kp, -a - b * kd, b * ki, -1.0, 0.0, 0.0],
+    );
+    let bcl = Mat::from_column_slice(3, 1, &[0.0, 0.0, 1.0]);
+    let ccl = Mat::from_row_slice(2, 3, &[1.0, 0.0, 0.0, -kp, -kd, ki]);
+    let cl = StateSpace::continuous(acl, bcl, ccl, Mat::zeros(2, 1)).map_err(|e| err(id, e))?;
+    let t: Vec<f64> = (0..=1000).map(|k| k as f64 * 1e-3).collect();
+    let step = pendulab_lti::response::step(&cl, &t).map_err(|e| err(id, e))?;
+    let cont = step.first().ok_or_else(|| err(id, "empty step response"))?;
+    let zc: Vec<f64> = cont.y_signal(0).iter().map(|v| v * r).collect();
+    let uc: Vec<f64> = cont.y_signal(1).iter().map(|v| v * r).collect();
+    // Discrete: the PID family's I–PD at 25 ms by Tustin, integral and derivative. The book's
+    // derivative is unfiltered; the PID type needs T_f > 0, and T_f = 1 ps is that limit to
+    // ~1e-10 relative (the Tustin derivative's pole (2T_f − ts)/(2T_f + ts) → −1).
+    let tsd = 0.025;
+    let pid = Pid::new(
+        PidForm::IPD {
+            kp,
+            ki,
+            kd,
+            tf: 1e-12,
+        },
+        tsd,
+        PidDiscretization::Tustin,
+    )
+    .map_err(|e| err(id, e))?
+    .reference(Signal::step(0.0, r).map_err(|e| err(id, e))?)
+    .measurement(0, 2)
+    .map_err(|e| err(id, e))?;
+    let drive = Drive::new(a, b).map_err(|e| err(id, e))?;
+    let mut l = SampledLoop::new(drive, pid, options(tsd, 1.0)).map_err(|e| err(id, e))?;
+    let dr = l.run(&[0.0, 0.0]).map_err(|e| err(id, e))?;
+    // The discrete loop's poles: ZOH drive and the controller's difference equations on
+    // ξ_k = [z_k, ż_k, I_{k−1}, z_{k−1}, D_{k−1}] (r = 0):
+    // I_k = I_{k−1} − (k_I ts/2)(z_k + z_{k−1}), D_k = −D_{k−1} − (2k_D/ts)(z_k − z_{k−1}),
+    // u_k = −k_P z_k + I_k + D_k.
+    let dd = drive
+        .state_space()
+        .map_err(|e| err(id, e))?
+        .c2d(tsd, Discretization::Zoh)
+        .map_err(|e| err(id, e))?;
+    let row_i = [-ki * tsd / 2.0, 0.0, 1.0, -ki * tsd / 2.0, 0.0];
+    let row_d = [-2.0 * kd / tsd, 0.0, 0.0, 2.0 * kd / tsd, -1.0];
+    let row_u: Vec<f64> = (0..5)
+        .map(|j| row_i[j] + row_d[j] - if j == 0 { kp } else { 0.0 })
+        .collect();
+    let mut m = Mat::zeros(5, 5);
+    for i in 0..2 {
+        for j in 0..5 {
+            let a = if j < 2 { dd.a()[(i, j)] } else { 0.0 };
+            m[(i, j)] = a + dd.b()[(i, 0)] * row_u[j];
+        }
+    }
+    for j in 0..5 {
+        m[(2, j)] = row_i[j];
+        m[(4, j)] = row_d[j];
+    }
+    m[(3, 0)] = 1.0;
+    let radius = pendulab_lti::linalg::eigenvalues(&m)
+        .map_err(|e| err(id, e))?
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max);
+    let os_c = overshoot(&zc, r);
+    let os_d = overshoot(dr.trajectory.x_signal(0), r);
+    let mut out = ExampleOutput::default();
+    out.value("gains", Value::Vector(vec![ki, kp, kd]))
+        .value("overshoot_continuous", Value::Number(os_c))
+        .value("overshoot_discrete", Value::Number(os_d))
+        .value("discrete_spectral_radius", Value::Number(radius));
+    // Printed to 5 significant digits: half a unit of the last digit each.
+    out.reference(
+        "gains",
+        Value::Vector(vec![3583.7, 430.05, 15.768]),
+        "examples.md",
+        0.05,
+    );
+    out.notes.push(
+        "gains = [k_I, k_P, k_D] (the order examples.md prints them). Overshoot in % of r = 0.1 m; the discrete one at the 25 ms samples."
+            .into(),
+    );
+    out.notes.push(format!(
+        "Discrete I–PD: integral and (unfiltered) derivative by Tustin at 25 ms. The continuous loop (binomial poles, no zeros) \
+         does not overshoot; sampled at 25 ms (ω_n ts = 0.625) the loop is unstable (spectral radius {radius:.3}): the Tustin \
+         derivative's pole at z = −1 feeds an oscillation at the Nyquist frequency that grows, so overshoot_discrete depends on \
+         the 1 s window."
+    ));
+    if ctx.out_dir.is_some() {
+        let mut az = Axes::new();
+        az.ylabel("z [m]");
+        az.plot(&t, &zc).label("continuous").color(palette(0));
+        az.plot(dr.trajectory.t(), dr.trajectory.x_signal(0))
+            .label("discrete, ts = 25 ms")
+            .color(palette(1))
+            .dashed();
+        az.hline(r)
+            .color(Color::DARK_GREY)
+            .dashed()
+            .label("r = 0.1 m");
+        let mut au = Axes::new();
+        au.ylabel("u [V]").xlabel("time [s]");
+        au.plot(&t, &uc).color(palette(0));
+        au.step(dr.trajectory.t(), dr.trajectory.u_signal(0))
+            .color(palette(1));
+        save(
+            ctx,
+            &mut out,
+            id,
+            "response",
+            Ok(Figure::column([az, au])
+                .title("p2c242_ex2: I–PD, continuous vs discrete (Tustin, 25 ms)")),
+        )?;
+    }
+    Ok(out)
+}
+
+fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    let id = "p2c244_ex3_cdip_sampled_data_lqr_sim";
+    let lin = cart_lin(id)?;
+    let (q, r) = (diag(&[10.0, 10.0, 0.0, 0.0]), diag(&[1.0]));
+    let ts = 0.1;
+    let sd = lqr_sampled_data(&lin, &q, &r, None, ts).map_err(|e| err(id, e))?;
+    let k = cart_lqr(id)?;
+    let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
+    let sim = |gain: &Mat, ts: f64| -> Result<SampledRun, BookError> {
+        let c = StaticStateFeedback::new(gain.clone()).map_err(|e| err(id, e))?;
+        let mut l =
+            SampledLoop::new(CartPendulum::book(), c, options(ts, 4.0)).map_err(|e| err(id, e))?;
+        l.run(&x0).map_err(|e| err(id, e))
+    };
+    let run_kd = sim(&sd.lqr.gain, ts)?;
+    let run_held = sim(&k, ts)?;
+    let run_cont = sim(&k, 1e-3)?;
+    // The continuous cost of a held input, Σ [x_k; u_k]ᵀ W_d [x_k; u_k] (exact on the linear
+    // model), measured along the nonlinear runs at 0.1 s.
+    let mut wd = Mat::zeros(5, 5);
+    wd.view_mut((0, 0), (4, 4)).copy_from(&sd.cost.q);
+    wd.view_mut((0, 4), (4, 1)).copy_from(&sd.cost.n);
+    wd.view_mut((4, 0), (1, 4))
+        .copy_from(&sd.cost.n.transpose());
+    wd.view_mut((4, 4), (1, 1)).copy_from(&sd.cost.r);
+    let cost = |run: &SampledRun| -> f64 {
+        let tr = &run.trajectory;
+        (0..tr.len())
+            .map(|i| {
+                let w = nalgebra::DVector::from_fn(5, |a, _| {
+                    if a < 4 {
+                        tr.x_signal(a)[i]
+                    } else {
+                        tr.u_signal(0)[i]
+                    }
+                });
+                (w.transpose() * &wd * &w)[(0, 0)]
+            })
+            .sum()
+    };
+    let (cost_kd, cost_held) = (cost(&run_kd), cost(&run_held));
+    let mut out = ExampleOutput::default();
+    out.value("Kd", Value::Vector(book_row(&sd.lqr.gain)))
+        .value("Rd", Value::Number(sd.cost.r[(0, 0)]))
+        .value("Qd", Value::matrix(&sd.cost.q))
+        .value(
+            "Sd",
+            Value::Vector(sd.cost.n.column(0).iter().copied().collect()),
+        )
+        .value("K", Value::Vector(book_row(&k)))
+        .value("cost_Kd", Value::Number(cost_kd))
+        .value("cost_K_held", Value::Number(cost_held));
+    out.notes
+        .push("Gains in the book's convention u = +K x.".into());
+    out.notes.push(
+        "cost_* = ∫(xᵀQx + uᵀRu)dt over the 4 s nonlinear runs at 0.1 s, as Σ [x_k; u_k]ᵀ W_d [x_k; u_k]: K_d does better than the held continuous gain."
+            .into(),
+    );
+    out.notes.push(
+        "Van Loan: Q_d, S_d, R_d make Σ [x_k; u_k]ᵀ[[Q_d, S_d], [S_dᵀ, R_d]][x_k; u_k] equal ∫(xᵀQx + uᵀRu)dt for held inputs; K_d = dlqr(A_d, B_d, Q_d, R_d, S_d)."
+            .into(),
+    );
+    if ctx.out_dir.is_some() {
+        let fig = state_panels(
+            TimeResponse::new()
+                .title("p2c244_ex3: θ(0) = 15°, sampled-data LQR vs held continuous gain")
+                .run("K_d at 0.1 s", &run_kd.trajectory)
+                .run("K held at 0.1 s", &run_held.trajectory)
+                .run("K at 1 ms", &run_cont.trajectory),
+        )
+        .panel(SignalPanel::new(Channel::Input(0), "u [V]").stairs())
+        .figure();
+        save(ctx, &mut out, id, "response", fig)?;
+        save_animation(ctx, &mut out, id, "animation", || {
+            cart_animation(&run_kd.trajectory)
+        })?;
+    }
+    Ok(out)
 }
