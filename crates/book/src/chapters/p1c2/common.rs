@@ -32,11 +32,6 @@ pub(crate) fn cart_rig(quantised: bool) -> Result<RigChains, pendulab_sim::SimEr
     rig_chains(&RigSpec::cart(), quantised)
 }
 
-/// The arm rig of SPEC §1.3 (see [`cart_rig`]).
-pub(crate) fn arm_rig(quantised: bool) -> Result<RigChains, pendulab_sim::SimError> {
-    rig_chains(&RigSpec::arm(), quantised)
-}
-
 fn rig_chains(rig: &RigSpec, quantised: bool) -> Result<RigChains, pendulab_sim::SimError> {
     if !quantised {
         return Ok(RigChains::plain(rig.nx));
