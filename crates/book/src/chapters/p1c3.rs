@@ -303,6 +303,9 @@ fn dataset(id: &'static str, name: &str, text: &str) -> Result<Dataset, BookErro
 
 const ID321P: &str = "p1c321_cdip_plot_pcont";
 
+/// A measured record: legend label, t, z, θ.
+type Record = (String, Vec<f64>, Vec<f64>, Vec<f64>);
+
 fn p1c321_cdip_plot_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut sets = Vec::new();
     for (kp, name, text) in PCONT {
@@ -339,7 +342,7 @@ fn p1c321_cdip_plot_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> 
             .into(),
     );
     if let Some(dir) = &ctx.out_dir {
-        let cols: Vec<(String, Vec<f64>, Vec<f64>, Vec<f64>)> = sets
+        let cols: Vec<Record> = sets
             .iter()
             .map(|(kp, d)| {
                 Ok((
