@@ -164,17 +164,23 @@ fn p1c213_pidbode() {
 fn p1c221_id_cart() {
     let out = run("p1c221_id_cart");
     references_reproduced(&out);
-    // The simulated drive is table 3.5: T = 1/a_c = 0.16 s read on a 1 ms grid (±1 ms, 0.6 %)
-    // and K = b_c/a_c = 0.6976 from encoder differences over 0.1 s (±2 counts = ±1e-3 m/s,
-    // 0.14 % of 0.7 m/s).
-    for t in vector(&out, "T") {
-        assert!((t - 1.0 / AC).abs() <= 1.0e-3 + 1e-12, "T = {t}");
-    }
+    // The simulated drive is table 3.5: K = b_c/a_c = 0.6976, T = 1/a_c = 0.16 s. K is a
+    // difference of encoder positions over 0.1 s (±2 counts = ±1e-3 m/s, 0.14 % of 0.7 m/s):
+    // 0.2 %. T is the first crossing of a velocity carrying ±q/(2 ts) = ±0.024 m/s of
+    // quantisation noise where it rises at ~1.6 m/s²: ±15 ms at most; the mean of four
+    // within ±8 ms (5 %).
     for k in vector(&out, "K") {
         assert!((k / (BC / AC) - 1.0).abs() < 2e-3, "K = {k}");
     }
-    assert!((num(&out, "ac_unrounded") / AC - 1.0).abs() < 0.007);
-    assert!((num(&out, "bc_unrounded") / BC - 1.0).abs() < 0.008);
+    for t in vector(&out, "T") {
+        assert!((t - 1.0 / AC).abs() < 0.015, "T = {t}");
+    }
+    assert!((num(&out, "ac_unrounded") / AC - 1.0).abs() < 0.05);
+    assert!((num(&out, "bc_unrounded") / BC - 1.0).abs() < 0.05);
+    // On the exact position the recipe reads T on the 1 ms grid (±1 ms, 0.6 %) and K to
+    // rounding: the table values.
+    assert!((num(&out, "ac_unquantised") / AC - 1.0).abs() < 0.007);
+    assert!((num(&out, "bc_unquantised") / BC - 1.0).abs() < 0.007);
 }
 
 #[test]
