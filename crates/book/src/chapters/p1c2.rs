@@ -226,6 +226,18 @@ fn write_response(
     if let Some(dir) = &ctx.out_dir {
         let fig = response_figure(&format!("{id}: r = {R} m step"), runs, R);
         save_figure(id, out, dir, &format!("{id}_response"), &fig)?;
+        if let Some(run) = runs.last() {
+            save_cart_animation(
+                id,
+                out,
+                dir,
+                &format!("{id}_anim"),
+                &format!("{id}: {}", run.label),
+                &run.t,
+                &run.z,
+                &run.theta,
+            )?;
+        }
     }
     Ok(())
 }
