@@ -585,6 +585,7 @@ fn p1c223_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             3.0,
         )?);
     }
+    out.notes.push(NOTE_GAINS.into());
     out.notes.push(
         "Reference model ω_n²/(s² + 2ζω_n s + ω_n²), ζ = 1/√2. Speed matching equates the \
          constant terms: k_P = ω_n²/b_c; partial model matching the ratio of the first two \
@@ -639,6 +640,7 @@ fn p1c224_p_dcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             3.0,
         )?);
     }
+    out.notes.push(NOTE_GAINS.into());
     out.notes.push(
         "P–D (derivative on the output z): the loop is exactly the reference model \
          ω_n²/(s² + 2ζω_n s + ω_n²) with k_P = ω_n²/b_c, k_D = (2ζω_n − a_c)/b_c, ζ = 1/√2."
@@ -706,6 +708,7 @@ fn p1c224_i_pdcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             3.0,
         )?);
     }
+    out.notes.push(NOTE_GAINS.into());
     out.notes.push(
         "I–PD u = (k_I/s) e − k_P z − k_D ż: closed loop b_c k_I/(s³ + (a_c + b_c k_D) s² + \
          b_c k_P s + b_c k_I) matched to ω_n³/(s³ + α₂ω_n s² + α₁ω_n² s + ω_n³), ω_n = 10; \
@@ -786,6 +789,7 @@ fn p1c23_crane(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         out.value(&format!("phi_max_after_1s_{name}"), Value::Number(m));
         runs.push(run);
     }
+    out.notes.push(NOTE_GAINS.into());
     out.notes.push(
         "I–PD (Butterworth, ω_n = 10) on the cart; the damping term u ← u − (k_P2 φ + k_D2 φ̇) \
          with k_P2 = −1, k_D2 = −0.1 feeds the swing back into the drive. poles_*: the \
