@@ -6,6 +6,12 @@
 //! convention `u = +K x`), the book's printed values beside them where the book prints any, and
 //! the figures it drew. The command line (`pendulab book`), the tests and the lab report all use
 //! this one registry.
+//!
+//! - [`registry`](mod@registry) — [`Example`], [`RunContext`], [`registry()`], [`find`];
+//! - [`output`] — [`ExampleOutput`], [`Value`], the book's [`Reference`] values and their
+//!   [`Comparison`] with ours;
+//! - [`report`] — the lab report page and the README table of examples, from results;
+//! - [`error`] — [`BookError`].
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
@@ -14,6 +20,7 @@ mod chapters;
 pub mod error;
 pub mod output;
 pub mod registry;
+pub mod report;
 
 pub use error::BookError;
 pub use output::{Comparison, ExampleOutput, Reference, Value};
