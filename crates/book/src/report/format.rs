@@ -3,14 +3,14 @@
 use crate::output::Value;
 use pendulab_lti::Complex64;
 
-/// Significant digits shown for a real number: enough for the book's printed values (the book
-/// prints at most six, e.g. `3.16228`).
-const SIGNIFICANT: i32 = 6;
+/// Significant digits shown for a real number: enough for every value the book prints (the
+/// longest have seven, e.g. the gain `13.47175`).
+const SIGNIFICANT: i32 = 7;
 
-/// Formats a real number with six significant digits, trailing zeros removed.
+/// Formats a real number with seven significant digits, trailing zeros removed.
 ///
 /// Plain decimal notation for magnitudes in [1e-4, 1e6); otherwise scientific notation with a
-/// mantissa of up to six significant digits (`1.59e-9`). `NaN` and infinities are written as
+/// mantissa of up to seven significant digits (`1.59e-9`). `NaN` and infinities are written as
 /// `NaN`, `inf`, `-inf`.
 pub fn number(x: f64) -> String {
     if x.is_nan() {
@@ -162,22 +162,24 @@ mod tests {
     use super::*;
 
     #[test]
-    fn numbers_keep_six_significant_digits_and_drop_trailing_zeros() {
+    fn numbers_keep_seven_significant_digits_and_drop_trailing_zeros() {
         // Book-printed values (examples.md) must survive formatting digit for digit.
         assert_eq!(number(3.16228), "3.16228");
+        assert_eq!(number(13.47175), "13.47175");
+        assert_eq!(number(-0.0220), "-0.022");
         assert_eq!(number(-3.125), "-3.125");
         assert_eq!(number(3583.7), "3583.7");
         assert_eq!(number(236.0), "236");
         assert_eq!(number(2.35e-4), "0.000235");
         assert_eq!(number(1.59e-3), "0.00159");
         assert_eq!(number(0.0), "0");
-        // Rounded to six significant digits.
-        assert_eq!(number(std::f64::consts::PI), "3.14159");
-        assert_eq!(number(-1.0 / 3.0), "-0.333333");
+        // Rounded to seven significant digits.
+        assert_eq!(number(std::f64::consts::PI), "3.141593");
+        assert_eq!(number(-1.0 / 3.0), "-0.3333333");
         // Outside [1e-4, 1e6): scientific.
         assert_eq!(number(1.5e-9), "1.5e-9");
         assert_eq!(number(-4.0e7), "-4e7");
-        assert_eq!(number(6.02214076e23), "6.02214e23");
+        assert_eq!(number(6.02214076e23), "6.022141e23");
         assert_eq!(number(f64::NAN), "NaN");
         assert_eq!(number(f64::NEG_INFINITY), "-inf");
     }

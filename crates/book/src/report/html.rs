@@ -539,16 +539,18 @@ mod tests {
     #[test]
     fn figures_are_linked_relative_and_grouped_by_stem() {
         let base = PathBuf::from("out");
-        let mut o = ExampleOutput::default();
-        o.figures = vec![
-            base.join("figures/fig/step.svg"),
-            base.join("figures/fig/step.png"),
-            base.join("figures/fig/cart anim.gif"),
-            base.join("figures/fig/cart anim.svg"),
-            base.join("figures/fig/only.png"),
-            base.join("figures/fig/data.csv"),
-            PathBuf::from("/elsewhere/x.png"),
-        ];
+        let o = ExampleOutput {
+            figures: vec![
+                base.join("figures/fig/step.svg"),
+                base.join("figures/fig/step.png"),
+                base.join("figures/fig/cart anim.gif"),
+                base.join("figures/fig/cart anim.svg"),
+                base.join("figures/fig/only.png"),
+                base.join("figures/fig/data.csv"),
+                PathBuf::from("/elsewhere/x.png"),
+            ],
+            ..ExampleOutput::default()
+        };
         let opts = ReportOptions {
             base_dir: PathBuf::from("./out"),
             ..ReportOptions::default()

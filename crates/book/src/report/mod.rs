@@ -356,8 +356,10 @@ mod tests {
 
     #[test]
     fn summary_counts_each_status_and_the_figures() {
-        let mut with_fig = ExampleOutput::default();
-        with_fig.figures = vec!["a.svg".into(), "a.png".into()];
+        let with_fig = ExampleOutput {
+            figures: vec!["a.svg".into(), "a.png".into()],
+            ..ExampleOutput::default()
+        };
         let entries = vec![
             Entry {
                 example: example("a", "Part 1 §4.1"),
