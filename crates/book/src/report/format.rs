@@ -13,6 +13,12 @@ const SIGNIFICANT: i32 = 7;
 /// mantissa of up to seven significant digits (`1.59e-9`). `NaN` and infinities are written as
 /// `NaN`, `inf`, `-inf`.
 pub fn number(x: f64) -> String {
+    number_sig(x, SIGNIFICANT)
+}
+
+/// Formats a real number with `significant` (≥ 1) significant digits, as [`number`] does.
+pub fn number_sig(x: f64, significant: i32) -> String {
+    let significant = significant.max(1);
     if x.is_nan() {
         return "NaN".into();
     }
@@ -25,13 +31,13 @@ pub fn number(x: f64) -> String {
     let a = x.abs();
     if (1e-4..1e6).contains(&a) {
         let exponent = a.log10().floor() as i32;
-        let decimals = (SIGNIFICANT - 1 - exponent).max(0) as usize;
+        let decimals = (significant - 1 - exponent).max(0) as usize;
         let s = format!("{x:.decimals$}");
         // Rounding may carry into a new digit (999999.7 -> "1000000"); that is still exact to
         // the shown digits, so keep it.
         trim_zeros(&s)
     } else {
-        let s = format!("{:.*e}", (SIGNIFICANT - 1) as usize, x);
+        let s = format!("{:.*e}", (significant - 1) as usize, x);
         match s.split_once('e') {
             Some((mantissa, exp)) => format!("{}e{exp}", trim_zeros(mantissa)),
             None => s,
@@ -182,6 +188,11 @@ mod tests {
         assert_eq!(number(6.02214076e23), "6.022141e23");
         assert_eq!(number(f64::NAN), "NaN");
         assert_eq!(number(f64::NEG_INFINITY), "-inf");
+        // Differences and tolerances are shown to two digits.
+        assert_eq!(number_sig(0.0002676699, 2), "0.00027");
+        assert_eq!(number_sig(0.0007071068, 2), "0.00071");
+        assert_eq!(number_sig(3.0e-12, 2), "3e-12");
+        assert_eq!(number_sig(0.05, 2), "0.05");
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! The HTML page of the lab report.
 
-use super::format::{escape, number, value_html};
+use super::format::{escape, number, number_sig, value_html};
 use super::{Entry, ReportOptions, Status, Summary, chapters};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Reference};
@@ -51,7 +51,7 @@ table.mat td { padding:1px 8px; text-align:right; border:0; }
 .missing { color:var(--muted); font-style:italic; }
 ul.notes { margin:6px 0 10px; padding-left:20px; color:#33404a; }
 .figures { display:flex; flex-wrap:wrap; gap:14px; margin-top:8px; }
-figure { margin:0; flex:1 1 460px; max-width:100%; border:1px solid var(--line); border-radius:6px;
+figure { margin:0; flex:0 1 540px; max-width:100%; border:1px solid var(--line); border-radius:6px;
   padding:8px; background:#fff; }
 figure img { display:block; width:100%; height:auto; }
 figcaption { font-size:12.5px; color:var(--muted); margin-top:4px; }
@@ -222,9 +222,12 @@ fn output_html(s: &mut String, out: &ExampleOutput, base: &Path) {
     let refs: Vec<(&Reference, &crate::output::Comparison)> =
         out.references.iter().zip(&comparisons).collect();
     if !out.values.is_empty() || !refs.is_empty() {
-        s.push_str(
-            "<table class=\"values\">\n<thead><tr><th>value</th><th>pendulab</th><th>book</th><th>check</th></tr></thead>\n<tbody>\n",
-        );
+        let with_book = !refs.is_empty();
+        s.push_str("<table class=\"values\">\n<thead><tr><th>value</th><th>pendulab</th>");
+        if with_book {
+            s.push_str("<th>book</th><th>check</th>");
+        }
+        s.push_str("</tr></thead>\n<tbody>\n");
         for (name, v) in &out.values {
             let mine: Vec<_> = refs.iter().filter(|(r, _)| &r.name == name).collect();
             let _ = write!(
@@ -233,7 +236,9 @@ fn output_html(s: &mut String, out: &ExampleOutput, base: &Path) {
                 escape(name),
                 value_html(v)
             );
-            book_cells(s, &mine);
+            if with_book {
+                book_cells(s, &mine);
+            }
             s.push_str("</tr>\n");
         }
         // Printed values the example did not report.
@@ -278,20 +283,21 @@ fn book_cells(s: &mut String, refs: &[&(&Reference, &crate::output::Comparison)]
     }
     s.push_str("</td><td class=\"check\">");
     for (r, c) in refs {
-        let tol = escape(&number(r.tolerance));
+        // Two digits say how close it is; the full values are in the neighbouring cells.
+        let tol = escape(&number_sig(r.tolerance, 2));
         match c.max_abs_error {
             Some(err) if c.reproduced => {
                 let _ = write!(
                     s,
                     "<div><span class=\"yes\">✓</span> |Δ| = {} ≤ {tol}</div>",
-                    escape(&number(err))
+                    escape(&number_sig(err, 2))
                 );
             }
             Some(err) => {
                 let _ = write!(
                     s,
                     "<div><span class=\"no\">✗</span> |Δ| = {} &gt; {tol}</div>",
-                    escape(&number(err))
+                    escape(&number_sig(err, 2))
                 );
             }
             None => s.push_str("<div><span class=\"no\">✗</span> not comparable</div>"),
@@ -502,7 +508,7 @@ mod tests {
             "book p. 100",
             5e-4,
         );
-        // 5.7339 against 5.73 with tolerance 5e-3: reproduced. Against 5.70: |Δ| = 0.0339 > 5e-3.
+        // 5.7339 against 5.70 with tolerance 5e-3: |Δ| = 0.0339 > 5e-3 (shown to two digits).
         o.reference("kP", Value::Number(5.70), "examples.md", 5e-3);
         o.reference("missing_value", Value::Number(1.0), "book p. 1", 0.5);
         let page = html(
@@ -524,7 +530,7 @@ mod tests {
         assert!(poles.contains("class=\"yes\">✓"));
         let kp = row_of("kP");
         assert!(kp.contains("5.7339") && kp.contains("5.7<"));
-        assert!(kp.contains("class=\"no\">✗</span> |Δ| = 0.0339 &gt; 0.005"));
+        assert!(kp.contains("class=\"no\">✗</span> |Δ| = 0.034 &gt; 0.005"));
         let k = row_of("K");
         assert!(k.contains("<table class=\"mat\"><tr><td>1</td><td>2</td></tr><tr><td>3</td><td>4</td></tr></table>"));
         assert!(
@@ -641,6 +647,22 @@ mod tests {
             page.contains("1 reproduced") && page.contains("2 runs") && page.contains("0 failing")
         );
         assert!(article(&page, "a41").contains("ran in 0.0123 s"));
+    }
+
+    #[test]
+    fn values_without_book_values_have_no_book_columns() {
+        let mut o = ExampleOutput::default();
+        o.value("rank", Value::Number(2.0));
+        let page = html(
+            &[entry("plain", "Part 1 §5.1", Ok(o))],
+            &ReportOptions::default(),
+        );
+        let a = article(&page, "plain");
+        assert!(a.contains("<tr><th>value</th><th>pendulab</th></tr>"));
+        assert!(!a.contains("<th>book</th>"));
+        assert!(
+            a.contains("<td class=\"name\">rank</td><td><span class=\"num\">2</span></td></tr>")
+        );
     }
 
     #[test]

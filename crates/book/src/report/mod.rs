@@ -214,6 +214,9 @@ fn chapter_title(part: u32, chapter: u32) -> Option<&'static str> {
     })
 }
 
+/// Heading of the IP Toolbox samples (sections naming the toolbox).
+const TOOLBOX_HEADING: &str = "IP Toolbox samples (quantised plant, filtered derivatives, 1 ms)";
+
 /// The first run of ASCII digits in `s` as a number.
 fn leading_number(s: &str) -> Option<u32> {
     let digits: String = s
@@ -247,6 +250,9 @@ pub(crate) fn chapters(entries: &[Entry]) -> Vec<Chapter> {
     for (i, e) in entries.iter().enumerate() {
         let section = e.example.section;
         let (key, heading) = match part_and_chapter(section) {
+            None if section.to_lowercase().contains("toolbox") => {
+                ("toolbox".to_string(), TOOLBOX_HEADING.to_string())
+            }
             Some((p, c)) => (
                 format!("part{p}-ch{c}"),
                 match chapter_title(p, c) {
@@ -408,8 +414,9 @@ mod tests {
             ("a", "Part 1 §4.1"),
             ("b", "Part 1 §5.1"),
             ("c", "Part 1 §4.3"),
-            ("d", "IP Toolbox"),
+            ("d", "IP Toolbox sample"),
             ("e", "Part 2 §1.1"),
+            ("f", "Appendix A"),
         ]
         .into_iter()
         .map(|(id, section)| Entry {
@@ -436,8 +443,9 @@ mod tests {
                     "Part 1 ch. 5 — Controllability, pole placement, LQR",
                     vec![1]
                 ),
-                ("sec-ip-toolbox", "IP Toolbox", vec![3]),
+                ("toolbox", TOOLBOX_HEADING, vec![3]),
                 ("part2-ch1", "Part 2 ch. 1 — LMI and control", vec![4]),
+                ("sec-appendix-a", "Appendix A", vec![5]),
             ]
         );
     }
