@@ -7,7 +7,9 @@ use pendulab_book::{BookError, Example, ExampleOutput, RunContext};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// Arguments of `pendulab book`.
@@ -324,9 +326,9 @@ impl<'a> OutLayout<'a> {
     }
 }
 
-/// Runs the examples in parallel (rayon), in the given order of results, with a progress bar
-/// on stderr when `progress` is set (hidden when stderr is not a terminal). A panicking example
-/// becomes a [`BookError::Computation`] naming the panic.
+/// Runs the examples in parallel (rayon), results in the given order. With `progress`, shows a
+/// progress bar on stderr, or, when stderr is not a terminal (a log, CI), one line per finished
+/// example. A panicking example becomes a [`BookError::Computation`] naming the panic.
 pub(crate) fn run_examples(
     examples: &[Example],
     layout: OutLayout<'_>,
@@ -346,6 +348,8 @@ pub(crate) fn run_examples(
         ProgressBar::hidden()
     };
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    let log_lines = progress && !std::io::stderr().is_terminal();
+    let done = AtomicUsize::new(0);
     let entries: Vec<Entry> = examples
         .par_iter()
         .map(|e| {
@@ -356,6 +360,15 @@ pub(crate) fn run_examples(
             let start = Instant::now();
             let result = run_one(e, &ctx);
             let seconds = start.elapsed().as_secs_f64();
+            let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+            if log_lines {
+                eprintln!(
+                    "[{k}/{}] {} — {} ({seconds:.2} s)",
+                    examples.len(),
+                    e.id,
+                    Status::of(&result).label()
+                );
+            }
             bar.inc(1);
             bar.set_message(format!("{} ({:.2} s)", e.id, seconds));
             Entry {
