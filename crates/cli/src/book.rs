@@ -240,6 +240,15 @@ impl DataFiles {
         Ok(files)
     }
 
+    /// Data for one example id, without reading a file.
+    #[cfg(test)]
+    pub(crate) fn for_tests(id: &str, text: &str) -> Self {
+        DataFiles {
+            all: None,
+            by_id: BTreeMap::from([(id.to_string(), text.to_string())]),
+        }
+    }
+
     /// The data for one example, if any was given and the example takes data.
     fn for_example(&self, e: &Example) -> Option<String> {
         e.needs_data?;

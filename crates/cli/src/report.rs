@@ -6,6 +6,7 @@
 
 use crate::book::{DataFiles, OutLayout, json_line, prepare_out_dir, run_examples};
 use anyhow::{Context, Result, bail};
+use pendulab_book::Example;
 use pendulab_book::report::{ReportOptions, Status, Summary, html};
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
@@ -44,16 +45,26 @@ pub struct ReportRun {
 /// that cannot be created or written. Failing examples are not errors here: they are in the
 /// report and in [`ReportRun::failing`].
 pub fn generate(out: &Path, data: &[String], only: &[String], progress: bool) -> Result<ReportRun> {
-    let start = Instant::now();
     let examples = if only.is_empty() {
         pendulab_book::registry()
     } else {
         crate::book::select(only, false)?
     };
     let data = DataFiles::parse(data, &examples, false)?;
+    write_report(&examples, out, &data, progress)
+}
+
+/// Runs `examples` and writes the report into `out` (see [`generate`]).
+fn write_report(
+    examples: &[Example],
+    out: &Path,
+    data: &DataFiles,
+    progress: bool,
+) -> Result<ReportRun> {
+    let start = Instant::now();
     prepare_out_dir(out)?;
     let figures = out.join("figures");
-    let entries = run_examples(&examples, OutLayout::PerExample(&figures), &data, progress);
+    let entries = run_examples(examples, OutLayout::PerExample(&figures), data, progress);
     let summary = Summary::of(&entries);
     let run_seconds = start.elapsed().as_secs_f64();
     let options = ReportOptions {
@@ -94,6 +105,11 @@ pub fn generate(out: &Path, data: &[String], only: &[String], progress: bool) ->
 /// Runs `pendulab report`.
 pub fn run(args: &ReportArgs) -> Result<()> {
     let r = generate(&args.out, &args.data, &args.only, true)?;
+    outcome(&r)
+}
+
+/// Prints the summary line; an error when an example failed.
+fn outcome(r: &ReportRun) -> Result<()> {
     let s = &r.summary;
     println!(
         "wrote {} in {:.1} s: {} examples — {} reproduced, {} run, {} differ from the book, \
@@ -151,7 +167,130 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 
 #[cfg(test)]
 mod tests {
-    use super::civil_from_days;
+    use super::*;
+    use pendulab_book::{BookError, ExampleOutput, RunContext, Value};
+
+    fn draws(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        let mut o = ExampleOutput::default();
+        o.value("x", Value::Number(1.5));
+        o.reference("x", Value::Number(1.5), "book", 0.0);
+        let dir = ctx
+            .out_dir
+            .clone()
+            .expect("the report gives a figure directory");
+        let path = dir.join("fig.svg");
+        std::fs::write(&path, "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").map_err(|e| {
+            BookError::Figure {
+                id: "draws".into(),
+                path: path.display().to_string(),
+                message: e.to_string(),
+            }
+        })?;
+        o.figures.push(path);
+        Ok(o)
+    }
+    fn fails(_: &RunContext) -> Result<ExampleOutput, BookError> {
+        Err(BookError::Computation {
+            id: "fails".into(),
+            message: "Riccati <solver> diverged".into(),
+        })
+    }
+    fn panics(_: &RunContext) -> Result<ExampleOutput, BookError> {
+        panic!("boom")
+    }
+    fn needs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        match &ctx.data_csv {
+            Some(text) => {
+                let mut o = ExampleOutput::default();
+                o.value("rows", Value::Number((text.lines().count() - 1) as f64));
+                Ok(o)
+            }
+            None => Err(BookError::NeedsData {
+                id: "needs".into(),
+                what: "columns t,theta".into(),
+            }),
+        }
+    }
+    fn takes_none(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        match ctx.data_csv {
+            None => Ok(ExampleOutput::default()),
+            Some(_) => Err(BookError::Computation {
+                id: "takes_none".into(),
+                message: "was given data".into(),
+            }),
+        }
+    }
+    fn example(
+        id: &'static str,
+        run: fn(&RunContext) -> Result<ExampleOutput, BookError>,
+    ) -> Example {
+        Example {
+            id,
+            title: "test",
+            section: "Part 1 §4.1",
+            parameters: "none",
+            needs_data: (id == "needs").then_some("columns t,theta"),
+            run,
+        }
+    }
+
+    #[test]
+    fn failing_and_panicking_examples_are_reported_after_everything_is_written() {
+        let out = std::env::temp_dir().join(format!("pendulab-report-unit-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let examples = [
+            example("draws", draws),
+            example("fails", fails),
+            example("panics", panics),
+            example("needs", needs),
+        ];
+        let r = write_report(&examples, &out, &DataFiles::default(), false).unwrap();
+        let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(r.failing, vec!["fails", "panics"]);
+        assert_eq!(
+            (
+                r.summary.reproduced,
+                r.summary.needs_data,
+                r.summary.failing
+            ),
+            (1, 1, 2)
+        );
+        // The figure went to figures/<id>/ and is linked relative to the page.
+        assert!(page.contains("<img src=\"figures/draws/fig.svg\""));
+        assert!(page.contains("Riccati &lt;solver&gt; diverged"));
+        assert!(page.contains("example &#39;panics&#39;: panicked: boom"));
+        assert_eq!(results.lines().count(), 4);
+        assert!(
+            results
+                .lines()
+                .nth(3)
+                .unwrap()
+                .contains("\"needs_data\":\"columns t,theta\"")
+        );
+        // The command fails, naming the failing examples.
+        let err = outcome(&r).unwrap_err().to_string();
+        assert!(
+            err.contains("2 of 4 examples failed (fails, panics)"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn data_reaches_only_the_example_that_takes_it() {
+        let out = std::env::temp_dir().join(format!("pendulab-report-data-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let examples = [example("needs", needs), example("takes_none", takes_none)];
+        let data = DataFiles::for_tests("needs", "t,theta\n0,1\n0.001,1.1\n");
+        let r = write_report(&examples, &out, &data, false).unwrap();
+        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(r.summary.runs, 2, "{results}");
+        // Two data rows under the header.
+        assert!(results.contains("\"rows\":2.0"), "{results}");
+        assert!(outcome(&r).is_ok());
+    }
 
     #[test]
     fn civil_dates_match_known_days() {
