@@ -1,13 +1,14 @@
 //! `pendulab report`: the lab report.
 //!
 //! Runs every book example (in parallel), writes their figures under `DIR/figures/<id>/`, the
-//! notebook page `DIR/index.html` and the JSON lines of every example (`DIR/results.jsonl`, the
-//! format of `pendulab book run --json`).
+//! notebook page `DIR/index.html`, the JSON lines of every example (`DIR/results.jsonl`, the
+//! format of `pendulab book run --json`) and the README table of examples with their status
+//! (`DIR/status.md`, as `pendulab book list --markdown` prints it).
 
 use crate::book::{DataFiles, OutLayout, json_line, prepare_out_dir, run_examples};
 use anyhow::{Context, Result, bail};
 use pendulab_book::Example;
-use pendulab_book::report::{ReportOptions, Status, Summary, html};
+use pendulab_book::report::{ReportOptions, Status, Summary, html, markdown_table};
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
@@ -89,6 +90,9 @@ fn write_report(
     let results = out.join("results.jsonl");
     std::fs::write(&results, lines)
         .with_context(|| format!("cannot write {}", results.display()))?;
+    let table = out.join("status.md");
+    std::fs::write(&table, markdown_table(&entries))
+        .with_context(|| format!("cannot write {}", table.display()))?;
     let failing = entries
         .iter()
         .filter(|e| e.status() == Status::Failing)
@@ -247,6 +251,7 @@ mod tests {
         let r = write_report(&examples, &out, &DataFiles::default(), false).unwrap();
         let page = std::fs::read_to_string(out.join("index.html")).unwrap();
         let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+        let status = std::fs::read_to_string(out.join("status.md")).unwrap();
         let _ = std::fs::remove_dir_all(&out);
         assert_eq!(r.failing, vec!["fails", "panics"]);
         assert_eq!(
@@ -262,6 +267,10 @@ mod tests {
         assert!(page.contains("Riccati &lt;solver&gt; diverged"));
         assert!(page.contains("example &#39;panics&#39;: panicked: boom"));
         assert_eq!(results.lines().count(), 4);
+        assert!(
+            status.contains("| `panics` | Part 1 §4.1 | test | failing |"),
+            "{status}"
+        );
         assert!(
             results
                 .lines()
