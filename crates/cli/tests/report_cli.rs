@@ -149,6 +149,15 @@ fn report_has_every_example_and_every_figure_link_resolves() {
             .collect::<Vec<_>>(),
         ids.iter().map(String::as_str).collect::<Vec<_>>()
     );
+    // status.md: the README table, a header, a rule and one row per example.
+    let status = std::fs::read_to_string(out.join("status.md")).unwrap();
+    assert_eq!(status.lines().count(), ids.len() + 2, "{status}");
+    for id in &ids {
+        assert!(
+            status.contains(&format!("| `{id}` |")),
+            "{id} not in status.md"
+        );
+    }
     let failing = lines.iter().filter(|l| l.get("error").is_some()).count();
     assert_eq!(o.status.success(), failing == 0, "{}", stderr(&o));
     assert!(
