@@ -1,6 +1,6 @@
 //! # pendulab-book — every example of the textbook as code
 //!
-//! Each example of 「倒立振子で学ぶ制御工学」 is an [`Example`] in the [`registry`], named by the
+//! Each example of 「倒立振子で学ぶ制御工学」 is an [`Example`] in the [`registry()`], named by the
 //! stem of the book's MATLAB file (e.g. `p1c63_ex5_cdip_lqr_servo`). Running one returns an
 //! [`ExampleOutput`]: its numbers under the names `examples.md` gives them (gains in the book's
 //! convention `u = +K x`), the book's printed values beside them where the book prints any, and

@@ -11,7 +11,7 @@
 //!   figures are linked relative to [`ReportOptions::base_dir`]);
 //! - [`markdown_table`] — the README table of examples with their status;
 //! - [`Summary`] — counts per status;
-//! - [`format`] — number and value formatting shared by the page and the command line.
+//! - [`format`](mod@format) — number and value formatting shared by the page and the command line.
 
 pub mod format;
 mod html;
