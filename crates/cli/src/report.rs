@@ -1,20 +1,313 @@
 //! `pendulab report`: the lab report.
+//!
+//! Runs every book example (in parallel), writes their figures under `DIR/figures/<id>/`, the
+//! notebook page `DIR/index.html`, the JSON lines of every example (`DIR/results.jsonl`, the
+//! format of `pendulab book run --json`) and the README table of examples with their status
+//! (`DIR/status.md`, as `pendulab book list --markdown` prints it).
 
-use anyhow::{Result, bail};
-use std::path::PathBuf;
+use crate::book::{DataFiles, OutLayout, json_line, prepare_out_dir, run_examples};
+use anyhow::{Context, Result, bail};
+use pendulab_book::Example;
+use pendulab_book::report::{ReportOptions, Status, Summary, html, markdown_table};
+use std::path::{Path, PathBuf};
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 /// Arguments of `pendulab report`.
 #[derive(Debug, clap::Args)]
 pub struct ReportArgs {
-    /// Output directory.
+    /// Output directory (created if needed): index.html, figures/, results.jsonl.
     #[arg(long)]
     pub out: PathBuf,
+    /// Measured data for an example that needs it, as ID=FILE.csv (repeatable).
+    #[arg(long, value_name = "ID=FILE")]
+    pub data: Vec<String>,
+    /// Only these examples (repeatable); default: every example.
+    #[arg(long, value_name = "ID")]
+    pub only: Vec<String>,
+}
+
+/// What writing a report produced.
+#[derive(Debug)]
+pub struct ReportRun {
+    /// The page.
+    pub index: PathBuf,
+    /// Counts per status.
+    pub summary: Summary,
+    /// Ids of the failing examples.
+    pub failing: Vec<&'static str>,
+    /// Wall-clock seconds of running the examples and writing everything.
+    pub seconds: f64,
+}
+
+/// Runs the examples and writes the report into `out`.
+///
+/// # Errors
+/// Unknown ids in `only` or `data`, unreadable or malformed data files, an output directory
+/// that cannot be created or written. Failing examples are not errors here: they are in the
+/// report and in [`ReportRun::failing`].
+pub fn generate(out: &Path, data: &[String], only: &[String], progress: bool) -> Result<ReportRun> {
+    let examples = if only.is_empty() {
+        pendulab_book::registry()
+    } else {
+        crate::book::select(only, false)?
+    };
+    let data = DataFiles::parse(data, &examples, false)?;
+    write_report(&examples, out, &data, progress)
+}
+
+/// Runs `examples` and writes the report into `out` (see [`generate`]).
+fn write_report(
+    examples: &[Example],
+    out: &Path,
+    data: &DataFiles,
+    progress: bool,
+) -> Result<ReportRun> {
+    let start = Instant::now();
+    prepare_out_dir(out)?;
+    let figures = out.join("figures");
+    let entries = run_examples(examples, OutLayout::PerExample(&figures), data, progress);
+    let summary = Summary::of(&entries);
+    let run_seconds = start.elapsed().as_secs_f64();
+    let options = ReportOptions {
+        base_dir: out.to_path_buf(),
+        subtitle: Some(format!(
+            "pendulab {} · {} examples run in {:.1} s · written {}",
+            env!("CARGO_PKG_VERSION"),
+            summary.total,
+            run_seconds,
+            utc_now()
+        )),
+        ..ReportOptions::default()
+    };
+    let page = html(&entries, &options);
+    let index = out.join("index.html");
+    std::fs::write(&index, page).with_context(|| format!("cannot write {}", index.display()))?;
+    let mut lines = String::new();
+    for e in &entries {
+        lines.push_str(&json_line(e)?);
+        lines.push('\n');
+    }
+    let results = out.join("results.jsonl");
+    std::fs::write(&results, lines)
+        .with_context(|| format!("cannot write {}", results.display()))?;
+    let table = out.join("status.md");
+    std::fs::write(&table, markdown_table(&entries))
+        .with_context(|| format!("cannot write {}", table.display()))?;
+    let failing = entries
+        .iter()
+        .filter(|e| e.status() == Status::Failing)
+        .map(|e| e.example.id)
+        .collect();
+    Ok(ReportRun {
+        index,
+        summary,
+        failing,
+        seconds: start.elapsed().as_secs_f64(),
+    })
 }
 
 /// Runs `pendulab report`.
 pub fn run(args: &ReportArgs) -> Result<()> {
-    bail!(
-        "cannot write the report to {}: not available in this build",
-        args.out.display()
+    let r = generate(&args.out, &args.data, &args.only, true)?;
+    outcome(&r)
+}
+
+/// Prints the summary line; an error when an example failed.
+fn outcome(r: &ReportRun) -> Result<()> {
+    let s = &r.summary;
+    println!(
+        "wrote {} in {:.1} s: {} examples — {} reproduced, {} run, {} differ from the book, \
+         {} need data, {} failing; {} figures",
+        r.index.display(),
+        r.seconds,
+        s.total,
+        s.reproduced,
+        s.runs,
+        s.differs,
+        s.needs_data,
+        s.failing,
+        s.figures
+    );
+    if !r.failing.is_empty() {
+        bail!(
+            "{} of {} examples failed ({}); their errors are in the report",
+            r.failing.len(),
+            s.total,
+            r.failing.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// The current time as `YYYY-MM-DD HH:MM UTC`.
+fn utc_now() -> String {
+    let secs = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    let (y, m, d) = civil_from_days(days);
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02} UTC",
+        rem / 3600,
+        rem % 3600 / 60
     )
+}
+
+/// Proleptic Gregorian date of a day count since 1970-01-01 (H. Hinnant, "chrono-compatible
+/// low-level date algorithms", `civil_from_days`).
+fn civil_from_days(z: i64) -> (i64, u32, u32) {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    (y, m, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pendulab_book::{BookError, ExampleOutput, RunContext, Value};
+
+    fn draws(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        let mut o = ExampleOutput::default();
+        o.value("x", Value::Number(1.5));
+        o.reference("x", Value::Number(1.5), "book", 0.0);
+        let dir = ctx
+            .out_dir
+            .clone()
+            .expect("the report gives a figure directory");
+        let path = dir.join("fig.svg");
+        std::fs::write(&path, "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").map_err(|e| {
+            BookError::Figure {
+                id: "draws".into(),
+                path: path.display().to_string(),
+                message: e.to_string(),
+            }
+        })?;
+        o.figures.push(path);
+        Ok(o)
+    }
+    fn fails(_: &RunContext) -> Result<ExampleOutput, BookError> {
+        Err(BookError::Computation {
+            id: "fails".into(),
+            message: "Riccati <solver> diverged".into(),
+        })
+    }
+    fn panics(_: &RunContext) -> Result<ExampleOutput, BookError> {
+        panic!("boom")
+    }
+    fn needs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        match &ctx.data_csv {
+            Some(text) => {
+                let mut o = ExampleOutput::default();
+                o.value("rows", Value::Number((text.lines().count() - 1) as f64));
+                Ok(o)
+            }
+            None => Err(BookError::NeedsData {
+                id: "needs".into(),
+                what: "columns t,theta".into(),
+            }),
+        }
+    }
+    fn takes_none(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        match ctx.data_csv {
+            None => Ok(ExampleOutput::default()),
+            Some(_) => Err(BookError::Computation {
+                id: "takes_none".into(),
+                message: "was given data".into(),
+            }),
+        }
+    }
+    fn example(
+        id: &'static str,
+        run: fn(&RunContext) -> Result<ExampleOutput, BookError>,
+    ) -> Example {
+        Example {
+            id,
+            title: "test",
+            section: "Part 1 §4.1",
+            parameters: "none",
+            needs_data: (id == "needs").then_some("columns t,theta"),
+            run,
+        }
+    }
+
+    #[test]
+    fn failing_and_panicking_examples_are_reported_after_everything_is_written() {
+        let out = std::env::temp_dir().join(format!("pendulab-report-unit-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let examples = [
+            example("draws", draws),
+            example("fails", fails),
+            example("panics", panics),
+            example("needs", needs),
+        ];
+        let r = write_report(&examples, &out, &DataFiles::default(), false).unwrap();
+        let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+        let status = std::fs::read_to_string(out.join("status.md")).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(r.failing, vec!["fails", "panics"]);
+        assert_eq!(
+            (
+                r.summary.reproduced,
+                r.summary.needs_data,
+                r.summary.failing
+            ),
+            (1, 1, 2)
+        );
+        // The figure went to figures/<id>/ and is linked relative to the page.
+        assert!(page.contains("<img src=\"figures/draws/fig.svg\""));
+        assert!(page.contains("Riccati &lt;solver&gt; diverged"));
+        assert!(page.contains("example &#39;panics&#39;: panicked: boom"));
+        assert_eq!(results.lines().count(), 4);
+        assert!(
+            status.contains("| `panics` | Part 1 §4.1 | test | failing |"),
+            "{status}"
+        );
+        assert!(
+            results
+                .lines()
+                .nth(3)
+                .unwrap()
+                .contains("\"needs_data\":\"columns t,theta\"")
+        );
+        // The command fails, naming the failing examples.
+        let err = outcome(&r).unwrap_err().to_string();
+        assert!(
+            err.contains("2 of 4 examples failed (fails, panics)"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn data_reaches_only_the_example_that_takes_it() {
+        let out = std::env::temp_dir().join(format!("pendulab-report-data-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let examples = [example("needs", needs), example("takes_none", takes_none)];
+        let data = DataFiles::for_tests("needs", "t,theta\n0,1\n0.001,1.1\n");
+        let r = write_report(&examples, &out, &data, false).unwrap();
+        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(r.summary.runs, 2, "{results}");
+        // Two data rows under the header.
+        assert!(results.contains("\"rows\":2.0"), "{results}");
+        assert!(outcome(&r).is_ok());
+    }
+
+    #[test]
+    fn civil_dates_match_known_days() {
+        // Day numbers from the Unix epoch: 0 = 1970-01-01; 11016 = 2000-02-29 (leap day of a
+        // year divisible by 400); 20784 = 2026-11-27 (date(1) -d @1795737600).
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(20_784), (2026, 11, 27));
+        assert_eq!(civil_from_days(-1), (1969, 12, 31));
+    }
 }

@@ -1,0 +1,211 @@
+//! `pendulab report` end to end: the page, its figure links and the JSON results for the whole
+//! registry; the errors for an unwritable directory and bad `--data`/`--only` arguments.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+struct Dir(PathBuf);
+
+impl Dir {
+    fn new(tag: &str) -> Self {
+        let p = std::env::temp_dir().join(format!("pendulab-report-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        Dir(p)
+    }
+    fn file(&self, name: &str, text: &str) -> String {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn pendulab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pendulab"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn fails_with(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert!(!o.status.success(), "expected failure, stderr: {err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr lacks {n:?}: {err}");
+    }
+}
+
+/// Every value of `attr="..."` in the page.
+fn attributes<'a>(page: &'a str, attr: &str) -> Vec<&'a str> {
+    let key = format!("{attr}=\"");
+    let mut out = Vec::new();
+    let mut rest = page;
+    while let Some(i) = rest.find(&key) {
+        rest = &rest[i + key.len()..];
+        let end = rest.find('"').expect("attribute closed");
+        out.push(&rest[..end]);
+        rest = &rest[end..];
+    }
+    out
+}
+
+/// Undoes the page's percent-encoding of a relative link.
+fn percent_decode(s: &str) -> String {
+    let bytes = s.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            let hex = std::str::from_utf8(&bytes[i + 1..i + 3]).unwrap();
+            out.push(u8::from_str_radix(hex, 16).unwrap());
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).unwrap()
+}
+
+fn resolve(dir: &Path, link: &str) -> PathBuf {
+    let link = percent_decode(link);
+    if link.starts_with('/') {
+        PathBuf::from(link)
+    } else {
+        dir.join(link)
+    }
+}
+
+#[test]
+fn report_has_every_example_and_every_figure_link_resolves() {
+    let list = pendulab(&["book", "list", "--json"]);
+    assert!(list.status.success());
+    let ids: Vec<String> = String::from_utf8_lossy(&list.stdout)
+        .lines()
+        .map(|l| {
+            serde_json::from_str::<Value>(l).unwrap()["id"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+
+    let d = Dir::new("full");
+    let out = d.path("report");
+    let o = pendulab(&["report", "--out", out.to_str().unwrap()]);
+    let page = std::fs::read_to_string(out.join("index.html")).expect("index.html written");
+    assert!(page.starts_with("<!DOCTYPE html>") && page.trim_end().ends_with("</html>"));
+    // One article per example, in registry order, each linked from the contents.
+    for id in &ids {
+        assert!(
+            page.contains(&format!("href=\"#{id}\"")),
+            "{id} not in contents"
+        );
+        assert_eq!(
+            page.matches(&format!("<article class=\"example\" id=\"{id}\">"))
+                .count(),
+            1,
+            "{id} needs exactly one section"
+        );
+    }
+    assert_eq!(
+        page.matches("<article class=\"example\"").count(),
+        ids.len()
+    );
+    // Every image and link into the report directory resolves to a written file.
+    for link in attributes(&page, "src").into_iter().chain(
+        attributes(&page, "href")
+            .into_iter()
+            .filter(|h| !h.starts_with('#')),
+    ) {
+        let p = resolve(&out, link);
+        assert!(p.is_file(), "broken link {link} -> {}", p.display());
+    }
+    // results.jsonl: one line per example with the contract's keys; failures there match the
+    // exit code.
+    let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    let lines: Vec<Value> = results
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(
+        lines
+            .iter()
+            .map(|l| l["id"].as_str().unwrap())
+            .collect::<Vec<_>>(),
+        ids.iter().map(String::as_str).collect::<Vec<_>>()
+    );
+    // status.md: the README table, a header, a rule and one row per example.
+    let status = std::fs::read_to_string(out.join("status.md")).unwrap();
+    assert_eq!(status.lines().count(), ids.len() + 2, "{status}");
+    for id in &ids {
+        assert!(
+            status.contains(&format!("| `{id}` |")),
+            "{id} not in status.md"
+        );
+    }
+    let failing = lines.iter().filter(|l| l.get("error").is_some()).count();
+    assert_eq!(o.status.success(), failing == 0, "{}", stderr(&o));
+    assert!(
+        page.contains(&format!("{failing} failing")),
+        "page counts {failing} failing"
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains(&format!("{} examples", ids.len())),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn unwritable_report_directory_is_a_clear_error() {
+    let d = Dir::new("unwritable");
+    let file = d.file("plain-file", "x");
+    fails_with(
+        &pendulab(&["report", "--out", &format!("{file}/report")]),
+        &["cannot create output directory"],
+    );
+}
+
+#[test]
+fn bad_data_and_only_arguments_are_clear_errors() {
+    let d = Dir::new("args");
+    let out = d.path("r");
+    let out = out.to_str().unwrap();
+    let good = d.file("good.csv", "t,theta\n0,0.1\n");
+    // The report takes data only as ID=FILE: with many examples a bare file is ambiguous.
+    fails_with(
+        &pendulab(&["report", "--out", out, "--data", &good]),
+        &["expected ID=FILE"],
+    );
+    fails_with(
+        &pendulab(&[
+            "report",
+            "--out",
+            out,
+            "--data",
+            &format!("no_such_example={good}"),
+        ]),
+        &["unknown example id 'no_such_example'"],
+    );
+    fails_with(
+        &pendulab(&["report", "--out", out, "--only", "no_such_example"]),
+        &["unknown example id 'no_such_example'"],
+    );
+    // Nothing was written for a rejected command line.
+    assert!(!Path::new(out).join("index.html").exists());
+}
