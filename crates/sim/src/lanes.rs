@@ -145,11 +145,11 @@ pub fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
         let cv = (cb & !swap) | (sb & swap);
         s[l] = f64::from_bits(sv ^ (((q >> 1) & 1) << 63));
         c[l] = f64::from_bits(cv ^ ((q.wrapping_add(1) >> 1) & 1) << 63);
-        wide |= !(xi.abs() <= POLY_LIMIT);
+        wide |= xi.abs() > POLY_LIMIT || xi.is_nan();
     }
     if wide {
         for l in 0..L {
-            if !(x[l].abs() <= POLY_LIMIT) {
+            if x[l].abs() > POLY_LIMIT || x[l].is_nan() {
                 (s[l], c[l]) = x[l].sin_cos();
             }
         }
