@@ -17,7 +17,7 @@
 //! [`SampledLoop::run_with`](crate::SampledLoop::run_with) of the same configuration (the
 //! plant implementation must mirror its scalar right-hand side operation by operation, as
 //! `pendulab_plants::CartPendulum` does). With [`PolySinCos`] the sines and cosines come
-//! from [`sin_cos_lanes`] (vectorisable; within 2 ulp of libm for `|x| ≤ 10⁵`, see there), so
+//! from [`sin_cos_lanes`] (vectorisable; within about 2 ulp of libm, see there), so
 //! states differ from the general loop by rounding-level amounts that the closed loop's
 //! stable dynamics keep small; runs that end near the bound can in principle end one sample
 //! apart.
@@ -95,9 +95,11 @@ const POLY_LIMIT: f64 = 1.0e5;
 /// quadrant `n mod 4`), Cody–Waite reduction `r = x − n·π/2` with a three-part `π/2`, then the
 /// Taylor polynomials of `sin r` (to `r¹⁷`) and `cos r` (to `r¹⁸`) on `|r| ≲ π/4` (truncation
 /// below 10⁻¹⁹), evaluated by Horner's rule, and the quadrant applied by swapping and sign
-/// flips on the bit patterns. Error: within 2 ulp (plus 1e-17 absolute near the zeros of
-/// sin/cos) of the correctly rounded values for `|x| ≤ 10⁵` (the crate's tests compare with
-/// libm); larger `|x|` (and NaN/∞) fall back to `f64::sin_cos`.
+/// flips on the bit patterns. Error against libm: at most 2 ulp + 4·10⁻¹⁷·max(1, |x|) for
+/// `|x| ≤ 10⁵` (the second term is the rounding of the reduced argument, which is the result
+/// near the zeros of sin and cos); checked on [−20, 20] in steps of 10⁻⁴, at the quadrant
+/// boundaries `kπ/4` and their neighbours, and at points up to 10⁵ (`tests/lanes.rs`).
+/// Larger `|x|` (and NaN/∞) fall back to `f64::sin_cos`.
 #[inline(always)]
 pub fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
     const S: [f64; 8] = [
