@@ -429,3 +429,24 @@ impl Dynamics for CartPendulum {
         dx[..4].copy_from_slice(&f);
     }
 }
+
+/// The right-hand side for `L` states at once (structure of arrays) for
+/// [`pendulab_sim::lanes`]: the same operations as [`CartPendulum::derivative_array`], in the
+/// same order, per lane, with the sines and cosines from `M`.
+impl<const L: usize> pendulab_sim::lanes::LaneDynamics<4, L> for CartPendulum {
+    #[inline(always)]
+    fn derivative_lanes<M: pendulab_sim::lanes::SinCos>(
+        &self,
+        x: &[[f64; L]; 4],
+        u: &[f64; L],
+    ) -> [[f64; L]; 4] {
+        let (s, c) = M::sin_cos(&x[1]);
+        let mut ddz = [0.0; L];
+        let mut ddtheta = [0.0; L];
+        for l in 0..L {
+            ddz[l] = self.drive.acceleration(x[2][l], u[l]);
+            ddtheta[l] = self.pendulum.acceleration(s[l], c[l], x[3][l], ddz[l]);
+        }
+        [x[2], x[3], ddz, ddtheta]
+    }
+}

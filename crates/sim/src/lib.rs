@@ -16,6 +16,7 @@
 //! | test signals | [`Signal`] | step, ramp, pulse, pulse train, sine, piecewise, sums |
 //! | per-sample summaries, safety stops | [`Monitor`], [`StayWithin`], [`MaxAbs`], [`SettlingTime`] | |
 //! | batch runs on all cores | [`batch`] | grids of initial states, seeded Monte Carlo, region-of-attraction maps |
+//! | SIMD lanes for batch studies of static feedback | [`lanes`] | `L` runs stepped together; bit-identical to the general loop with [`lanes::LibmSinCos`] |
 //! | a Gymnasium-style environment | [`Env`], [`EnvConfig`] | `reset(seed)`, `step(u)`; CartPole-v1 settings on the cart rig |
 //! | errors | [`SimError`] | typed, naming what and where (and the time of a blow-up) |
 //!
@@ -58,6 +59,7 @@ mod dynamics;
 pub mod env;
 mod error;
 pub mod integrate;
+pub mod lanes;
 pub mod linearize;
 pub mod monitor;
 pub mod quantizer;

@@ -724,10 +724,14 @@ struct Columns {
 }
 
 impl Columns {
-    /// Reuses `data`'s allocation (no fresh pages to fault in when it is large enough).
+    /// Reuses `data`'s allocation (no fresh pages to fault in when it is large enough). A
+    /// buffer of the right length is taken as it is, without zeroing: every row below the
+    /// final row count is written before the matrix is formed, and `into_mat` cuts the rest.
     fn recycled(mut data: Vec<f64>, cap: usize, w: usize) -> Self {
-        data.clear();
-        data.resize(cap * w, 0.0);
+        if data.len() != cap * w {
+            data.clear();
+            data.resize(cap * w, 0.0);
+        }
         Self { data, cap, w }
     }
 
