@@ -115,6 +115,8 @@ pub struct ControllerSpec {
     pub coefficients: Option<Vec<Vec<f64>>>,
     /// Scheduling variable.
     pub schedule: Option<String>,
+    /// Arm angles \[°\] of two LQR designs interpolated linearly in `ρ = 1 − cos θ₁`.
+    pub design_points_deg: Option<Vec<f64>>,
     /// Balance gain of `swing-up-balance`.
     pub balance: Option<GainSpec>,
     /// Switch to balance when `|wrap(q₁)|` is below this \[°\].
@@ -185,10 +187,7 @@ fn finite(what: &str, v: &[f64]) -> Result<(), RigError> {
 
 fn row(what: &str, v: &[f64], n: usize) -> Result<Mat, RigError> {
     if v.len() != n {
-        return Err(cfg(format!(
-            "{what} has {} entries, expected {n}",
-            v.len()
-        )));
+        return Err(cfg(format!("{what} has {} entries, expected {n}", v.len())));
     }
     finite(what, v)?;
     Ok(Mat::from_row_slice(1, n, v))
@@ -237,14 +236,61 @@ fn gain(
         (None, Some(kb), None) => Ok(-row(&format!("{what}.k_book"), kb, 4)?),
         (None, None, Some(l)) => {
             let sys = upright(plant)?;
-            let d = lqr(&sys, &diag(&format!("{what}.lqr.q"), &l.q, 4)?, &check_r(l.r)?, None)
-                .map_err(|e| cfg(format!("{what}: LQR design failed: {e}")))?;
+            let d = lqr(
+                &sys,
+                &diag(&format!("{what}.lqr.q"), &l.q, 4)?,
+                &check_r(l.r)?,
+                None,
+            )
+            .map_err(|e| cfg(format!("{what}: LQR design failed: {e}")))?;
             Ok(d.gain)
         }
-        _ => Err(cfg(format!(
-            "{what}: give exactly one of k, k_book, lqr"
-        ))),
+        _ => Err(cfg(format!("{what}: give exactly one of k, k_book, lqr"))),
     }
+}
+
+/// Two LQR designs of the arm at `θ₁ₑ = a, b` (degrees), joined by the line in `ρ = 1 − cos θ₁`
+/// through both: `K(ρ) = K_a + (ρ − ρ_a)/(ρ_b − ρ_a)·(K_b − K_a)` as coefficients `[K₀, K₁]`.
+fn scheduled_lqr(
+    plant: PlantKind,
+    l: &LqrSpec,
+    pts: &[f64],
+    schedule: Option<&str>,
+) -> Result<Vec<Mat>, RigError> {
+    if plant != PlantKind::Arm {
+        return Err(cfg(
+            "controller.design_points_deg: only the arm's linearisation depends on the drive position",
+        ));
+    }
+    if schedule.is_some_and(|s| s != "one-minus-cos-q0") {
+        return Err(cfg(
+            "controller.design_points_deg interpolates in one-minus-cos-q0 only",
+        ));
+    }
+    finite("controller.design_points_deg", pts)?;
+    let rho = |deg: f64| 1.0 - deg.to_radians().cos();
+    if pts.len() != 2 || (rho(pts[0]) - rho(pts[1])).abs() < 1e-6 {
+        return Err(cfg(format!(
+            "controller.design_points_deg = {pts:?}: give two angles with different |θ₁|"
+        )));
+    }
+    let q = diag("controller.lqr.q", &l.q, 4)?;
+    let r = check_r(l.r)?;
+    let mut k = Vec::new();
+    for &deg in pts {
+        let sys = ArmPendulum::book()
+            .linearize(ArmEquilibrium::upright(deg.to_radians()))
+            .map_err(|e| cfg(format!("linearising the arm at {deg}°: {e}")))?;
+        k.push(
+            lqr(&sys, &q, &r, None)
+                .map_err(|e| cfg(format!("LQR design at θ₁ = {deg}° failed: {e}")))?
+                .gain,
+        );
+    }
+    let (ra, rb) = (rho(pts[0]), rho(pts[1]));
+    let k1 = (&k[1] - &k[0]) / (rb - ra);
+    let k0 = &k[0] - &k1 * ra;
+    Ok(vec![k0, k1])
 }
 
 /// Parses and builds a controller file.
@@ -371,18 +417,24 @@ pub fn load(text: &str) -> Result<Loaded, RigError> {
             )
         }
         "gain-scheduled" => {
-            let coefs = c
-                .coefficients
-                .as_ref()
-                .ok_or_else(|| cfg("controller (gain-scheduled): coefficients are missing"))?;
-            if coefs.is_empty() {
-                return Err(cfg("controller.coefficients: give at least K0"));
-            }
-            let mats = coefs
-                .iter()
-                .enumerate()
-                .map(|(i, k)| row(&format!("controller.coefficients[{i}]"), k, 4))
-                .collect::<Result<Vec<_>, _>>()?;
+            let mats = match (&c.coefficients, &c.lqr, &c.design_points_deg) {
+                (Some(coefs), None, None) => {
+                    if coefs.is_empty() {
+                        return Err(cfg("controller.coefficients: give at least K0"));
+                    }
+                    coefs
+                        .iter()
+                        .enumerate()
+                        .map(|(i, k)| row(&format!("controller.coefficients[{i}]"), k, 4))
+                        .collect::<Result<Vec<_>, _>>()?
+                }
+                (None, Some(l), Some(pts)) => scheduled_lqr(plant, l, pts, c.schedule.as_deref())?,
+                _ => {
+                    return Err(cfg(
+                        "controller (gain-scheduled): give coefficients, or lqr with design_points_deg (arm)",
+                    ));
+                }
+            };
             let sched = c.schedule.as_deref().unwrap_or("one-minus-cos-q0");
             let g = match sched {
                 "one-minus-cos-q0" => GainScheduled::polynomial(&mats, |y| 1.0 - y[0].cos()),
@@ -496,19 +548,82 @@ mod tests {
     #[test]
     fn bad_files_are_typed_errors_naming_the_key() {
         let cases = [
-            ("plant = \"boat\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\n", "boat"),
-            ("plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0]\n", "controller.k"),
-            ("plant = \"cart\"\n[controller]\nkind = \"nope\"\n", "controller.kind"),
-            ("plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\n", "exactly one"),
-            ("plant = \"cart\"\nrate_hz = -1.0\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\n", "rate_hz"),
-            ("plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\n[safety]\nvoltage_limit = 0.0\n", "voltage_limit"),
-            ("plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [1.0, -1.0, 0.0, 0.0], r = 1.0 }\n", "lqr.q[1]"),
-            ("plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\ntypo = 3\n", "typo"),
+            (
+                "plant = \"boat\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\n",
+                "boat",
+            ),
+            (
+                "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0]\n",
+                "controller.k",
+            ),
+            (
+                "plant = \"cart\"\n[controller]\nkind = \"nope\"\n",
+                "controller.kind",
+            ),
+            (
+                "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\n",
+                "exactly one",
+            ),
+            (
+                "plant = \"cart\"\nrate_hz = -1.0\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\n",
+                "rate_hz",
+            ),
+            (
+                "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\n[safety]\nvoltage_limit = 0.0\n",
+                "voltage_limit",
+            ),
+            (
+                "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [1.0, -1.0, 0.0, 0.0], r = 1.0 }\n",
+                "lqr.q[1]",
+            ),
+            (
+                "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0,1.0,1.0]\ntypo = 3\n",
+                "typo",
+            ),
             ("plant = \"cart\"\n[controller\n", "controller file"),
         ];
         for (text, needle) in cases {
             let e = load(text).unwrap_err().to_string();
             assert!(e.contains(needle), "{e:?} should mention {needle:?}");
+        }
+    }
+
+    #[test]
+    fn scheduled_lqr_interpolates_the_two_designs_exactly_at_their_points() {
+        // At θ₁ = 0 and 60° the scheduled gain must equal the LQR designed at that angle
+        // (the defining property of the interpolation), to rounding.
+        let text = "plant = \"arm\"\n[controller]\nkind = \"gain-scheduled\"\nlqr = { q = [5.0, 10.0, 0.1, 0.1], r = 1.0 }\ndesign_points_deg = [0.0, 60.0]\n";
+        let sys = |deg: f64| {
+            ArmPendulum::book()
+                .linearize(ArmEquilibrium::upright(deg.to_radians()))
+                .unwrap()
+        };
+        let q = diag("q", &[5.0, 10.0, 0.1, 0.1], 4).unwrap();
+        let r = check_r(1.0).unwrap();
+        for deg in [0.0, 60.0] {
+            let k = lqr(&sys(deg), &q, &r, None).unwrap().gain;
+            let th = deg.to_radians();
+            let mut c = load(text).unwrap().controller;
+            let mut u0 = [0.0];
+            c.update(0.0, &[th, 0.0, 0.0, 0.0], &mut u0);
+            if deg != 0.0 {
+                // u = −K(ρ)·[θ₁, 0, 0, 0] = −K₀₀(ρ) θ₁.
+                let k0 = -u0[0] / th;
+                assert!((k0 - k[(0, 0)]).abs() < 1e-9 * k[(0, 0)].abs(), "{k0}");
+            }
+            for i in 1..4 {
+                // The law is linear in y at fixed ρ (ρ depends on θ₁ only).
+                let mut y = [th, 0.0, 0.0, 0.0];
+                y[i] = 1.0;
+                let mut u1 = [0.0];
+                c.update(0.0, &y, &mut u1);
+                let ki = -(u1[0] - u0[0]);
+                assert!(
+                    (ki - k[(0, i)]).abs() < 1e-9 * k[(0, i)].abs().max(1.0),
+                    "{deg}° K[{i}]: {ki} vs {}",
+                    k[(0, i)]
+                );
+            }
         }
     }
 

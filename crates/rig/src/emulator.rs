@@ -227,14 +227,21 @@ pub struct EmulatorHandle {
 impl EmulatorHandle {
     /// A snapshot of the telemetry.
     pub fn telemetry(&self) -> Telemetry {
-        *self.shared.telemetry.lock().unwrap_or_else(|e| e.into_inner())
+        *self
+            .shared
+            .telemetry
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
     }
 
     /// Freezes the emulator for `d` (no frames processed or sent, plant not advanced), as a
     /// hung rig would; afterwards it resumes on a rebased clock.
     pub fn stall(&self, d: Duration) {
-        *self.shared.stall_until.lock().unwrap_or_else(|e| e.into_inner()) =
-            Some(Instant::now() + d);
+        *self
+            .shared
+            .stall_until
+            .lock()
+            .unwrap_or_else(|e| e.into_inner()) = Some(Instant::now() + d);
     }
 
     /// Restarts the extrema of the telemetry.

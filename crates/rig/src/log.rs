@@ -56,7 +56,11 @@ pub fn header(plant: PlantKind) -> &'static str {
 }
 
 fn write_row(w: &mut impl Write, plant: PlantKind, s: &Sample) -> std::io::Result<()> {
-    write!(w, "{},{},{},{},{},{},", s.k, s.t, s.t_wall, s.seq, s.q[0], s.q[1])?;
+    write!(
+        w,
+        "{},{},{},{},{},{},",
+        s.k, s.t, s.t_wall, s.seq, s.q[0], s.q[1]
+    )?;
     if plant == PlantKind::Arm {
         write!(w, "{},", s.q[0])?;
     }
@@ -140,7 +144,11 @@ impl Drop for Logger {
     }
 }
 
-fn writer(mut w: BufWriter<File>, plant: PlantKind, rx: Receiver<Sample>) -> Result<u64, std::io::Error> {
+fn writer(
+    mut w: BufWriter<File>,
+    plant: PlantKind,
+    rx: Receiver<Sample>,
+) -> Result<u64, std::io::Error> {
     let mut n = 0u64;
     // Block for the next sample, write everything queued, flush when the queue is empty.
     while let Ok(s) = rx.recv() {

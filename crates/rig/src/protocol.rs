@@ -272,7 +272,9 @@ impl CommandFrame {
         if !volts.is_finite() {
             return 0;
         }
-        (volts * 1e6).round().clamp(i32::MIN as f64, i32::MAX as f64) as i32
+        (volts * 1e6)
+            .round()
+            .clamp(i32::MIN as f64, i32::MAX as f64) as i32
     }
 
     /// Serialises the frame with its checksum.
@@ -428,6 +430,47 @@ impl fmt::Display for RejectCounts {
     }
 }
 
+/// Frames out of a byte stream (a serial line has no datagram boundaries).
+///
+/// Bytes are appended with [`StreamDecoder::push`]; [`StreamDecoder::next_frame`] returns
+/// the next `len`-byte window that starts with the magic, version and `kind` and carries a
+/// correct checksum. After garbage or a corrupted frame it drops one byte and searches again
+/// (resynchronisation), counting the dropped bytes.
+#[derive(Debug, Clone, Default)]
+pub struct StreamDecoder {
+    buf: Vec<u8>,
+    /// Bytes discarded while resynchronising.
+    pub skipped: u64,
+}
+
+impl StreamDecoder {
+    /// An empty decoder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Appends received bytes.
+    pub fn push(&mut self, bytes: &[u8]) {
+        self.buf.extend_from_slice(bytes);
+    }
+
+    /// The next valid frame of `len` bytes and kind `kind`, if one is complete.
+    pub fn next_frame(&mut self, len: usize, kind: u8) -> Option<Vec<u8>> {
+        loop {
+            if self.buf.len() < len {
+                return None;
+            }
+            if check(&self.buf[..len], len, kind).is_ok() {
+                let frame = self.buf[..len].to_vec();
+                self.buf.drain(..len);
+                return Some(frame);
+            }
+            self.buf.remove(0);
+            self.skipped += 1;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -478,7 +521,10 @@ mod tests {
         let b = c.encode();
         assert_eq!(b.len(), COMMAND_LEN);
         assert_eq!(&b[0..4], b"PL\x01C");
-        assert_eq!(i32::from_le_bytes(b[12..16].try_into().unwrap()), -4_999_847);
+        assert_eq!(
+            i32::from_le_bytes(b[12..16].try_into().unwrap()),
+            -4_999_847
+        );
         assert_eq!(CommandFrame::decode(&b), Ok(c));
         assert!((c.volts() + 4.999847).abs() < 1e-12);
     }
@@ -554,7 +600,10 @@ mod tests {
             counts.count_error(e);
             assert!(!e.to_string().is_empty());
         }
-        assert_eq!((counts.truncated, counts.malformed, counts.checksum), (1, 1, 1));
+        assert_eq!(
+            (counts.truncated, counts.malformed, counts.checksum),
+            (1, 1, 1)
+        );
     }
 
     #[test]
@@ -576,6 +625,36 @@ mod tests {
         assert_eq!(w.check(u32::MAX), SeqVerdict::OutOfOrder);
         w.reset();
         assert_eq!(w.check(5), SeqVerdict::Fresh { skipped: 0 });
+    }
+
+    #[test]
+    fn stream_decoder_resynchronises_after_garbage_and_corruption() {
+        let a = sensor().encode();
+        let b = SensorFrame {
+            seq: 42,
+            ..sensor()
+        }
+        .encode();
+        let mut corrupt = SensorFrame {
+            seq: 43,
+            ..sensor()
+        }
+        .encode();
+        corrupt[10] ^= 4;
+        let mut d = StreamDecoder::new();
+        d.push(b"\x00PLjunk");
+        d.push(&a[..10]);
+        assert_eq!(d.next_frame(SENSOR_LEN, KIND_SENSOR), None);
+        d.push(&a[10..]);
+        d.push(&corrupt);
+        d.push(&b);
+        let f1 = d.next_frame(SENSOR_LEN, KIND_SENSOR).unwrap();
+        let f2 = d.next_frame(SENSOR_LEN, KIND_SENSOR).unwrap();
+        assert_eq!(SensorFrame::decode(&f1).unwrap().seq, 41);
+        assert_eq!(SensorFrame::decode(&f2).unwrap().seq, 42);
+        assert_eq!(d.next_frame(SENSOR_LEN, KIND_SENSOR), None);
+        // 7 garbage bytes before the first frame, the whole corrupted frame after it.
+        assert_eq!(d.skipped, 7 + SENSOR_LEN as u64);
     }
 
     #[test]

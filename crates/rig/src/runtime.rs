@@ -23,9 +23,7 @@ use crate::RigError;
 use crate::clock::{Percentiles, sleep_until};
 use crate::emulator::PlantKind;
 use crate::log::{Logger, Sample};
-use crate::protocol::{
-    CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags,
-};
+use crate::protocol::{CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags};
 use pendulab_sim::{Controller, SensorChain};
 use std::f64::consts::PI;
 use std::fmt;
@@ -262,7 +260,12 @@ impl Link {
         match self.socket.send(&frame.encode()) {
             Ok(_) => Ok(self.seq),
             // Loopback reports a vanished peer on the next call; the watchdog handles it.
-            Err(e) if matches!(e.kind(), ErrorKind::ConnectionRefused | ErrorKind::WouldBlock) => {
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    ErrorKind::ConnectionRefused | ErrorKind::WouldBlock
+                ) =>
+            {
                 Ok(self.seq)
             }
             Err(e) => Err(e),
