@@ -10,7 +10,12 @@ fn every_example_controller_file_loads() {
             let text = std::fs::read_to_string(&p).unwrap();
             let l = pendulab_rig::config::load(&text)
                 .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-            assert_eq!((l.controller.ny(), l.controller.nu()), (4, 1), "{}", p.display());
+            assert_eq!(
+                (l.controller.ny(), l.controller.nu()),
+                (4, 1),
+                "{}",
+                p.display()
+            );
             n += 1;
         }
     }
