@@ -87,6 +87,9 @@ pub struct EmulateArgs {
     /// Stop after this many seconds (default: until Ctrl-C).
     #[arg(long)]
     pub duration: Option<f64>,
+    /// Run the emulator thread under SCHED_FIFO at this priority (1–99; needs root or rtprio).
+    #[arg(long)]
+    pub rt_priority: Option<i32>,
 }
 
 /// Arguments of `pendulab rig run`.
@@ -107,6 +110,10 @@ pub struct RunArgs {
     /// Override the watchdog (periods without a fresh sensor frame).
     #[arg(long)]
     pub watchdog_periods: Option<u32>,
+    /// Run the loop under SCHED_FIFO at this priority (1–99; needs root or rtprio; if refused
+    /// the run goes on with ordinary scheduling and says so).
+    #[arg(long)]
+    pub rt_priority: Option<i32>,
 }
 
 /// Runs `pendulab rig ...`.
@@ -137,6 +144,7 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
     let mut c = EmulatorConfig::new(plant, [q0, a.theta0_deg.to_radians(), 0.0, 0.0]);
     c.listen = a.listen;
     c.seed = a.seed;
+    c.realtime_priority = a.rt_priority;
     match a.preset {
         Preset::Quantized => {}
         Preset::Ideal => c.dac = false,
@@ -209,6 +217,7 @@ fn run_controller(a: &RunArgs) -> Result<()> {
     cfg.duration = (a.duration > 0.0).then_some(a.duration);
     cfg.safety = loaded.safety;
     cfg.differentiator_t = loaded.differentiator_t;
+    cfg.realtime_priority = a.rt_priority;
     if let Some(w) = a.watchdog_periods {
         if w == 0 {
             bail!("--watchdog-periods must be ≥ 1");

@@ -23,6 +23,44 @@ pub fn sleep_until(deadline: Instant, margin: Duration) {
     }
 }
 
+/// Asks the scheduler to run the calling thread under `SCHED_FIFO` at `priority` (1–99) and
+/// locks the process's memory (`mlockall(MCL_CURRENT | MCL_FUTURE)`), as real-time rig loops
+/// do on Linux: a ready real-time thread preempts every ordinary one, so the wake-up no
+/// longer waits for other processes' time slices. Needs `CAP_SYS_NICE` (root, or an
+/// `rtprio` limit); the kernel's real-time throttling (by default 95 % of each second) keeps
+/// a runaway loop from locking the machine.
+///
+/// # Errors
+/// A message with the OS error if the policy cannot be set (the caller runs on without it),
+/// or on systems other than Linux.
+pub fn try_realtime(priority: i32) -> Result<(), String> {
+    #[cfg(target_os = "linux")]
+    {
+        let param = libc::sched_param {
+            sched_priority: priority.clamp(1, 99),
+        };
+        // SAFETY: plain system calls on the calling thread / process with a valid pointer to
+        // a stack value that outlives the call.
+        let rc = unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) };
+        if rc != 0 {
+            return Err(format!(
+                "SCHED_FIFO priority {priority}: {}",
+                std::io::Error::last_os_error()
+            ));
+        }
+        // Page faults in the loop would cost milliseconds; failure to lock is not fatal.
+        // SAFETY: as above, no pointers.
+        let _ = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
+        Ok(())
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        Err(format!(
+            "real-time priority {priority}: only supported on Linux"
+        ))
+    }
+}
+
 /// Percentiles of a sample (nearest-rank on the sorted values; empty input gives zeros).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Percentiles {

@@ -112,6 +112,8 @@ pub struct EmulatorConfig {
     pub seed: u64,
     /// No fresh command for this long → motor 0 V and disabled.
     pub watchdog: Duration,
+    /// Run the emulator thread under `SCHED_FIFO` at this priority (`None`: ordinary).
+    pub realtime_priority: Option<i32>,
 }
 
 impl EmulatorConfig {
@@ -130,6 +132,7 @@ impl EmulatorConfig {
             latency: Duration::ZERO,
             seed: 0,
             watchdog: Duration::from_millis(50),
+            realtime_priority: None,
         }
     }
 
@@ -202,6 +205,8 @@ pub struct Telemetry {
     pub max_abs_drive: f64,
     /// Periods where the thread woke a full period late (plant stepped several times).
     pub late_periods: u64,
+    /// The thread runs under `SCHED_FIFO` (as asked and granted).
+    pub realtime: bool,
 }
 
 struct Shared {
@@ -381,6 +386,9 @@ fn wrap(a: f64) -> f64 {
 }
 
 fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<(), RigError> {
+    let realtime = cfg
+        .realtime_priority
+        .is_some_and(|p| crate::clock::try_realtime(p).is_ok());
     let spec = cfg.plant.spec();
     let plant = match cfg.plant {
         PlantKind::Cart => Plant::Cart(CartPendulum::book()),
@@ -404,6 +412,7 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
     let mut watchdog_active = false;
     let mut tel = Telemetry {
         state: x,
+        realtime,
         ..Default::default()
     };
     let mut out_queue: VecDeque<(Instant, [u8; crate::protocol::SENSOR_LEN])> = VecDeque::new();
@@ -626,7 +635,7 @@ mod tests {
         // the book's μ_p): check the RK4 loop against the linear closed form to 1 %.
         let p = CartPendulum::book();
         let prm = p.params();
-        let plant = Plant::Cart(p.clone());
+        let plant = Plant::Cart(p);
         let w2 = prm.m_p * prm.g * prm.l_p / p.inertia_about_pivot();
         let mut x = [0.0, PI + 0.01, 0.0, 0.0];
         let ts = 1e-3;

@@ -81,6 +81,9 @@ pub struct RunConfig {
     pub differentiator_t: f64,
     /// Spin for the last part of each wait (see [`crate::clock`]).
     pub spin_margin: Duration,
+    /// Run the loop thread under `SCHED_FIFO` at this priority ([`crate::clock::try_realtime`];
+    /// `None`: ordinary scheduling). If the OS refuses, the run goes on and says so.
+    pub realtime_priority: Option<i32>,
 }
 
 impl RunConfig {
@@ -94,6 +97,7 @@ impl RunConfig {
             safety: Safety::default_for(plant),
             differentiator_t: 0.02,
             spin_margin: Duration::from_micros(200),
+            realtime_priority: None,
         }
     }
 }
@@ -189,6 +193,8 @@ pub struct RunReport {
     pub stats: LoopStats,
     /// The last measurement `y`.
     pub last_y: [f64; 4],
+    /// The scheduling the loop ran under (`"ordinary"`, `"SCHED_FIFO 80"`, or why not).
+    pub scheduling: String,
 }
 
 impl fmt::Display for RunReport {
@@ -204,6 +210,7 @@ impl fmt::Display for RunReport {
         let s = &self.stats;
         writeln!(f, "stop: {} ({})", self.reason, self.detail)?;
         writeln!(f, "samples: {}", self.samples)?;
+        writeln!(f, "scheduling: {}", self.scheduling)?;
         if let Some(n) = self.logged {
             writeln!(f, "logged: {n}")?;
         }
@@ -341,9 +348,10 @@ pub fn run(
         )));
     }
     let sf = &config.safety;
-    if !(sf.voltage_limit > 0.0 && sf.voltage_limit.is_finite())
-        || !(sf.travel_limit > 0.0)
-        || sf.angle_window.is_some_and(|w| !(w > 0.0))
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !positive(sf.voltage_limit)
+        || !positive(sf.travel_limit)
+        || sf.angle_window.is_some_and(|w| !positive(w))
         || sf.watchdog_periods == 0
     {
         return Err(RigError::Config(format!("bad safety limits {sf:?}")));
@@ -353,6 +361,13 @@ pub fn run(
     {
         return Err(RigError::Config(format!("duration {d} s: must be > 0")));
     }
+    let scheduling = match config.realtime_priority {
+        None => "ordinary".to_string(),
+        Some(p) => match crate::clock::try_realtime(p) {
+            Ok(()) => format!("SCHED_FIFO {}", p.clamp(1, 99)),
+            Err(e) => format!("ordinary (real-time refused: {e})"),
+        },
+    };
     let spec = config.plant.spec();
     let steps = [spec.encoders[0].step, spec.encoders[1].step];
     let mut sensor = SensorChain::state_layout(
@@ -615,5 +630,6 @@ pub fn run(
         logged,
         stats,
         last_y: y,
+        scheduling,
     })
 }

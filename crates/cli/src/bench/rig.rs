@@ -7,6 +7,9 @@
 //! (the emulator stays at 1 kHz, so most of those periods reuse a frame): the check reports
 //! the deadline misses of each rate and the highest rate with none. The check also holds the
 //! accuracy evidence of the timed job: the stop reason and the pendulum's final angle.
+//!
+//! Both threads ask for `SCHED_FIFO` (loop 80, emulator 79) as a real-time rig PC runs; the
+//! check says whether the OS granted it (it needs root or an `rtprio` limit).
 
 use super::{BenchReport, Budget, Workload};
 use anyhow::{Result, bail};
@@ -32,6 +35,7 @@ const LQR: &str = "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlq
 fn one(rate: f64, seconds: f64) -> Result<(RunReport, [f64; 4])> {
     let mut ec = EmulatorConfig::new(PlantKind::Cart, [0.0, 5f64.to_radians(), 0.0, 0.0]);
     ec.watchdog = Duration::from_millis(500);
+    ec.realtime_priority = Some(79);
     let emu = Emulator::spawn(ec)?;
     let mut l = load(LQR)?;
     let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
@@ -39,6 +43,7 @@ fn one(rate: f64, seconds: f64) -> Result<(RunReport, [f64; 4])> {
     cfg.duration = Some(seconds);
     cfg.safety = l.safety;
     cfg.safety.watchdog_periods = (0.5 * rate) as u32;
+    cfg.realtime_priority = Some(80);
     let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None)?;
     let tel = emu.stop()?;
     Ok((r, tel.state))
@@ -83,6 +88,7 @@ fn run_rig_loop(_budget: &Budget) -> Result<BenchReport> {
         check: json!({
             "stop": r.reason.name(),
             "samples": r.samples,
+            "scheduling": r.scheduling,
             "final_theta_deg": theta,
             "jitter_us": us(&r.stats.jitter),
             "lateness_us": us(&r.stats.lateness),
