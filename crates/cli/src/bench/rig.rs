@@ -5,7 +5,8 @@
 //! from 5° with the LQR of `cdip_lqr_sim` (Q = diag(10, 10, 0, 0), R = 1): the figure is the
 //! p99 of the period jitter `|t_{k+1} − t_k − ts|`. Then 1 s at each of 2, 5, 10 and 20 kHz
 //! (the emulator stays at 1 kHz, so most of those periods reuse a frame): the check reports
-//! the deadline misses of each rate and the highest rate with none. The check also holds the
+//! the deadline misses of each rate, the highest rate with none, and the highest rate whose
+//! misses stay below 0.1 % of the periods. The check also holds the
 //! accuracy evidence of the timed job: the stop reason and the pendulum's final angle.
 //!
 //! Both threads ask for `SCHED_FIFO` (loop 80, emulator 79) as a real-time rig PC runs; the
@@ -60,18 +61,29 @@ fn run_rig_loop(_budget: &Budget) -> Result<BenchReport> {
     }
     let theta = ((x[1] + PI).rem_euclid(2.0 * PI) - PI).to_degrees();
     let mut rates = Vec::new();
-    let mut best = 1000.0;
-    let mut clean_so_far = r.stats.deadline_misses == 0;
-    if !clean_so_far {
-        best = 0.0;
-    }
+    // Highest rate with no miss at all (strict), and with misses in at most 0.1 % of the
+    // periods (one scheduler hiccup on a shared machine costs a miss at any rate).
+    let mut strict = if r.stats.deadline_misses == 0 {
+        1000.0
+    } else {
+        0.0
+    };
+    let mut tolerant = if r.stats.deadline_misses * 1000 <= r.samples {
+        1000.0
+    } else {
+        0.0
+    };
+    let (mut strict_ok, mut tolerant_ok) = (strict > 0.0, tolerant > 0.0);
     for rate in [2000.0, 5000.0, 10_000.0, 20_000.0] {
         let (rr, _) = one(rate, 1.0)?;
-        let clean = rr.reason == StopReason::Completed && rr.stats.deadline_misses == 0;
-        if clean && clean_so_far {
-            best = rate;
-        } else {
-            clean_so_far = false;
+        let done = rr.reason == StopReason::Completed;
+        strict_ok &= done && rr.stats.deadline_misses == 0;
+        tolerant_ok &= done && rr.stats.deadline_misses * 1000 <= rr.samples;
+        if strict_ok {
+            strict = rate;
+        }
+        if tolerant_ok {
+            tolerant = rate;
         }
         rates.push(json!({
             "rate_hz": rate,
@@ -97,7 +109,8 @@ fn run_rig_loop(_budget: &Budget) -> Result<BenchReport> {
             "deadline_misses": r.stats.deadline_misses,
             "stale_periods": r.stats.stale_periods,
             "rates": rates,
-            "max_rate_without_misses_hz": best,
+            "max_rate_without_misses_hz": strict,
+            "max_rate_misses_below_0.1pct_hz": tolerant,
         }),
     })
 }
