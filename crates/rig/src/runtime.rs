@@ -79,7 +79,8 @@ pub struct RunConfig {
     pub safety: Safety,
     /// Pseudo-differentiator time constant \[s\] (0.02 s on the book rigs).
     pub differentiator_t: f64,
-    /// Spin for the last part of each wait (see [`crate::clock`]).
+    /// Spin for the last part of each wait (see [`crate::clock`]), at most a quarter of the
+    /// period.
     pub spin_margin: Duration,
     /// Run the loop thread under `SCHED_FIFO` at this priority ([`crate::clock::try_realtime`];
     /// `None`: ordinary scheduling). If the OS refuses, the run goes on and says so.
@@ -449,6 +450,10 @@ pub fn run(
     let mut last_echo = 0u32;
     let mut stats = LoopStats::default();
     let period = Duration::from_secs_f64(config.ts);
+    // Spin at most a quarter of the period: a loop that spins all the time starves the other
+    // threads and, under SCHED_FIFO, runs into the kernel's real-time throttling (a stall of
+    // ~50 ms each second).
+    let spin = config.spin_margin.min(period / 4);
     let mut y = [0.0; 4];
     let mut x_meas = [0.0; 4];
     let mut u = [0.0];
@@ -464,7 +469,7 @@ pub fn run(
 
     loop {
         let deadline = t0 + period.mul_f64(k as f64);
-        sleep_until(deadline, config.spin_margin);
+        sleep_until(deadline, spin);
         let wake = Instant::now();
         lateness.push((wake - deadline).as_secs_f64());
         if let Some(p) = prev_wake {

@@ -5,8 +5,8 @@
 //! from 5° with the LQR of `cdip_lqr_sim` (Q = diag(10, 10, 0, 0), R = 1): the figure is the
 //! p99 of the period jitter `|t_{k+1} − t_k − ts|`. Then 1 s at each of 2, 5, 10 and 20 kHz
 //! (the emulator stays at 1 kHz, so most of those periods reuse a frame): the check reports
-//! the deadline misses of each rate, the highest rate with none, and the highest rate whose
-//! misses stay below 0.1 % of the periods. The check also holds the
+//! the deadline misses of each rate, the highest rate reached with none at it and every lower
+//! rate, and the highest rate whose own run kept its misses below 0.1 % of the periods. The check also holds the
 //! accuracy evidence of the timed job: the stop reason and the pendulum's final angle.
 //!
 //! Both threads ask for `SCHED_FIFO` (loop 80, emulator 79) as a real-time rig PC runs; the
@@ -73,12 +73,14 @@ fn run_rig_loop(_budget: &Budget) -> Result<BenchReport> {
     } else {
         0.0
     };
-    let (mut strict_ok, mut tolerant_ok) = (strict > 0.0, tolerant > 0.0);
+    let mut strict_ok = strict > 0.0;
     for rate in [2000.0, 5000.0, 10_000.0, 20_000.0] {
         let (rr, _) = one(rate, 1.0)?;
         let done = rr.reason == StopReason::Completed;
         strict_ok &= done && rr.stats.deadline_misses == 0;
-        tolerant_ok &= done && rr.stats.deadline_misses * 1000 <= rr.samples;
+        // The 0.1 % figure is judged per rate: a hiccup of the shared machine during one
+        // run says nothing about the loop's capacity at the next rate.
+        let tolerant_ok = done && rr.stats.deadline_misses * 1000 <= rr.samples;
         if strict_ok {
             strict = rate;
         }
