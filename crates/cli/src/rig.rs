@@ -114,6 +114,14 @@ pub struct RunArgs {
     /// the run goes on with ordinary scheduling and says so).
     #[arg(long)]
     pub rt_priority: Option<i32>,
+    /// Talk to the rig over this serial port instead of UDP (`--connect` is then ignored).
+    #[cfg(feature = "serial")]
+    #[arg(long)]
+    pub serial: Option<String>,
+    /// Baud rate of `--serial`.
+    #[cfg(feature = "serial")]
+    #[arg(long, default_value_t = 921_600)]
+    pub baud: u32,
 }
 
 /// Runs `pendulab rig ...`.
@@ -218,6 +226,10 @@ fn run_controller(a: &RunArgs) -> Result<()> {
     cfg.safety = loaded.safety;
     cfg.differentiator_t = loaded.differentiator_t;
     cfg.realtime_priority = a.rt_priority;
+    #[cfg(feature = "serial")]
+    {
+        cfg.serial = a.serial.clone().map(|p| (p, a.baud));
+    }
     if let Some(w) = a.watchdog_periods {
         if w == 0 {
             bail!("--watchdog-periods must be ≥ 1");

@@ -85,6 +85,10 @@ pub struct RunConfig {
     /// Run the loop thread under `SCHED_FIFO` at this priority ([`crate::clock::try_realtime`];
     /// `None`: ordinary scheduling). If the OS refuses, the run goes on and says so.
     pub realtime_priority: Option<i32>,
+    /// Talk to the rig over this serial port `(path, baud)` instead of UDP (`connect` is then
+    /// only used in messages).
+    #[cfg(feature = "serial")]
+    pub serial: Option<(String, u32)>,
 }
 
 impl RunConfig {
@@ -99,6 +103,8 @@ impl RunConfig {
             differentiator_t: 0.02,
             spin_margin: Duration::from_micros(200),
             realtime_priority: None,
+            #[cfg(feature = "serial")]
+            serial: None,
         }
     }
 }
@@ -246,8 +252,36 @@ fn new_session() -> u32 {
     ((z as u32) | 1).max(1)
 }
 
+/// How frames travel: datagrams on UDP, or a byte stream on a serial port.
+enum Transport {
+    Udp(UdpSocket),
+    #[cfg(feature = "serial")]
+    Serial(Box<crate::serial::SerialLink>),
+}
+
+/// Judges one decoded frame; returns it if it is fresh and of `session`.
+fn judge(
+    session: u32,
+    gate: &mut SequenceGate,
+    rejects: &mut RejectCounts,
+    f: SensorFrame,
+) -> Option<SensorFrame> {
+    if f.session != session {
+        // Frames before the rig adopted this session carry another number.
+        rejects.foreign_session += 1;
+        return None;
+    }
+    match gate.check(f.seq) {
+        SeqVerdict::Fresh { .. } => Some(f),
+        v => {
+            rejects.count_verdict(v);
+            None
+        }
+    }
+}
+
 struct Link {
-    socket: UdpSocket,
+    transport: Transport,
     session: u32,
     seq: u32,
     gate: SequenceGate,
@@ -265,8 +299,13 @@ impl Link {
             flags: fl,
             sensor_seq,
         };
-        match self.socket.send(&frame.encode()) {
-            Ok(_) => Ok(self.seq),
+        let sent = match &mut self.transport {
+            Transport::Udp(socket) => socket.send(&frame.encode()).map(|_| ()),
+            #[cfg(feature = "serial")]
+            Transport::Serial(port) => port.write_frame(&frame.encode()),
+        };
+        match sent {
+            Ok(()) => Ok(self.seq),
             // Loopback reports a vanished peer on the next call; the watchdog handles it.
             Err(e)
                 if matches!(
@@ -283,8 +322,23 @@ impl Link {
     /// The newest fresh frame waiting, if any.
     fn receive(&mut self) -> Result<Option<SensorFrame>, std::io::Error> {
         let mut newest = None;
+        #[cfg(feature = "serial")]
+        if let Transport::Serial(port) = &mut self.transport {
+            port.poll()?;
+            while let Some(f) = port.next_frame() {
+                if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
+                    newest = Some(f);
+                }
+            }
+            return Ok(newest);
+        }
         loop {
-            match self.socket.recv(&mut self.buf) {
+            let got = match &self.transport {
+                Transport::Udp(socket) => socket.recv(&mut self.buf),
+                #[cfg(feature = "serial")]
+                Transport::Serial(_) => return Ok(newest),
+            };
+            match got {
                 Ok(n) => {
                     let f = match SensorFrame::decode(&self.buf[..n]) {
                         Ok(f) => f,
@@ -293,14 +347,8 @@ impl Link {
                             continue;
                         }
                     };
-                    if f.session != self.session {
-                        // Frames before the rig adopted this session carry another number.
-                        self.rejects.foreign_session += 1;
-                        continue;
-                    }
-                    match self.gate.check(f.seq) {
-                        SeqVerdict::Fresh { .. } => newest = Some(f),
-                        v => self.rejects.count_verdict(v),
+                    if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
+                        newest = Some(f);
                     }
                 }
                 Err(e) if e.kind() == ErrorKind::WouldBlock => return Ok(newest),
@@ -309,6 +357,28 @@ impl Link {
             }
         }
     }
+}
+
+fn open_transport(config: &RunConfig) -> Result<Transport, RigError> {
+    #[cfg(feature = "serial")]
+    if let Some((path, baud)) = &config.serial {
+        return Ok(Transport::Serial(Box::new(
+            crate::serial::SerialLink::open(path, *baud)?,
+        )));
+    }
+    let bind: SocketAddr = if config.connect.is_ipv4() {
+        SocketAddr::from(([0, 0, 0, 0], 0))
+    } else {
+        SocketAddr::from(([0u16; 8], 0))
+    };
+    let socket = UdpSocket::bind(bind).map_err(|e| RigError::io("binding a UDP socket", e))?;
+    socket
+        .connect(config.connect)
+        .map_err(|e| RigError::io(format!("connecting to {}", config.connect), e))?;
+    socket
+        .set_nonblocking(true)
+        .map_err(|e| RigError::io("setting the socket non-blocking", e))?;
+    Ok(Transport::Udp(socket))
 }
 
 /// Runs the loop until the duration elapses, `stop` is raised or a safety stop.
@@ -382,20 +452,9 @@ pub fn run(
     .and_then(|mut s| s.prepare(4, config.ts).map(|_| s))
     .map_err(|e| RigError::Config(format!("velocity estimator: {e}")))?;
 
-    let bind: SocketAddr = if config.connect.is_ipv4() {
-        SocketAddr::from(([0, 0, 0, 0], 0))
-    } else {
-        SocketAddr::from(([0u16; 8], 0))
-    };
-    let socket = UdpSocket::bind(bind).map_err(|e| RigError::io("binding a UDP socket", e))?;
-    socket
-        .connect(config.connect)
-        .map_err(|e| RigError::io(format!("connecting to {}", config.connect), e))?;
-    socket
-        .set_nonblocking(true)
-        .map_err(|e| RigError::io("setting the socket non-blocking", e))?;
+    let transport = open_transport(config)?;
     let mut link = Link {
-        socket,
+        transport,
         session: new_session(),
         seq: 0,
         gate: SequenceGate::new(),
@@ -439,7 +498,7 @@ pub fn run(
         .duration
         .map(|d| (d / config.ts).round() as u64)
         .unwrap_or(u64::MAX);
-    let cap = n_max.min(2_000_000) as usize;
+    let cap = n_max.min(600_000) as usize;
     let mut jitter = Vec::with_capacity(cap);
     let mut lateness = Vec::with_capacity(cap);
     let mut compute = Vec::with_capacity(cap);

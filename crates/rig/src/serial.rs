@@ -1,7 +1,8 @@
 //! The protocol over a serial port (feature `serial`, off by default).
 //!
 //! A serial line carries the same frames back to back; [`SerialLink`] writes command frames
-//! and decodes sensor frames out of the byte stream with
+//! and decodes sensor frames out of the byte stream (the runtime uses it when
+//! `RunConfig::serial` is set) with
 //! [`crate::protocol::StreamDecoder`] (resynchronising on the magic and checksum). Built on the
 //! `serialport` crate without its default features, so no system library is needed.
 
@@ -34,31 +35,46 @@ impl SerialLink {
         })
     }
 
+    /// Writes one encoded frame.
+    ///
+    /// # Errors
+    /// The port's I/O error.
+    pub fn write_frame(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.port.write_all(bytes)
+    }
+
     /// Writes one command frame.
     ///
     /// # Errors
     /// [`RigError::Io`].
     pub fn send(&mut self, frame: &CommandFrame) -> Result<(), RigError> {
-        self.port
-            .write_all(&frame.encode())
+        self.write_frame(&frame.encode())
             .map_err(|e| RigError::io("writing to the serial port", e))
     }
 
-    /// Reads what has arrived and returns the newest complete sensor frame, if any.
+    /// Reads what has arrived (waiting at most the 1 ms timeout) into the decoder.
     ///
     /// # Errors
-    /// [`RigError::Io`].
-    pub fn receive(&mut self) -> Result<Option<SensorFrame>, RigError> {
+    /// The port's I/O error (a timeout is not one).
+    pub fn poll(&mut self) -> std::io::Result<()> {
+        let available = self.port.bytes_to_read().map_err(std::io::Error::other)?;
+        if available == 0 {
+            return Ok(());
+        }
         match self.port.read(&mut self.buf) {
             Ok(n) => self.decoder.push(&self.buf[..n]),
             Err(e) if e.kind() == ErrorKind::TimedOut => {}
-            Err(e) => return Err(RigError::io("reading the serial port", e)),
+            Err(e) => return Err(e),
         }
-        let mut newest = None;
-        while let Some(f) = self.decoder.next_frame(SENSOR_LEN, KIND_SENSOR) {
-            newest = SensorFrame::decode(&f).ok();
-        }
-        Ok(newest)
+        Ok(())
+    }
+
+    /// The next complete, checksummed sensor frame in the stream, if any (sequence and
+    /// session checks are the caller's).
+    pub fn next_frame(&mut self) -> Option<SensorFrame> {
+        self.decoder
+            .next_frame(SENSOR_LEN, KIND_SENSOR)
+            .and_then(|f| SensorFrame::decode(&f).ok())
     }
 
     /// Bytes skipped while resynchronising.
