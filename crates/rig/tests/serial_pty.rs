@@ -49,7 +49,7 @@ fn the_loop_runs_over_a_serial_line_with_garbage_in_the_stream() {
                     status: 0,
                 };
                 // Line noise before every tenth frame: the runtime must resynchronise.
-                if seq % 10 == 0 {
+                if seq.is_multiple_of(10) {
                     master.write_all(b"\x00noise").unwrap();
                 }
                 master.write_all(&f.encode()).unwrap();
