@@ -11,7 +11,7 @@
 //! | [`config`] | controller files (TOML): state feedback, LQ servo, gain-scheduled, swing-up + balance, with LQR designs on the book plants |
 //! | [`log`] | [`Logger`]: lossless CSV off the control thread, flushed on every stop path; readable by `pendulab identify` |
 //! | [`clock`] | the sleep-then-spin wait and nearest-rank percentiles |
-//! | `serial` (feature `serial`, off by default) | the same frames over a serial port |
+//! | `serial` (feature `serial`, off by default) | the same frames over a serial port; `RunConfig::serial` makes the runtime use it |
 //!
 //! ```no_run
 //! use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
