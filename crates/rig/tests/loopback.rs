@@ -439,3 +439,36 @@ fn cart_swing_up_and_balance_from_the_hanging_rest() {
     assert!(tel.max_abs_pendulum > 3.0);
     assert!(tel.max_abs_drive < 0.45);
 }
+
+#[test]
+fn arm_gain_scheduled_lqr_brings_the_arm_back_from_50_degrees() {
+    // The scheduled gain of docs/rig/examples/arm_gain_scheduled.toml (LQR designs at
+    // θ₁ = 0° and 60°, linear in ρ = 1 − cos θ₁) on the emulated arm rig, pendulum upright,
+    // arm at 50°: the arm returns to 0 and the pendulum stays up.
+    let emu = Emulator::spawn(emulator(
+        PlantKind::Arm,
+        [50f64.to_radians(), 0.0, 0.0, 0.0],
+    ))
+    .unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/rig/examples/arm_gain_scheduled.toml"
+    ))
+    .unwrap();
+    let mut l = load(&text).unwrap();
+    let mut cfg = RunConfig::new(PlantKind::Arm, emu.addr());
+    cfg.duration = Some(6.0);
+    cfg.safety = l.safety;
+    tolerant(&mut cfg);
+    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
+    println!("{r}");
+    let tel = emu.stop().unwrap();
+    assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
+    // Same bounds as the fixed-gain arm test: 2° at the end, the 30° window never left.
+    assert!(tel.state[0].abs() < 2f64.to_radians(), "{:?}", tel.state);
+    assert!(
+        wrap(tel.state[1]).abs() < 2f64.to_radians(),
+        "{:?}",
+        tel.state
+    );
+}
