@@ -1,0 +1,347 @@
+//! `pendulab rig` end to end on loopback: the runtime binary killed mid-run (SIGKILL: the
+//! emulator's watchdog zeroes the motor and the log is intact; SIGINT and SIGTERM: a safe stop
+//! with every sample logged and the stop's exit status), the emulator subcommand, a log read
+//! back by `pendulab identify`, and bad input.
+//!
+//! Assertions are about behaviour; timing is only printed (2 shared cores under load).
+
+use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
+use serde_json::Value;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+const CART_LQR: &str = "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 }\n[safety]\nwatchdog_periods = 500\n";
+
+struct Dir(PathBuf);
+
+impl Dir {
+    fn new(tag: &str) -> Self {
+        let p = std::env::temp_dir().join(format!("pendulab-rig-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&p).unwrap();
+        Dir(p)
+    }
+    fn file(&self, name: &str, text: &str) -> String {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    }
+    fn path(&self, name: &str) -> String {
+        self.0.join(name).to_string_lossy().into_owned()
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn pendulab() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pendulab"))
+}
+
+fn spawn_run(addr: &str, controller: &str, log: &str) -> Child {
+    pendulab()
+        .args([
+            "rig",
+            "run",
+            "--connect",
+            addr,
+            "--controller",
+            controller,
+            "--log",
+            log,
+            "--duration",
+            "60",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Rows of a log; panics on a malformed row (every row must be complete).
+fn rows(path: &str) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let mut lines = text.lines();
+    let Some(header) = lines.next() else {
+        return Vec::new();
+    };
+    let n = header.split(',').count();
+    lines
+        .map(|l| {
+            let r: Vec<f64> = l
+                .split(',')
+                .map(|x| x.parse().unwrap_or_else(|_| panic!("bad field in {l:?}")))
+                .collect();
+            assert_eq!(r.len(), n, "incomplete row {l:?}");
+            r
+        })
+        .collect()
+}
+
+/// Waits until the log of a running child has at least `n` rows.
+fn wait_rows(path: &str, n: usize, child: &mut Child) {
+    let t0 = Instant::now();
+    loop {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        if text.lines().count() > n {
+            return;
+        }
+        if let Some(s) = child.try_wait().unwrap() {
+            panic!("pendulab rig run exited early: {s}");
+        }
+        assert!(t0.elapsed() < Duration::from_secs(30), "no progress");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn assert_contiguous(r: &[Vec<f64>]) {
+    for (k, row) in r.iter().enumerate() {
+        assert_eq!(row[0], k as f64, "row {k}");
+        // t = k·ts exactly as written (1 kHz).
+        assert!((row[1] - k as f64 * 1e-3).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn killing_the_controller_makes_the_emulator_zero_the_motor_and_leaves_an_intact_log() {
+    let d = Dir::new("kill");
+    let mut ec = EmulatorConfig::new(PlantKind::Cart, [0.0, 5f64.to_radians(), 0.0, 0.0]);
+    ec.watchdog = Duration::from_millis(50);
+    let emu = Emulator::spawn(ec).unwrap();
+    let h = emu.handle();
+    let ctl = d.file("lqr.toml", CART_LQR);
+    let log = d.path("kill.csv");
+    let mut child = spawn_run(&emu.addr().to_string(), &ctl, &log);
+    wait_rows(&log, 500, &mut child);
+    let before = h.telemetry();
+    assert!(before.enabled && before.session != 0, "{before:?}");
+    child.kill().unwrap(); // SIGKILL: no handler runs
+    child.wait().unwrap();
+    // The emulator's watchdog (50 ms) zeroes and disables the motor.
+    let t0 = Instant::now();
+    let tel = loop {
+        let tel = h.telemetry();
+        if tel.watchdog_active {
+            break tel;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(10), "{tel:?}");
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert_eq!(tel.applied_volts, 0.0);
+    assert!(!tel.enabled);
+    assert!(tel.watchdog_trips >= 1);
+    // The log: every row complete and contiguous from k = 0 (nothing torn, nothing skipped).
+    let r = rows(&log);
+    assert!(r.len() >= 500);
+    assert_contiguous(&r);
+    println!(
+        "SIGKILL: {} rows logged; the emulator accepted {} commands",
+        r.len(),
+        tel.commands_accepted
+    );
+    emu.stop().unwrap();
+}
+
+#[test]
+fn ctrl_c_and_sigterm_stop_safely_with_every_sample_logged() {
+    let d = Dir::new("sigint");
+    let ctl = d.file("lqr.toml", CART_LQR);
+    for (signal, tag) in [("-INT", "int"), ("-TERM", "term")] {
+        let emu = Emulator::spawn(EmulatorConfig::new(
+            PlantKind::Cart,
+            [0.0, 5f64.to_radians(), 0.0, 0.0],
+        ))
+        .unwrap();
+        let h = emu.handle();
+        let log = d.path(&format!("{tag}.csv"));
+        let mut child = spawn_run(&emu.addr().to_string(), &ctl, &log);
+        wait_rows(&log, 300, &mut child);
+        let st = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(st.success());
+        let out = child.wait_with_output().unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        println!("{stdout}");
+        // Exit status 2 = interrupted (StopReason::exit_code), and the reason is printed.
+        assert_eq!(out.status.code(), Some(2), "{stdout}");
+        assert!(stdout.contains("stop: interrupted"), "{stdout}");
+        assert!(stdout.contains("period jitter: p50"));
+        let samples: usize = stdout
+            .lines()
+            .find_map(|l| l.strip_prefix("samples: "))
+            .unwrap()
+            .parse()
+            .unwrap();
+        // Every sample up to the stop is in the log, the last one the 0 V stop row.
+        let r = rows(&log);
+        assert_eq!(r.len(), samples);
+        assert_contiguous(&r);
+        assert_eq!(r.last().unwrap()[9], 0.0); // column v
+        // The STOP frames freed the emulator at once: 0 V, no session.
+        let t0 = Instant::now();
+        while h.telemetry().session != 0 {
+            assert!(t0.elapsed() < Duration::from_secs(10));
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        assert_eq!(h.telemetry().applied_volts, 0.0);
+        emu.stop().unwrap();
+    }
+}
+
+fn emulate(args: &[&str]) -> (Child, String) {
+    let mut child = pendulab()
+        .args(["rig", "emulate", "--listen", "127.0.0.1:0"])
+        .args(args)
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .trim()
+        .strip_prefix("listening on ")
+        .unwrap_or_else(|| panic!("{line:?}"))
+        .to_string();
+    (child, addr)
+}
+
+fn ok(o: &Output) -> String {
+    assert!(
+        o.status.success(),
+        "failed ({:?}): {}{}",
+        o.status,
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+#[test]
+fn a_servo_log_from_the_emulator_identifies_the_book_cart_drive() {
+    // `pendulab rig emulate` (the book plant) and `pendulab rig run` with the LQ servo to
+    // 0.3 m; the log goes straight into `pendulab identify cart-ls` (columns t, z, v as the
+    // rig data of data/rig/). The emulated plant has a_c = 6.25 1/s, b_c = 4.36 m/(s² V)
+    // (table 3.5), but how close the estimates come depends on the loop's timing: the log's
+    // t is the nominal k·ts, v is applied by the rig up to a period later, and on a loaded
+    // machine wake-ups are late by milliseconds (a quiet run gives ~10 %, a 2-core machine at
+    // load 14 gave 25 %). The test therefore asserts that the log is read as it is (the
+    // window's sample count) and that the estimates are the right physical quantities — a
+    // factor of 2, which still fails for mixed-up columns or units (v in µV, z in counts) —
+    // and prints them.
+    let d = Dir::new("ident");
+    let (mut emu, addr) = emulate(&["--plant", "cart", "--theta0-deg", "0", "--duration", "30"]);
+    let ctl = d.file(
+        "servo.toml",
+        "plant = \"cart\"\n[controller]\nkind = \"lq-servo\"\nlqr = { q = [1.0, 5.0, 0.0, 0.0, 100.0], r = 1.0 }\nreference = [0.3]\nstep_time = 0.5\n[safety]\nwatchdog_periods = 500\n",
+    );
+    let log = d.path("servo.csv");
+    let out = ok(&pendulab()
+        .args([
+            "rig",
+            "run",
+            "--connect",
+            &addr,
+            "--controller",
+            &ctl,
+            "--log",
+            &log,
+            "--duration",
+            "4",
+        ])
+        .output()
+        .unwrap());
+    println!("{out}");
+    assert!(out.contains("stop: completed"));
+    assert!(out.contains("samples: 4000"));
+    emu.kill().unwrap();
+    emu.wait().unwrap();
+    let v: Value = serde_json::from_str(&ok(&pendulab()
+        .args([
+            "identify", "cart-ls", "--data", &log, "--window", "0.4:3.5", "--json",
+        ])
+        .output()
+        .unwrap()))
+    .unwrap();
+    let (ac, bc) = (
+        v["estimates"]["ac"].as_f64().unwrap(),
+        v["estimates"]["bc"].as_f64().unwrap(),
+    );
+    println!("identified from the rig log: ac = {ac}, bc = {bc}");
+    // 0.4 s to 3.5 s inclusive at 1 kHz.
+    assert_eq!(v["samples"], 3101);
+    assert!(ac > 6.25 / 2.0 && ac < 6.25 * 2.0, "ac = {ac}");
+    assert!(bc > 4.36 / 2.0 && bc < 4.36 * 2.0, "bc = {bc}");
+}
+
+#[test]
+fn bad_input_is_an_error_naming_what_and_where() {
+    let d = Dir::new("bad");
+    // A controller file with a wrong gain length: exit 1, the key named.
+    let bad = d.file(
+        "bad.toml",
+        "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0, 2.0]\n",
+    );
+    let o = pendulab()
+        .args([
+            "rig",
+            "run",
+            "--connect",
+            "127.0.0.1:9",
+            "--controller",
+            &bad,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("controller.k") && e.contains("bad.toml"), "{e}");
+    // A missing file names the file.
+    let o = pendulab()
+        .args([
+            "rig",
+            "run",
+            "--connect",
+            "127.0.0.1:9",
+            "--controller",
+            "/nonexistent/c.toml",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent/c.toml"));
+    // Nobody listening: "no rig" after the connect timeout, exit 1.
+    let quiet = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    let ctl = d.file(
+        "c.toml",
+        "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [0.0, 0.0, 0.0, 0.0]\n[safety]\nconnect_timeout_s = 0.3\n",
+    );
+    let o = pendulab()
+        .args([
+            "rig",
+            "run",
+            "--connect",
+            &quiet.local_addr().unwrap().to_string(),
+            "--controller",
+            &ctl,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no rig"));
+    // Emulator options out of range.
+    let o = pendulab()
+        .args(["rig", "emulate", "--plant", "cart", "--loss", "1.5"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("loss"));
+    assert!(Path::new(&d.0).exists());
+}

@@ -1,0 +1,699 @@
+//! The controller runtime: a fixed-rate loop against a rig speaking [`crate::protocol`].
+//!
+//! Period `k` (deadline `t₀ + k·ts`, waited for by [`crate::clock::sleep_until`]):
+//!
+//! 1. read every sensor datagram waiting; keep the newest well-formed frame of this session
+//!    with a fresh sequence number (the rest are counted in [`RejectCounts`]); with none, the
+//!    previous reading is used again and the period counts as *stale*;
+//! 2. **watchdog**: `watchdog_periods` stale periods in a row stop the run
+//!    ([`StopReason::Watchdog`]);
+//! 3. encoder counts → positions (`q₀ = c₀ s₀`, `q₁ = c₁ s₁ + π`: the pendulum encoder counts
+//!    from the hanging rest), velocities by the rig's pseudo-differentiator `s/(T s + 1)`
+//!    (`pendulab_sim::SensorChain`, Tustin), `y = [q₀, q₁, q̇₀, q̇₁]`;
+//! 4. safety on `y`: NaN guard, drive travel limit `|q₀| ≤ travel_limit`, and for balance
+//!    controllers the angle window `|wrap(q₁)| ≤ angle_window`;
+//! 5. `u = controller.update(k·ts, y)`, NaN guard on `u`, clamp to `±voltage_limit`, send the
+//!    command frame; hand the sample to the logger.
+//!
+//! Every stop (completed, Ctrl-C, watchdog, limits, NaN, I/O) sends 0 V with
+//! [`flags::STOP`] (three times, for loss), logs a final row with `v = 0`, flushes the log and
+//! reports the [`StopReason`] with the loop's statistics ([`LoopStats`]).
+
+use crate::RigError;
+use crate::clock::{Percentiles, sleep_until};
+use crate::emulator::PlantKind;
+use crate::log::{Logger, Sample};
+use crate::protocol::{CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags};
+use pendulab_sim::{Controller, SensorChain};
+use std::f64::consts::PI;
+use std::fmt;
+use std::io::ErrorKind;
+use std::net::{SocketAddr, UdpSocket};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Limits enforced by the runtime.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Safety {
+    /// Commands are clamped to `±voltage_limit` \[V\].
+    pub voltage_limit: f64,
+    /// Stop if `|q₀|` (cart position \[m\] or arm angle \[rad\]) exceeds this.
+    pub travel_limit: f64,
+    /// Stop if `|wrap(q₁)|` exceeds this \[rad\] (balance controllers; `None`: no window).
+    pub angle_window: Option<f64>,
+    /// Stop after this many periods in a row without a fresh sensor frame.
+    pub watchdog_periods: u32,
+    /// How long to wait for the rig's first sensor frame.
+    pub connect_timeout: Duration,
+}
+
+impl Safety {
+    /// Defaults of a rig: ±5 V, travel 0.4 m (cart) or 3 rad (arm), window 30°, watchdog
+    /// 20 periods, 2 s to connect.
+    pub fn default_for(plant: PlantKind) -> Self {
+        Self {
+            voltage_limit: 5.0,
+            travel_limit: match plant {
+                PlantKind::Cart => 0.4,
+                PlantKind::Arm => 3.0,
+            },
+            angle_window: Some(30f64.to_radians()),
+            watchdog_periods: 20,
+            connect_timeout: Duration::from_secs(2),
+        }
+    }
+}
+
+/// Settings of one run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunConfig {
+    /// Which rig (encoder resolutions).
+    pub plant: PlantKind,
+    /// The rig's address.
+    pub connect: SocketAddr,
+    /// Loop period \[s\].
+    pub ts: f64,
+    /// Stop after this long \[s\] (`None`: until stopped).
+    pub duration: Option<f64>,
+    /// Limits.
+    pub safety: Safety,
+    /// Pseudo-differentiator time constant \[s\] (0.02 s on the book rigs).
+    pub differentiator_t: f64,
+    /// Spin for the last part of each wait (see [`crate::clock`]), at most a quarter of the
+    /// period.
+    pub spin_margin: Duration,
+    /// Run the loop thread under `SCHED_FIFO` at this priority ([`crate::clock::try_realtime`];
+    /// `None`: ordinary scheduling). If the OS refuses, the run goes on and says so.
+    pub realtime_priority: Option<i32>,
+    /// Talk to the rig over this serial port `(path, baud)` instead of UDP (`connect` is then
+    /// only used in messages).
+    #[cfg(feature = "serial")]
+    pub serial: Option<(String, u32)>,
+}
+
+impl RunConfig {
+    /// 1 kHz, 10 s, the rig's default safety, `T = 0.02 s`, 200 µs spin.
+    pub fn new(plant: PlantKind, connect: SocketAddr) -> Self {
+        Self {
+            plant,
+            connect,
+            ts: plant.spec().sample_time,
+            duration: Some(10.0),
+            safety: Safety::default_for(plant),
+            differentiator_t: 0.02,
+            spin_margin: Duration::from_micros(200),
+            realtime_priority: None,
+            #[cfg(feature = "serial")]
+            serial: None,
+        }
+    }
+}
+
+/// Why a run stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The duration elapsed.
+    Completed,
+    /// The stop flag was raised (Ctrl-C, SIGTERM).
+    Interrupted,
+    /// No fresh sensor frame for the configured number of periods.
+    Watchdog,
+    /// The drive left its travel limit.
+    TravelLimit,
+    /// The pendulum left the balance window.
+    AngleWindow,
+    /// A measurement or command was not finite.
+    NonFinite,
+    /// The socket failed.
+    Io,
+}
+
+impl StopReason {
+    /// The process exit status `pendulab rig run` returns: 0 completed, 2 interrupted,
+    /// 3 watchdog, 4 travel limit, 5 angle window, 6 non-finite value, 7 I/O.
+    pub fn exit_code(self) -> u8 {
+        match self {
+            StopReason::Completed => 0,
+            StopReason::Interrupted => 2,
+            StopReason::Watchdog => 3,
+            StopReason::TravelLimit => 4,
+            StopReason::AngleWindow => 5,
+            StopReason::NonFinite => 6,
+            StopReason::Io => 7,
+        }
+    }
+
+    /// A short name (`completed`, `interrupted`, `watchdog`, `travel-limit`,
+    /// `angle-window`, `non-finite`, `io`).
+    pub fn name(self) -> &'static str {
+        match self {
+            StopReason::Completed => "completed",
+            StopReason::Interrupted => "interrupted",
+            StopReason::Watchdog => "watchdog",
+            StopReason::TravelLimit => "travel-limit",
+            StopReason::AngleWindow => "angle-window",
+            StopReason::NonFinite => "non-finite",
+            StopReason::Io => "io",
+        }
+    }
+}
+
+impl fmt::Display for StopReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What the loop measured of itself. Times in seconds.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LoopStats {
+    /// `|period − ts|` of consecutive wake-ups.
+    pub jitter: Percentiles,
+    /// Wake-up lateness after the deadline.
+    pub lateness: Percentiles,
+    /// From wake-up to the command sent.
+    pub compute: Percentiles,
+    /// Command sent → the rig reports it applied (echoed sequence number).
+    pub round_trip: Percentiles,
+    /// Periods whose command was sent after the next deadline.
+    pub deadline_misses: u64,
+    /// Periods without a fresh sensor frame.
+    pub stale_periods: u64,
+    /// Commands clamped by the voltage limit.
+    pub clamped: u64,
+    /// Sensor frames rejected, by reason.
+    pub rejects: RejectCounts,
+}
+
+/// The outcome of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunReport {
+    /// Why it stopped.
+    pub reason: StopReason,
+    /// Human-readable detail (which limit, which value).
+    pub detail: String,
+    /// Periods run (rows logged, including the final stop row).
+    pub samples: u64,
+    /// Rows the logger wrote (equal to `samples` when a log was kept).
+    pub logged: Option<u64>,
+    /// Loop statistics.
+    pub stats: LoopStats,
+    /// The last measurement `y`.
+    pub last_y: [f64; 4],
+    /// The scheduling the loop ran under (`"ordinary"`, `"SCHED_FIFO 80"`, or why not).
+    pub scheduling: String,
+}
+
+impl fmt::Display for RunReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let us = |p: &Percentiles| {
+            format!(
+                "p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs",
+                p.p50 * 1e6,
+                p.p99 * 1e6,
+                p.max * 1e6
+            )
+        };
+        let s = &self.stats;
+        writeln!(f, "stop: {} ({})", self.reason, self.detail)?;
+        writeln!(f, "samples: {}", self.samples)?;
+        writeln!(f, "scheduling: {}", self.scheduling)?;
+        if let Some(n) = self.logged {
+            writeln!(f, "logged: {n}")?;
+        }
+        writeln!(f, "period jitter: {}", us(&s.jitter))?;
+        writeln!(f, "wake-up lateness: {}", us(&s.lateness))?;
+        writeln!(f, "computation: {}", us(&s.compute))?;
+        writeln!(f, "round trip: {}", us(&s.round_trip))?;
+        writeln!(
+            f,
+            "deadline misses: {}, stale periods: {}, clamped commands: {}",
+            s.deadline_misses, s.stale_periods, s.clamped
+        )?;
+        write!(f, "rejected sensor frames: {}", s.rejects)
+    }
+}
+
+fn wrap(a: f64) -> f64 {
+    (a + PI).rem_euclid(2.0 * PI) - PI
+}
+
+/// A session number for this run: non-zero, different between runs (clock and process id
+/// mixed by SplitMix64's finaliser).
+fn new_session() -> u32 {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos() as u64)
+        .unwrap_or(0);
+    let mut z = nanos ^ ((std::process::id() as u64) << 32);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^= z >> 31;
+    ((z as u32) | 1).max(1)
+}
+
+/// How frames travel: datagrams on UDP, or a byte stream on a serial port.
+enum Transport {
+    Udp(UdpSocket),
+    #[cfg(feature = "serial")]
+    Serial(Box<crate::serial::SerialLink>),
+}
+
+/// Judges one decoded frame; returns it if it is fresh and of `session`.
+fn judge(
+    session: u32,
+    gate: &mut SequenceGate,
+    rejects: &mut RejectCounts,
+    f: SensorFrame,
+) -> Option<SensorFrame> {
+    if f.session != session {
+        // Frames before the rig adopted this session carry another number.
+        rejects.foreign_session += 1;
+        return None;
+    }
+    match gate.check(f.seq) {
+        SeqVerdict::Fresh { .. } => Some(f),
+        v => {
+            rejects.count_verdict(v);
+            None
+        }
+    }
+}
+
+struct Link {
+    transport: Transport,
+    session: u32,
+    seq: u32,
+    gate: SequenceGate,
+    rejects: RejectCounts,
+    buf: [u8; 2048],
+}
+
+impl Link {
+    fn send(&mut self, volts: f64, fl: u16, sensor_seq: u32) -> Result<u32, std::io::Error> {
+        self.seq = self.seq.wrapping_add(1);
+        let frame = CommandFrame {
+            session: self.session,
+            seq: self.seq,
+            microvolts: CommandFrame::microvolts_of(volts),
+            flags: fl,
+            sensor_seq,
+        };
+        let sent = match &mut self.transport {
+            Transport::Udp(socket) => socket.send(&frame.encode()).map(|_| ()),
+            #[cfg(feature = "serial")]
+            Transport::Serial(port) => port.write_frame(&frame.encode()),
+        };
+        match sent {
+            Ok(()) => Ok(self.seq),
+            // Loopback reports a vanished peer on the next call; the watchdog handles it.
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    ErrorKind::ConnectionRefused | ErrorKind::WouldBlock
+                ) =>
+            {
+                Ok(self.seq)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The newest fresh frame waiting, if any.
+    fn receive(&mut self) -> Result<Option<SensorFrame>, std::io::Error> {
+        let mut newest = None;
+        #[cfg(feature = "serial")]
+        if let Transport::Serial(port) = &mut self.transport {
+            port.poll()?;
+            while let Some(f) = port.next_frame() {
+                if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
+                    newest = Some(f);
+                }
+            }
+            return Ok(newest);
+        }
+        loop {
+            let got = match &self.transport {
+                Transport::Udp(socket) => socket.recv(&mut self.buf),
+                #[cfg(feature = "serial")]
+                Transport::Serial(_) => return Ok(newest),
+            };
+            match got {
+                Ok(n) => {
+                    let f = match SensorFrame::decode(&self.buf[..n]) {
+                        Ok(f) => f,
+                        Err(e) => {
+                            self.rejects.count_error(e);
+                            continue;
+                        }
+                    };
+                    if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
+                        newest = Some(f);
+                    }
+                }
+                Err(e) if e.kind() == ErrorKind::WouldBlock => return Ok(newest),
+                Err(e) if e.kind() == ErrorKind::ConnectionRefused => return Ok(newest),
+                Err(e) => return Err(e),
+            }
+        }
+    }
+}
+
+fn open_transport(config: &RunConfig) -> Result<Transport, RigError> {
+    #[cfg(feature = "serial")]
+    if let Some((path, baud)) = &config.serial {
+        return Ok(Transport::Serial(Box::new(
+            crate::serial::SerialLink::open(path, *baud)?,
+        )));
+    }
+    let bind: SocketAddr = if config.connect.is_ipv4() {
+        SocketAddr::from(([0, 0, 0, 0], 0))
+    } else {
+        SocketAddr::from(([0u16; 8], 0))
+    };
+    let socket = UdpSocket::bind(bind).map_err(|e| RigError::io("binding a UDP socket", e))?;
+    socket
+        .connect(config.connect)
+        .map_err(|e| RigError::io(format!("connecting to {}", config.connect), e))?;
+    socket
+        .set_nonblocking(true)
+        .map_err(|e| RigError::io("setting the socket non-blocking", e))?;
+    Ok(Transport::Udp(socket))
+}
+
+/// Runs the loop until the duration elapses, `stop` is raised or a safety stop.
+///
+/// `controller` sees `y = [q₀, q₁, q̇₀, q̇₁]` and must have `ny = 4`, `nu = 1`, and a sample
+/// time (if it has one) equal to `config.ts`. With `log`, every period is logged and the log
+/// is finished (flushed) before returning, on every path.
+///
+/// # Errors
+/// [`RigError::Config`] for a mismatched controller or bad settings; [`RigError::Io`] if the
+/// socket cannot be set up; [`RigError::NoRig`] if no sensor frame arrives within the connect
+/// timeout. Stops after the loop has started are [`RunReport`]s, not errors.
+pub fn run(
+    config: &RunConfig,
+    controller: &mut dyn Controller,
+    stop: &AtomicBool,
+    log: Option<Logger>,
+) -> Result<RunReport, RigError> {
+    if controller.ny() != 4 || controller.nu() != 1 {
+        return Err(RigError::Config(format!(
+            "the controller takes {} measurements and gives {} commands; the rig needs 4 and 1",
+            controller.ny(),
+            controller.nu()
+        )));
+    }
+    if !(config.ts.is_finite() && config.ts >= 2e-5 && config.ts <= 0.1) {
+        return Err(RigError::Config(format!(
+            "loop period {} s: must be in [20 µs, 100 ms]",
+            config.ts
+        )));
+    }
+    if let Some(ts) = controller.sample_time()
+        && (ts - config.ts).abs() > 1e-9 * config.ts
+    {
+        return Err(RigError::Config(format!(
+            "the controller was designed for ts = {ts} s, the loop runs at {} s",
+            config.ts
+        )));
+    }
+    let sf = &config.safety;
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !positive(sf.voltage_limit)
+        || !positive(sf.travel_limit)
+        || sf.angle_window.is_some_and(|w| !positive(w))
+        || sf.watchdog_periods == 0
+    {
+        return Err(RigError::Config(format!("bad safety limits {sf:?}")));
+    }
+    if let Some(d) = config.duration
+        && !(d.is_finite() && d > 0.0)
+    {
+        return Err(RigError::Config(format!("duration {d} s: must be > 0")));
+    }
+    let scheduling = match config.realtime_priority {
+        None => "ordinary".to_string(),
+        Some(p) => match crate::clock::try_realtime(p) {
+            Ok(()) => format!("SCHED_FIFO {}", p.clamp(1, 99)),
+            Err(e) => format!("ordinary (real-time refused: {e})"),
+        },
+    };
+    let spec = config.plant.spec();
+    let steps = [spec.encoders[0].step, spec.encoders[1].step];
+    let mut sensor = SensorChain::state_layout(
+        4,
+        &[],
+        &[
+            (0, 2, config.differentiator_t),
+            (1, 3, config.differentiator_t),
+        ],
+    )
+    .and_then(|mut s| s.prepare(4, config.ts).map(|_| s))
+    .map_err(|e| RigError::Config(format!("velocity estimator: {e}")))?;
+
+    let transport = open_transport(config)?;
+    let mut link = Link {
+        transport,
+        session: new_session(),
+        seq: 0,
+        gate: SequenceGate::new(),
+        rejects: RejectCounts::default(),
+        buf: [0; 2048],
+    };
+
+    // Connect: disabled commands until the rig answers in this session.
+    let start = Instant::now();
+    let mut first = None;
+    while first.is_none() {
+        if stop.load(Ordering::Relaxed) {
+            if let Some(l) = log {
+                l.finish()?;
+            }
+            return Err(RigError::NoRig(format!(
+                "interrupted before {} answered",
+                config.connect
+            )));
+        }
+        if start.elapsed() > sf.connect_timeout {
+            let _ = link.send(0.0, flags::STOP, 0);
+            if let Some(l) = log {
+                l.finish()?;
+            }
+            return Err(RigError::NoRig(format!(
+                "no sensor frame from {} within {:?}",
+                config.connect, sf.connect_timeout
+            )));
+        }
+        link.send(0.0, 0, 0)
+            .map_err(|e| RigError::io(format!("sending to {}", config.connect), e))?;
+        std::thread::sleep(Duration::from_millis(5));
+        first = link
+            .receive()
+            .map_err(|e| RigError::io(format!("receiving from {}", config.connect), e))?;
+    }
+    let mut frame = first.expect("connected");
+
+    let n_max = config
+        .duration
+        .map(|d| (d / config.ts).round() as u64)
+        .unwrap_or(u64::MAX);
+    let cap = n_max.min(600_000) as usize;
+    let mut jitter = Vec::with_capacity(cap);
+    let mut lateness = Vec::with_capacity(cap);
+    let mut compute = Vec::with_capacity(cap);
+    let mut rtt = Vec::with_capacity(cap);
+    // Send times of recent commands, indexed by sequence number modulo the ring size.
+    const RING: usize = 4096;
+    let mut sent_at = vec![(0u32, start); RING];
+    let mut last_echo = 0u32;
+    let mut stats = LoopStats::default();
+    let period = Duration::from_secs_f64(config.ts);
+    // Spin at most a quarter of the period: a loop that spins all the time starves the other
+    // threads and, under SCHED_FIFO, runs into the kernel's real-time throttling (a stall of
+    // ~50 ms each second).
+    let spin = config.spin_margin.min(period / 4);
+    let mut y = [0.0; 4];
+    let mut x_meas = [0.0; 4];
+    let mut u = [0.0];
+    let mut stale_run = 0u32;
+    let mut prev_wake: Option<Instant> = None;
+    let mut reason = StopReason::Completed;
+    let detail: String;
+    let mut k: u64 = 0;
+    let t0 = Instant::now();
+    controller.reset();
+    let mut fresh = Some(frame);
+    let mut logger_alive = true;
+
+    loop {
+        let deadline = t0 + period.mul_f64(k as f64);
+        sleep_until(deadline, spin);
+        let wake = Instant::now();
+        lateness.push((wake - deadline).as_secs_f64());
+        if let Some(p) = prev_wake {
+            jitter.push(((wake - p).as_secs_f64() - config.ts).abs());
+        }
+        prev_wake = Some(wake);
+        let t = k as f64 * config.ts;
+
+        // 1. Sensors.
+        if k > 0 {
+            match link.receive() {
+                Ok(f) => fresh = f,
+                Err(e) => {
+                    reason = StopReason::Io;
+                    detail = format!("receiving from {}: {e}", config.connect);
+                    break;
+                }
+            }
+        }
+        match fresh.take() {
+            Some(f) => {
+                frame = f;
+                stale_run = 0;
+                if f.command_seq != last_echo && f.command_seq != 0 {
+                    last_echo = f.command_seq;
+                    let (s, at) = sent_at[f.command_seq as usize % RING];
+                    if s == f.command_seq {
+                        rtt.push((wake - at).as_secs_f64());
+                    }
+                }
+            }
+            None => {
+                stats.stale_periods += 1;
+                stale_run += 1;
+            }
+        }
+        // 2. Watchdog.
+        if stale_run >= sf.watchdog_periods {
+            reason = StopReason::Watchdog;
+            detail = format!(
+                "no fresh sensor frame for {stale_run} periods ({:.1} ms)",
+                stale_run as f64 * config.ts * 1e3
+            );
+            break;
+        }
+        // 3. Measurement.
+        x_meas[0] = frame.counts[0] as f64 * steps[0];
+        x_meas[1] = frame.counts[1] as f64 * steps[1] + PI;
+        sensor.measure(&x_meas, &mut y);
+        // 4. Safety on y.
+        if y.iter().any(|v| !v.is_finite()) {
+            reason = StopReason::NonFinite;
+            detail = format!("measurement {y:?}");
+            break;
+        }
+        if y[0].abs() > sf.travel_limit {
+            reason = StopReason::TravelLimit;
+            detail = format!("|q0| = {:.4} > {}", y[0].abs(), sf.travel_limit);
+            break;
+        }
+        if let Some(w) = sf.angle_window
+            && wrap(y[1]).abs() > w
+        {
+            reason = StopReason::AngleWindow;
+            detail = format!(
+                "|pendulum angle| = {:.2}° > {:.2}°",
+                wrap(y[1]).abs().to_degrees(),
+                w.to_degrees()
+            );
+            break;
+        }
+        // 5. Control.
+        controller.update(t, &y, &mut u);
+        let u_ctrl = u[0];
+        if !u_ctrl.is_finite() {
+            reason = StopReason::NonFinite;
+            detail = format!("command {u_ctrl} at t = {t} s");
+            break;
+        }
+        let v = u_ctrl.clamp(-sf.voltage_limit, sf.voltage_limit);
+        if v != u_ctrl {
+            stats.clamped += 1;
+        }
+        let seq = match link.send(v, flags::ENABLE, frame.seq) {
+            Ok(s) => s,
+            Err(e) => {
+                reason = StopReason::Io;
+                detail = format!("sending to {}: {e}", config.connect);
+                break;
+            }
+        };
+        let done = Instant::now();
+        sent_at[seq as usize % RING] = (seq, done);
+        compute.push((done - wake).as_secs_f64());
+        if done > deadline + period {
+            stats.deadline_misses += 1;
+        }
+        if let Some(l) = &log {
+            logger_alive &= l.log(Sample {
+                k,
+                t,
+                t_wall: (wake - t0).as_secs_f64(),
+                seq: frame.seq,
+                q: [y[0], y[1]],
+                dq: [y[2], y[3]],
+                v,
+                u_ctrl,
+                status: frame.status,
+            });
+            if !logger_alive {
+                reason = StopReason::Io;
+                detail = "the log writer stopped".into();
+                k += 1;
+                break;
+            }
+        }
+        k += 1;
+        if stop.load(Ordering::Relaxed) {
+            reason = StopReason::Interrupted;
+            detail = format!("stop requested at t = {t:.3} s");
+            break;
+        }
+        if k >= n_max {
+            detail = format!("{:.3} s", k as f64 * config.ts);
+            break;
+        }
+    }
+
+    // Safe stop: 0 V, disabled, session freed; a final row records it.
+    for _ in 0..3 {
+        let _ = link.send(0.0, flags::STOP, frame.seq);
+    }
+    let wake = Instant::now();
+    if reason != StopReason::Completed {
+        if let Some(l) = &log {
+            l.log(Sample {
+                k,
+                t: k as f64 * config.ts,
+                t_wall: (wake - t0).as_secs_f64(),
+                seq: frame.seq,
+                q: [y[0], y[1]],
+                dq: [y[2], y[3]],
+                v: 0.0,
+                u_ctrl: 0.0,
+                status: frame.status,
+            });
+        }
+        k += 1;
+    }
+    let logged = match log {
+        Some(l) => Some(l.finish()?),
+        None => None,
+    };
+    stats.jitter = Percentiles::of(&mut jitter);
+    stats.lateness = Percentiles::of(&mut lateness);
+    stats.compute = Percentiles::of(&mut compute);
+    stats.round_trip = Percentiles::of(&mut rtt);
+    stats.rejects = link.rejects;
+    Ok(RunReport {
+        reason,
+        detail,
+        samples: k,
+        logged,
+        stats,
+        last_y: y,
+        scheduling,
+    })
+}
