@@ -57,6 +57,12 @@ pub fn care(
     if dims.n == 0 {
         return Ok(empty_solution(dims.m, RiccatiMethod::Schur));
     }
+    if options.method == RiccatiMethod::Auto
+        && dims.n <= super::small::SMALL_MAX
+        && let Some(sol) = super::small::care_small(a, b, q, r, n, options)
+    {
+        return Ok(sol);
+    }
     let red = reduce(a, b, q, r, n)?;
     let fin = Finisher {
         domain: Domain::Continuous,

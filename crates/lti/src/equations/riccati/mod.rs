@@ -39,6 +39,7 @@
 
 mod care;
 mod dare;
+mod small;
 
 pub use care::care;
 pub use dare::dare;
