@@ -474,7 +474,7 @@ fn solve<const N: usize>(
             break;
         }
     }
-    if !(residual <= ACCEPT_FACTOR * N as f64 * f64::EPSILON) {
+    if residual.is_nan() || residual > ACCEPT_FACTOR * N as f64 * f64::EPSILON {
         return None;
     }
     let tol = ACCEPT_FACTOR * N as f64 * f64::EPSILON;
@@ -483,7 +483,7 @@ fn solve<const N: usize>(
     }
     let f = d.a - mm(&d.b, &k);
     let poles = eigenvalues(&f)?;
-    if poles.iter().any(|p| !(p.re < 0.0)) {
+    if poles.iter().any(|p| p.re.is_nan() || p.re >= 0.0) {
         return None;
     }
     Some(RiccatiSolution {
