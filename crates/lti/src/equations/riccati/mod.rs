@@ -75,6 +75,11 @@ pub enum RiccatiMethod {
     /// Choose automatically: for the CARE the Schur method, then the doubling method; for the
     /// DARE the doubling method, then the Schur method. The first accepted result with a
     /// residual at most [`GOOD_RESIDUAL`] is returned, otherwise the most accurate accepted one.
+    ///
+    /// Small CAREs (`n ≤ 8` states, `m ≤ n` inputs) first try the doubling method on
+    /// fixed-size, stack-allocated matrices, accepted only with a relative residual at most
+    /// `100·n·ε`, a Hurwitz closed loop and (for `Q̃ ⪰ 0`) `X ⪰ 0`; such a result reports
+    /// [`RiccatiMethod::Doubling`]. Otherwise the general path above runs unchanged.
     #[default]
     Auto,
     /// Ordered real Schur form of the Hamiltonian matrix (CARE) or of the symplectic matrix
