@@ -169,9 +169,14 @@ pub(crate) fn validate(
     check_symmetric("Q", q, 1e-12)?;
     check_symmetric("R", r, 1e-12)?;
     if require_r_pd && m > 0 {
-        let min = crate::linalg::symmetric_eigenvalues(r)
-            .into_iter()
-            .fold(f64::INFINITY, f64::min);
+        // A 1×1 R is its own eigenvalue (no eigensolver call on the single-input fast path).
+        let min = if m == 1 {
+            r[(0, 0)]
+        } else {
+            crate::linalg::symmetric_eigenvalues(r)
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+        };
         if min.is_nan() || min <= r.norm() * f64::EPSILON * (m as f64) {
             return Err(LtiError::NotPositiveDefinite {
                 what: "R".into(),
