@@ -3,7 +3,8 @@
 //! - `care-n4`: the linearised cart pendulum of the book (SPEC.md §1.1, table 3.5),
 //!   `Q = diag(100, 10, 1, 1)`, `R = 1`. Figure: microseconds per `care` call (default
 //!   options: method choice, scaling, refinement, gain, closed-loop poles and residual
-//!   included).
+//!   included). For this size `care` takes its fixed-size doubling path (`method` in the
+//!   check reports `Doubling`; the general ordered-Schur path reports `Schur`).
 //! - `care-n100`: a random stabilisable system of order 100 with 10 inputs from a fixed seed
 //!   (entries of `A` uniform in `[−1, 1)·3/√n`, so about half of the eigenvalues are unstable;
 //!   `B` uniform in `[−1, 1)`; `Q = CᵀC + 0.1 I` with `C` random `n × n`; `R = I`). Figure:

@@ -29,6 +29,11 @@ use crate::linalg::{Mat, symmetrize};
 ///   "A structure-preserving doubling algorithm for continuous-time algebraic Riccati
 ///   equations", Linear Algebra Appl. 396, 2005).
 ///
+/// With [`RiccatiMethod::Auto`], problems with `n ≤ 8` states and `m ≤ n` inputs first go
+/// through a fixed-size (stack-allocated) doubling + Newton path with strict acceptance
+/// (relative residual ≤ `100·n·ε`, Hurwitz closed loop, `X ⪰ 0` when `Q̃ ⪰ 0`); the result then
+/// reports [`RiccatiMethod::Doubling`]. When it declines, the methods above run as described.
+///
 /// The result is then refined by Kleinman–Newton steps in residual-correction form
 /// (`(A−BK)ᵀΔ + Δ(A−BK) = −Res(X)`, kept only if the residual drops) and checked: relative
 /// residual ≤ [`RESIDUAL_LIMIT`](super::RESIDUAL_LIMIT), all closed-loop poles in the open
@@ -56,6 +61,12 @@ pub fn care(
     let dims = validate(a, b, q, r, n, true)?;
     if dims.n == 0 {
         return Ok(empty_solution(dims.m, RiccatiMethod::Schur));
+    }
+    if options.method == RiccatiMethod::Auto
+        && dims.n <= super::small::SMALL_MAX
+        && let Some(sol) = super::small::care_small(a, b, q, r, n, options)
+    {
+        return Ok(sol);
     }
     let red = reduce(a, b, q, r, n)?;
     let fin = Finisher {

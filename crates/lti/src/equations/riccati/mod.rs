@@ -39,6 +39,7 @@
 
 mod care;
 mod dare;
+mod small;
 
 pub use care::care;
 pub use dare::dare;
@@ -74,6 +75,11 @@ pub enum RiccatiMethod {
     /// Choose automatically: for the CARE the Schur method, then the doubling method; for the
     /// DARE the doubling method, then the Schur method. The first accepted result with a
     /// residual at most [`GOOD_RESIDUAL`] is returned, otherwise the most accurate accepted one.
+    ///
+    /// Small CAREs (`n ≤ 8` states, `m ≤ n` inputs) first try the doubling method on
+    /// fixed-size, stack-allocated matrices, accepted only with a relative residual at most
+    /// `100·n·ε`, a Hurwitz closed loop and (for `Q̃ ⪰ 0`) `X ⪰ 0`; such a result reports
+    /// [`RiccatiMethod::Doubling`]. Otherwise the general path above runs unchanged.
     #[default]
     Auto,
     /// Ordered real Schur form of the Hamiltonian matrix (CARE) or of the symplectic matrix
@@ -163,9 +169,14 @@ pub(crate) fn validate(
     check_symmetric("Q", q, 1e-12)?;
     check_symmetric("R", r, 1e-12)?;
     if require_r_pd && m > 0 {
-        let min = crate::linalg::symmetric_eigenvalues(r)
-            .into_iter()
-            .fold(f64::INFINITY, f64::min);
+        // A 1×1 R is its own eigenvalue (no eigensolver call on the single-input fast path).
+        let min = if m == 1 {
+            r[(0, 0)]
+        } else {
+            crate::linalg::symmetric_eigenvalues(r)
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+        };
         if min.is_nan() || min <= r.norm() * f64::EPSILON * (m as f64) {
             return Err(LtiError::NotPositiveDefinite {
                 what: "R".into(),

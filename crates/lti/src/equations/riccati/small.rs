@@ -1,0 +1,497 @@
+//! Fixed-size fast path of [`care`](super::care) for small problems.
+//!
+//! For `n ≤ SMALL_MAX` states and `m ≤ n` inputs, [`RiccatiMethod::Auto`] first runs the same
+//! algorithms as the general solver on stack-allocated `n × n` matrices (nalgebra `SMatrix`,
+//! one monomorphised copy per order), so a solve performs almost no heap allocation:
+//!
+//! 1. the cross term is removed and `R` factored as in the general path, with `R`, `Bᵀ` and
+//!    `Nᵀ` padded to `n × n` (`R` by an identity block, `Bᵀ`, `Nᵀ` by zero rows — the padding
+//!    contributes exact zeros to every product, so no result depends on it);
+//! 2. structure-preserving doubling after a Cayley transform (Chu, Fan & Lin, "A
+//!    structure-preserving doubling algorithm for continuous-time algebraic Riccati
+//!    equations", Linear Algebra Appl. 396, 2005), with the general path's scaling, shift and
+//!    stopping rules;
+//! 3. Kleinman–Newton refinement in residual-correction form, under the general path's rules
+//!    (a step is kept only if it lowers the residual; stop when it gains less than a factor
+//!    2), its Lyapunov equation `FᵀΔ + ΔF = −Res(X)` solved directly on the `n(n+1)/2`
+//!    unknowns of the symmetric `Δ` (Kronecker form, LU with partial pivoting);
+//! 4. **strict acceptance**: the relative residual (the same definition as
+//!    [`care_residual`](super::care_residual)) must be at most `100·n·ε` — below the general
+//!    path's own acceptance bound [`GOOD_RESIDUAL`](super::GOOD_RESIDUAL) —, every closed-loop
+//!    pole must lie in the open left half-plane and, for LQR data (`Q̃ ⪰ 0`), `X` must be
+//!    positive semidefinite (as the stabilising solution is then, `X = ∫ e^{Fᵀt}(Q̃ +
+//!    KᵀRK)e^{Ft} dt`).
+//!
+//! A residual at rounding level together with a Hurwitz closed loop identifies the unique
+//! stabilising solution, so an accepted result is the one the general path would return, to
+//! the problem's conditioning. Anything else (breakdown, slow convergence, a rejected check)
+//! returns `None` and the general ordered-Schur path runs as if the fast path did not exist;
+//! it also produces every diagnostic error.
+
+use super::{REFINEMENT_FLOOR, RiccatiMethod, RiccatiOptions, RiccatiSolution};
+use crate::linalg::dense::lanv2;
+use crate::linalg::schur::{hessenberg, hqr};
+use crate::linalg::{Complex64, Mat, sort_eigenvalues};
+use nalgebra::SMatrix;
+
+/// Largest state dimension handled by the fixed-size path.
+pub(crate) const SMALL_MAX: usize = 8;
+
+/// Number of unknowns of a symmetric `SMALL_MAX × SMALL_MAX` matrix.
+const SYM_MAX: usize = SMALL_MAX * (SMALL_MAX + 1) / 2;
+
+/// Acceptance bound on the relative residual, in units of `n·ε`.
+const ACCEPT_FACTOR: f64 = 100.0;
+
+type Sq<const N: usize> = SMatrix<f64, N, N>;
+
+/// Tries the fixed-size path; `None` means "use the general solver" (the data were already
+/// validated by the caller).
+pub(crate) fn care_small(
+    a: &Mat,
+    b: &Mat,
+    q: &Mat,
+    r: &Mat,
+    n: Option<&Mat>,
+    options: &RiccatiOptions,
+) -> Option<RiccatiSolution> {
+    let m = b.ncols();
+    if m == 0 || m > a.nrows() {
+        return None;
+    }
+    match a.nrows() {
+        1 => solve::<1>(a, b, q, r, n, options),
+        2 => solve::<2>(a, b, q, r, n, options),
+        3 => solve::<3>(a, b, q, r, n, options),
+        4 => solve::<4>(a, b, q, r, n, options),
+        5 => solve::<5>(a, b, q, r, n, options),
+        6 => solve::<6>(a, b, q, r, n, options),
+        7 => solve::<7>(a, b, q, r, n, options),
+        8 => solve::<8>(a, b, q, r, n, options),
+        _ => None,
+    }
+}
+
+/// `A·B` by the plain triple loop (column-major `j, k, i` order). For the fixed orders used
+/// here the compiler unrolls and vectorises it completely, which nalgebra's generic product
+/// (a `gemm` call with run-time strides) does not.
+#[inline(always)]
+fn mm<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let mut c = Sq::<N>::zeros();
+    let (av, bv) = (a.as_slice(), b.as_slice());
+    let cv = c.as_mut_slice();
+    for j in 0..N {
+        for k in 0..N {
+            let bkj = bv[k + j * N];
+            for i in 0..N {
+                cv[i + j * N] += av[i + k * N] * bkj;
+            }
+        }
+    }
+    c
+}
+
+/// `Aᵀ·B`.
+#[inline(always)]
+fn mtm<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let mut c = Sq::<N>::zeros();
+    let (av, bv) = (a.as_slice(), b.as_slice());
+    let cv = c.as_mut_slice();
+    for j in 0..N {
+        for i in 0..N {
+            let mut acc = 0.0;
+            for k in 0..N {
+                acc += av[k + i * N] * bv[k + j * N];
+            }
+            cv[i + j * N] = acc;
+        }
+    }
+    c
+}
+
+/// Symmetric part `(M + Mᵀ)/2`.
+fn sym<const N: usize>(m: &Sq<N>) -> Sq<N> {
+    (m + m.transpose()) * 0.5
+}
+
+/// Induced 1-norm (largest column sum).
+fn norm1<const N: usize>(m: &Sq<N>) -> f64 {
+    m.column_iter()
+        .map(|c| c.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// Inverse by Gauss–Jordan elimination with partial pivoting (`PA = LU` followed by the
+/// solve for the columns of the identity, done in place) and its exact reciprocal 1-norm
+/// condition number; `None` if singular or not finite.
+fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
+    // Row-major working copies: row operations then touch contiguous memory.
+    let mut w = [[0.0f64; N]; N];
+    let mut inv = [[0.0f64; N]; N];
+    for i in 0..N {
+        for j in 0..N {
+            w[i][j] = m[(i, j)];
+        }
+        inv[i][i] = 1.0;
+    }
+    for col in 0..N {
+        let mut piv = col;
+        for row in col + 1..N {
+            if w[row][col].abs() > w[piv][col].abs() {
+                piv = row;
+            }
+        }
+        let d = w[piv][col];
+        if d == 0.0 || !d.is_finite() {
+            return None;
+        }
+        w.swap(piv, col);
+        inv.swap(piv, col);
+        let (wc, ic) = (w[col], inv[col]);
+        for row in 0..N {
+            if row != col {
+                let f = w[row][col] / d;
+                if f != 0.0 {
+                    for k in 0..N {
+                        w[row][k] -= f * wc[k];
+                        inv[row][k] -= f * ic[k];
+                    }
+                }
+            }
+        }
+    }
+    let inv = Sq::<N>::from_fn(|i, j| inv[i][j] / w[i][i]);
+    let rc = 1.0 / (norm1(m) * norm1(&inv));
+    rc.is_finite().then_some((inv, rc))
+}
+
+/// `true` if `M + δI` admits a Cholesky factorisation, `δ = tol·‖M‖_F`: `M` is positive
+/// semidefinite up to `tol` relative.
+fn is_psd<const N: usize>(m: &Sq<N>, tol: f64) -> bool {
+    let shifted = m + Sq::<N>::identity() * (tol * m.norm());
+    shifted.cholesky().is_some()
+}
+
+/// Data of the problem with the cross term removed (module docs, step 1).
+struct Data<const N: usize> {
+    /// `A` as given.
+    a: Sq<N>,
+    /// `B` padded with zero columns to `n × n`.
+    b: Sq<N>,
+    /// `Q` (symmetric part).
+    q: Sq<N>,
+    /// `‖Q‖_F` of the data as given (a residual term).
+    q_norm: f64,
+    /// Lower Cholesky factor of `R` padded by an identity block.
+    l: Sq<N>,
+    /// `L⁻¹Bᵀ` (rows `≥ m` zero).
+    w0: Sq<N>,
+    /// `L⁻¹Nᵀ` (rows `≥ m` zero).
+    v: Sq<N>,
+    /// `Ã = A − BR⁻¹Nᵀ`.
+    at: Sq<N>,
+    /// `G = BR⁻¹Bᵀ`.
+    g: Sq<N>,
+    /// `Q̃ = Q − NR⁻¹Nᵀ`.
+    qt: Sq<N>,
+}
+
+impl<const N: usize> Data<N> {
+    fn new(a: &Mat, b: &Mat, q: &Mat, r: &Mat, nc: Option<&Mat>) -> Option<Self> {
+        let m = b.ncols();
+        let a_f = Sq::<N>::from_fn(|i, j| a[(i, j)]);
+        let b_f = Sq::<N>::from_fn(|i, j| if j < m { b[(i, j)] } else { 0.0 });
+        let q_f = Sq::<N>::from_fn(|i, j| 0.5 * (q[(i, j)] + q[(j, i)]));
+        let r_f = Sq::<N>::from_fn(|i, j| {
+            if i < m && j < m {
+                r[(i, j)]
+            } else if i == j {
+                1.0
+            } else {
+                0.0
+            }
+        });
+        let l = r_f.cholesky()?.l();
+        let w0 = l.solve_lower_triangular(&b_f.transpose())?;
+        let v = match nc {
+            Some(nm) => {
+                let nt = Sq::<N>::from_fn(|i, j| if i < m { nm[(j, i)] } else { 0.0 });
+                l.solve_lower_triangular(&nt)?
+            }
+            None => Sq::<N>::zeros(),
+        };
+        let at = a_f - w0.transpose() * v;
+        let g = sym(&(w0.transpose() * w0));
+        let qt = sym(&(q_f - v.transpose() * v));
+        Some(Self {
+            a: a_f,
+            b: b_f,
+            q: q_f,
+            q_norm: q.norm(),
+            l,
+            w0,
+            v,
+            at,
+            g,
+            qt,
+        })
+    }
+
+    /// Gain `K = R⁻¹(BᵀX + Nᵀ) = L⁻ᵀ(W₀X + V)` (rows `≥ m` zero) and `Z = W₀X + V`.
+    fn gain(&self, x: &Sq<N>) -> Option<(Sq<N>, Sq<N>)> {
+        let z = mm(&self.w0, x) + self.v;
+        let k = self.l.tr_solve_lower_triangular(&z)?;
+        Some((k, z))
+    }
+
+    /// Residual matrix `AᵀX + XA − (XB+N)R⁻¹(BᵀX+Nᵀ) + Q` (with `(XB+N)R⁻¹(BᵀX+Nᵀ) = ZᵀZ`)
+    /// and the relative residual (sum of the four terms' Frobenius norms in the denominator).
+    fn residual(&self, x: &Sq<N>, z: &Sq<N>) -> (Sq<N>, f64) {
+        let atx = mtm(&self.a, x);
+        let xa = atx.transpose();
+        let g = mtm(z, z);
+        let res = sym(&(atx + xa - g + self.q));
+        let s = atx.norm() + xa.norm() + g.norm() + self.q_norm;
+        let rn = res.norm();
+        (res, if s > 0.0 { rn / s } else { rn })
+    }
+}
+
+/// Scale factor `sqrt(‖Q̃‖_F / ‖G‖_F)` (the general path's step 3).
+fn scale_factor<const N: usize>(d: &Data<N>, scaling: bool) -> f64 {
+    let (qn, gn) = (d.qt.norm(), d.g.norm());
+    if scaling && qn > 0.0 && gn > 0.0 && (qn / gn).is_finite() {
+        (qn / gn).sqrt()
+    } else {
+        1.0
+    }
+}
+
+/// Doubling after a Cayley transform (same shift choice as the general path), unrefined.
+fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
+    let g = d.g * s;
+    let q = d.qt * (1.0 / s);
+    let eye = Sq::<N>::identity();
+    // Shift: the root mean square of the Hamiltonian's eigenvalues, from
+    // `Σλ(H)² = tr(H²) = 2 tr(Ã²) + 2 tr(GQ̃)` (scale-invariant; the ±λ pairs share λ²), where
+    // the convergence factor `max |(λ+γ)/(λ−γ)|` over the stable eigenvalues is typically
+    // smallest; the general path's norm-based shift when that vanishes. The shift only
+    // affects the speed of convergence.
+    let tr = mtm(&d.at.transpose(), &d.at).trace() + mm(&d.g, &d.qt).trace();
+    let rms = (tr.abs() / N as f64).sqrt();
+    let mut gamma = if rms.is_finite() && rms > 1e-3 {
+        rms
+    } else {
+        (d.at.norm().max((g.norm() * q.norm()).sqrt()) / (N as f64).sqrt()).max(1e-3)
+    };
+    for _ in 0..4 {
+        let ag = d.at - eye * gamma;
+        let Some((agi, _)) = inverse_rcond(&ag).filter(|(_, rc)| *rc >= 1e3 * f64::EPSILON) else {
+            gamma *= 2.0;
+            continue;
+        };
+        let agi_g = mm(&agi, &g);
+        let w = ag.transpose() + mm(&q, &agi_g);
+        let Some((wi, _)) = inverse_rcond(&w).filter(|(_, rc)| *rc >= 1e3 * f64::EPSILON) else {
+            gamma *= 2.0;
+            continue;
+        };
+        let wi_q_agi = mm(&mm(&wi, &q), &agi);
+        let e0 = eye + (agi - mm(&agi_g, &wi_q_agi)) * (2.0 * gamma);
+        let g0 = sym(&(mm(&agi_g, &wi) * (2.0 * gamma)));
+        let h0 = sym(&(wi_q_agi * (2.0 * gamma)));
+        return sda_iterate(e0, g0, h0).map(|h| h * s);
+    }
+    None
+}
+
+/// The doubling iteration on a symplectic pencil in first standard form (Chu, Fan, Lin, Wang
+/// 2004), with the general path's stopping rules.
+fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Option<Sq<N>> {
+    let eye = Sq::<N>::identity();
+    let mut last_dh = f64::INFINITY;
+    for _ in 0..60 {
+        let w = eye + mm(&g, &h);
+        let (wi, rc) = inverse_rcond(&w)?;
+        if rc < f64::EPSILON {
+            return None;
+        }
+        let wi_e = mm(&wi, &e);
+        let wi_g = mm(&wi, &g);
+        let wit_he = mtm(&wi, &mm(&h, &e));
+        let e_new = mm(&e, &wi_e);
+        let g_new = sym(&(g + mm(&mm(&e, &wi_g), &e.transpose())));
+        let h_new = sym(&(h + mtm(&e, &wit_he)));
+        let dh = (h_new - h).norm();
+        let hn = h_new.norm();
+        e = e_new;
+        g = g_new;
+        h = h_new;
+        if !hn.is_finite() {
+            return None;
+        }
+        if dh <= 4.0 * f64::EPSILON * (N as f64).sqrt() * hn || e.norm() <= f64::EPSILON {
+            return Some(h);
+        }
+        if dh <= 1e-10 * hn && dh >= 0.5 * last_dh {
+            return Some(h);
+        }
+        last_dh = dh;
+    }
+    None
+}
+
+/// Eigenvalues of `f` in the order of [`sort_eigenvalues`], computed as
+/// [`eigenvalues`](crate::linalg::eigenvalues) does (Householder Hessenberg reduction, then
+/// Francis QR, blocks read as in `quasi_triangular_eigenvalues`) on a stack copy.
+fn eigenvalues<const N: usize>(f: &Sq<N>) -> Option<Vec<Complex64>> {
+    if f.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let mut h = *f;
+    let t = h.as_mut_slice();
+    hessenberg(t, N, None);
+    hqr(t, N, None, false).ok()?;
+    let mut ev = Vec::with_capacity(N);
+    let mut k = 0;
+    while k < N {
+        if k + 1 < N && t[k + 1 + k * N] != 0.0 {
+            let (a, b, c, d) = (
+                t[k + k * N],
+                t[k + (k + 1) * N],
+                t[k + 1 + k * N],
+                t[k + 1 + (k + 1) * N],
+            );
+            if a == d && b * c < 0.0 {
+                let im = b.abs().sqrt() * c.abs().sqrt();
+                ev.push(Complex64::new(a, im));
+                ev.push(Complex64::new(a, -im));
+            } else {
+                let r = lanv2(a, b, c, d);
+                ev.push(Complex64::new(r.rt1.0, r.rt1.1.abs()));
+                ev.push(Complex64::new(r.rt2.0, -r.rt1.1.abs()));
+            }
+            k += 2;
+        } else {
+            ev.push(Complex64::new(t[k + k * N], 0.0));
+            k += 1;
+        }
+    }
+    sort_eigenvalues(&mut ev);
+    Some(ev)
+}
+
+/// Index of the unknown `Δ_ij = Δ_ji` in the packed upper triangle (column by column).
+fn packed(i: usize, j: usize) -> usize {
+    let (i, j) = if i <= j { (i, j) } else { (j, i) };
+    j * (j + 1) / 2 + i
+}
+
+/// Solves `FᵀΔ + ΔF = C` for symmetric `Δ` (`C` symmetric) through its `n(n+1)/2` packed
+/// unknowns: equation `(i, j)`, `i ≤ j`, reads `Σ_k F_ki Δ_kj + Σ_k Δ_ik F_kj = C_ij`. Gaussian
+/// elimination with partial pivoting; `None` if a pivot vanishes.
+fn lyap_packed<const N: usize>(f: &Sq<N>, c: &Sq<N>) -> Option<Sq<N>> {
+    let p = N * (N + 1) / 2;
+    let mut m = [[0.0f64; SYM_MAX]; SYM_MAX];
+    let mut rhs = [0.0f64; SYM_MAX];
+    for j in 0..N {
+        for i in 0..=j {
+            let row = packed(i, j);
+            rhs[row] = c[(i, j)];
+            for k in 0..N {
+                m[row][packed(k, j)] += f[(k, i)];
+                m[row][packed(i, k)] += f[(k, j)];
+            }
+        }
+    }
+    for col in 0..p {
+        let piv = (col..p)
+            .max_by(|&x, &y| m[x][col].abs().total_cmp(&m[y][col].abs()))
+            .unwrap_or(col);
+        if m[piv][col] == 0.0 || !m[piv][col].is_finite() {
+            return None;
+        }
+        m.swap(piv, col);
+        rhs.swap(piv, col);
+        let d = m[col][col];
+        for row in col + 1..p {
+            let factor = m[row][col] / d;
+            if factor != 0.0 {
+                for k in col..p {
+                    m[row][k] -= factor * m[col][k];
+                }
+                rhs[row] -= factor * rhs[col];
+            }
+        }
+    }
+    for row in (0..p).rev() {
+        let mut v = rhs[row];
+        for k in row + 1..p {
+            v -= m[row][k] * rhs[k];
+        }
+        rhs[row] = v / m[row][row];
+    }
+    Some(Sq::<N>::from_fn(|i, j| rhs[packed(i, j)]))
+}
+
+fn solve<const N: usize>(
+    a: &Mat,
+    b: &Mat,
+    q: &Mat,
+    r: &Mat,
+    nc: Option<&Mat>,
+    options: &RiccatiOptions,
+) -> Option<RiccatiSolution> {
+    let m = b.ncols();
+    let d = Data::<N>::new(a, b, q, r, nc)?;
+    let s = scale_factor(&d, options.scaling);
+    let mut x = sym(&doubling(&d, s)?);
+    let (mut k, z) = d.gain(&x)?;
+    let (mut res, mut residual) = d.residual(&x, &z);
+    let floor = REFINEMENT_FLOOR * N as f64 * f64::EPSILON;
+    let mut steps = 0;
+    while steps < options.max_refinement_steps && residual > floor && residual.is_finite() {
+        let f = d.a - mm(&d.b, &k);
+        let Some(delta) = lyap_packed(&f, &(-res)) else {
+            break;
+        };
+        let x_new = sym(&(x + delta));
+        let Some((k_new, z_new)) = d.gain(&x_new) else {
+            break;
+        };
+        let (res_new, rel) = d.residual(&x_new, &z_new);
+        if rel < residual {
+            let gain = residual / rel;
+            x = x_new;
+            k = k_new;
+            res = res_new;
+            residual = rel;
+            steps += 1;
+            if gain < 2.0 {
+                break;
+            }
+        } else {
+            break;
+        }
+    }
+    if residual.is_nan() || residual > ACCEPT_FACTOR * N as f64 * f64::EPSILON {
+        return None;
+    }
+    let tol = ACCEPT_FACTOR * N as f64 * f64::EPSILON;
+    if is_psd(&d.qt, tol) && !is_psd(&x, tol) {
+        return None;
+    }
+    let f = d.a - mm(&d.b, &k);
+    let poles = eigenvalues(&f)?;
+    if poles.iter().any(|p| p.re.is_nan() || p.re >= 0.0) {
+        return None;
+    }
+    Some(RiccatiSolution {
+        x: Mat::from_fn(N, N, |i, j| x[(i, j)]),
+        gain: Mat::from_fn(m, N, |i, j| k[(i, j)]),
+        closed_loop_poles: poles,
+        residual,
+        method: RiccatiMethod::Doubling,
+        refinement_steps: steps,
+    })
+}
