@@ -9,9 +9,9 @@ use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_lmi::synthesis::{
-    GainScheduleSpec, InputBound, LpvPlant, LqWeights, Region, ScheduledGain, Vertex,
-    gain_scheduled_lq, lq_state_feedback, multiobjective_state_feedback, robust_state_feedback,
-    saturated_state_feedback,
+    Feedback, GainScheduleSpec, InputBound, LpvPlant, LqWeights, Region, ScheduledGain,
+    StateFeedbackDesign, Vertex, gain_scheduled_lq, lq_state_feedback,
+    multiobjective_state_feedback, robust_state_feedback, saturated_state_feedback,
 };
 use pendulab_lmi::{Expr, Problem, SolveOptions, Status};
 use pendulab_lti::Mat;
@@ -290,9 +290,7 @@ fn p2c122_ex4_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let (at, bt) = nominal_servo(id)?;
     let (q, r) = servo_weights();
     let d = lq_state_feedback(&at, &bt, &q, &r, &SolveOptions::default()).ctx(id)?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))?;
+    let fb = solved(id, d)?;
     let lq = riccati_servo_gain(id, &at, &bt)?;
     let mut out = ExampleOutput::default();
     let rel = (&fb.gain - &lq.gain).norm() / lq.gain.norm();
@@ -364,9 +362,7 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
     let regions = multiobjective_regions();
     let d = multiobjective_state_feedback(&at, &bt, &q, &r, &regions, &SolveOptions::default())
         .ctx(id)?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))?;
+    let fb = solved(id, d)?;
     let poles = sorted(eigenvalues(&(&at - &bt * &fb.gain)).ctx(id)?);
     let inside = poles
         .iter()
@@ -519,6 +515,20 @@ fn p2c13_report(
     Ok(())
 }
 
+/// The gain of a solved LMI design, or a computation error naming the solver status.
+fn solved(id: &str, d: StateFeedbackDesign) -> Result<Feedback, BookError> {
+    d.feedback
+        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))
+}
+
+/// The pole region of the p2c13 designs: `Re λ < −2` and `|λ| < 40`.
+fn p2c13_regions() -> [Region; 2] {
+    [
+        Region::DecayRate { alpha: 2.0 },
+        Region::SpeedLimit { beta: 40.0 },
+    ]
+}
+
 fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_lqr_servo";
     let (at, bt) = nominal_servo(id)?;
@@ -540,15 +550,10 @@ fn p2c13_nominal(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_oc_nominal_servo";
     let (at, bt) = nominal_servo(id)?;
     let (q, r) = servo_weights();
-    let regions = [
-        Region::DecayRate { alpha: 2.0 },
-        Region::SpeedLimit { beta: 40.0 },
-    ];
+    let regions = p2c13_regions();
     let d = multiobjective_state_feedback(&at, &bt, &q, &r, &regions, &SolveOptions::default())
         .ctx(id)?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))?;
+    let fb = solved(id, d)?;
     let mut out = ExampleOutput::default();
     p2c13_report(ctx, id, "K", &fb.gain, true, &mut out)?;
     Ok(out)
@@ -558,14 +563,9 @@ fn p2c13_robust(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_oc_robust_servo";
     let verts = vertices(id)?;
     let (q, r) = servo_weights();
-    let regions = [
-        Region::DecayRate { alpha: 2.0 },
-        Region::SpeedLimit { beta: 40.0 },
-    ];
+    let regions = p2c13_regions();
     let d = robust_state_feedback(&verts, &q, &r, &regions, &SolveOptions::default()).ctx(id)?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))?;
+    let fb = solved(id, d)?;
     let mut out = ExampleOutput::default();
     p2c13_report(ctx, id, "K_robust", &fb.gain, true, &mut out)?;
     out.reference(
@@ -594,9 +594,7 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     };
     let d = saturated_state_feedback(lin.a(), lin.b(), &q, &r, &bound, &SolveOptions::default())
         .ctx(id)?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))?;
+    let fb = solved(id, d)?;
     // Simulation on the nonlinear plant, exact state measurement (the design's assumption),
     // ideal amplifier, 1 ms, 10 s.
     // Also on the rig preset with quantizer (encoders, pseudo-differentiated velocities).
