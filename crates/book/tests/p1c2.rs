@@ -1,47 +1,13 @@
 //! Part 1 chapter 2 examples against closed forms of the linear loops, the final-value
 //! theorem and the book's printed values. Table 3.5: a_c = 6.25, b_c = 4.36.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
+
 use pendulab_lti::Complex64;
 
 const AC: f64 = 6.25;
 const BC: f64 = 4.36;
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn num(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(x)) => *x,
-        v => panic!("{name}: {v:?}"),
-    }
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(x)) => x.clone(),
-        v => panic!("{name}: {v:?}"),
-    }
-}
-
-fn cplx(out: &ExampleOutput, name: &str) -> Vec<Complex64> {
-    match out.get(name) {
-        Some(Value::Complex(c)) => c.clone(),
-        v => panic!("{name}: {v:?}"),
-    }
-}
-
-fn references_reproduced(out: &ExampleOutput) {
-    assert!(!out.references.is_empty());
-    for c in out.comparisons() {
-        assert!(
-            c.reproduced,
-            "{} not reproduced: {:?}",
-            c.name, c.max_abs_error
-        );
-    }
-}
 
 /// Roots of s² + p s + q with q > p²/4, upper one first.
 fn pair(p: f64, q: f64) -> [Complex64; 2] {
@@ -258,26 +224,19 @@ fn p1c23_crane() {
 
 #[test]
 fn chapter_2_figures_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p1c2-{}", std::process::id()));
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
+    let dir = TempDir::new("p1c2");
+    let ctx = dir.ctx(None);
     for id in [
         "p1c211_pcont",
         "p1c213_pidbode",
         "p1c221_id_cart",
         "p1c23_crane",
     ] {
-        let out = (find(id).unwrap().run)(&ctx).unwrap();
+        let out = run_in(id, &ctx).unwrap();
         assert!(out.figures.len() >= 2, "{id}");
-        for f in &out.figures {
-            let len = std::fs::metadata(f).unwrap().len();
-            assert!(len > 2000, "{} has {len} bytes", f.display());
-        }
+        assert_figures_larger(&out, 2000);
         if id == "p1c23_crane" {
             assert!(out.figures.iter().any(|f| f.extension().unwrap() == "gif"));
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,51 +3,18 @@
 //! (`tools/reference/book_p1c34_pcont.py`) and the book, and the arm-rig examples on simulated
 //! arm data (table 3.7) written to CSV text, including bad input.
 
-use pendulab_book::{BookError, ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
+
+use pendulab_book::{BookError, find};
 use pendulab_plants::{ArmPendulum, RigSpec};
 use pendulab_sim::controllers::{OpenLoop, Pid, PidDiscretization, PidForm};
 use pendulab_sim::rig::RigChains;
 use pendulab_sim::{Controller, SampledLoop, SampledOptions, Signal};
 use std::f64::consts::PI;
 
-fn run_with(id: &str, data: Option<String>) -> Result<ExampleOutput, BookError> {
-    (find(id).unwrap().run)(&RunContext {
-        out_dir: None,
-        data_csv: data,
-    })
-}
-
-fn run(id: &str) -> ExampleOutput {
-    run_with(id, None).unwrap()
-}
-
-fn num(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(x)) => *x,
-        v => panic!("{name}: {v:?}"),
-    }
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(x)) => x.clone(),
-        v => panic!("{name}: {v:?}"),
-    }
-}
-
 fn rel(a: f64, b: f64) -> f64 {
     (a / b - 1.0).abs()
-}
-
-fn references_reproduced(out: &ExampleOutput) {
-    assert!(!out.references.is_empty());
-    for c in out.comparisons() {
-        assert!(
-            c.reproduced,
-            "{} not reproduced: {:?}",
-            c.name, c.max_abs_error
-        );
-    }
 }
 
 #[test]
@@ -319,7 +286,7 @@ fn arm_examples_reject_bad_data() {
 
 #[test]
 fn chapter_3_figures_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p1c3-{}", std::process::id()));
+    let dir = TempDir::new("p1c3");
     let cases = [
         ("p1c311_cdip_lagrange", None),
         ("p1c321_cdip_plot_pcont", None),
@@ -328,16 +295,9 @@ fn chapter_3_figures_are_written() {
         ("p1c332_adip_id_least_square", Some(arm_ls_csv())),
     ];
     for (id, data) in cases {
-        let ctx = RunContext {
-            out_dir: Some(dir.clone()),
-            data_csv: data,
-        };
-        let out = (find(id).unwrap().run)(&ctx).unwrap();
+        let ctx = dir.ctx(data);
+        let out = run_in(id, &ctx).unwrap();
         assert!(out.figures.len() >= 2, "{id}");
-        for f in &out.figures {
-            let len = std::fs::metadata(f).unwrap().len();
-            assert!(len > 2000, "{} has {len} bytes", f.display());
-        }
+        assert_figures_larger(&out, 2000);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,37 +1,11 @@
 //! Part 1 chapter 4 examples against closed forms, defining residuals and the book's printed
 //! values.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
+
+use pendulab_book::Value;
 use pendulab_lti::{Complex64, Mat};
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn num(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(x)) => *x,
-        v => panic!("{name}: {v:?}"),
-    }
-}
-
-fn cplx(out: &ExampleOutput, name: &str) -> Vec<Complex64> {
-    match out.get(name) {
-        Some(Value::Complex(c)) => c.clone(),
-        v => panic!("{name}: {v:?}"),
-    }
-}
-
-fn references_reproduced(out: &ExampleOutput) {
-    assert!(!out.references.is_empty());
-    for c in out.comparisons() {
-        assert!(
-            c.reproduced,
-            "{} not reproduced: {:?}",
-            c.name, c.max_abs_error
-        );
-    }
-}
 
 #[test]
 fn p1c41_cdip_response() {
@@ -124,24 +98,19 @@ fn p1c43_lyapunov_func() {
 
 #[test]
 fn chapter_4_figures_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p1c4-{}", std::process::id()));
+    let dir = TempDir::new("p1c4");
     for id in [
         "p1c41_cdip_response",
         "p1c43_stability1",
         "p1c43_stability2",
         "p1c43_lyapunov_func",
     ] {
-        let ctx = RunContext {
-            out_dir: Some(dir.clone()),
-            data_csv: None,
-        };
-        let out = (find(id).unwrap().run)(&ctx).unwrap();
+        let ctx = dir.ctx(None);
+        let out = run_in(id, &ctx).unwrap();
         assert!(out.figures.len() >= 2, "{id}");
+        assert_figures_larger(&out, 2000);
         for f in &out.figures {
-            let len = std::fs::metadata(f).unwrap().len();
-            assert!(len > 2000, "{} has {len} bytes", f.display());
             assert!(f.file_name().unwrap().to_str().unwrap().starts_with(id));
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

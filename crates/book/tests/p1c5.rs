@@ -4,41 +4,10 @@
 //! comments, and SciPy 1.17.1 / SymPy 1.14.0 values printed by
 //! `tools/reference/book_p1c5_reference.py`.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
 
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn num(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(x)) => *x,
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn assert_close(got: &[f64], want: &[f64], rel: f64, what: &str) {
-    assert_eq!(got.len(), want.len(), "{what}");
-    for (g, w) in got.iter().zip(want) {
-        assert!(
-            (g - w).abs() <= rel * w.abs().max(1.0),
-            "{what}: {got:?} vs {want:?}"
-        );
-    }
-}
-
-fn assert_book_values_reproduced(out: &ExampleOutput) {
-    for c in out.comparisons() {
-        assert!(c.reproduced, "{c:?}");
-    }
-}
+use pendulab_book::Value;
 
 #[test]
 fn p1c511_ex1() {
@@ -49,7 +18,7 @@ fn p1c511_ex1() {
         Some(&Value::Matrix(vec![vec![1.0, 1.0], vec![1.0, 2.0]]))
     );
     assert_eq!(num(&out, "rank"), 2.0);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -57,7 +26,7 @@ fn p1c511_ex2() {
     let out = run("p1c511_ex2");
     // M_c = [B, AB, A²B] = [[0,0,0],[0,1,0],[1,0,0]]: rank 2 (examples.md).
     assert_eq!(num(&out, "rank"), 2.0);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -86,7 +55,7 @@ fn p1c511_ex4_cdip() {
     // θa − θb and its rate obey an input-free equation, so exactly 2 directions are lost.
     assert_eq!(num(&out, "rank_different"), 6.0);
     assert_eq!(num(&out, "rank_identical"), 4.0);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -100,9 +69,9 @@ fn p1c512_ex5() {
     let Some(Value::Matrix(a)) = out.get("A_hat") else {
         panic!()
     };
-    assert_close(&t.concat(), &[-1.0, 1.0, 0.0, 1.0], 1e-12, "T");
-    assert_close(&a.concat(), &[0.0, 1.0, -1.0, 2.0], 1e-12, "A_hat");
-    assert_book_values_reproduced(&out);
+    assert_rel(&t.concat(), &[-1.0, 1.0, 0.0, 1.0], 1e-12, "T");
+    assert_rel(&a.concat(), &[0.0, 1.0, -1.0, 2.0], 1e-12, "A_hat");
+    all_reproduced(&out);
 }
 
 #[test]
@@ -110,8 +79,8 @@ fn p1c522_ex6() {
     let out = run("p1c522_ex6");
     // Closed form: A + BK = [[1 + k1, k2], [1 + k1, 1 + k2]] has trace 2 + k1 + k2 and
     // determinant 1 + k1; (s + 1)(s + 2) needs trace −3, det 2: K = [1, −6] (u = +Kx).
-    assert_close(&vector(&out, "K"), &[1.0, -6.0], 1e-12, "K");
-    assert_book_values_reproduced(&out);
+    assert_rel(&vector(&out, "K"), &[1.0, -6.0], 1e-12, "K");
+    all_reproduced(&out);
 }
 
 #[test]
@@ -119,7 +88,7 @@ fn p1c522_ex7_adip_place() {
     let out = run("p1c522_ex7_adip_place");
     // SciPy place_poles (single input: the gain is unique), book convention. Relative 1e-8:
     // the companion-form conditioning of this 4-state system costs a few digits.
-    assert_close(
+    assert_rel(
         &vector(&out, "K"),
         &[
             0.0824421307669,
@@ -130,7 +99,7 @@ fn p1c522_ex7_adip_place() {
         1e-8,
         "K",
     );
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -157,7 +126,7 @@ fn p1c523_ex8_adip_lqr() {
         .zip([(10.0f64, 1.0f64), (10.0, 10.0), (20.0, 1.0)])
     {
         let got = vector(&out, name);
-        assert_close(&got, k, 1e-8, name);
+        assert_rel(&got, k, 1e-8, name);
         // Closed form: θ1 enters A only through its integrator, so the Kalman identity at
         // s → 0 gives |K_θ1| = √(q1/R).
         assert!((got[0] - (q1 / r).sqrt()).abs() < 1e-9, "{name}");
@@ -172,22 +141,16 @@ fn p1c523_ex8_adip_lqr() {
 
 #[test]
 fn figures_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p1c5-{}", std::process::id()));
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
+    let dir = TempDir::new("p1c5");
+    let ctx = dir.ctx(None);
     for id in [
         "p1c511_ex3_adip",
         "p1c522_ex7_adip_place",
         "p1c523_ex8_adip_lqr",
     ] {
-        let out = (find(id).unwrap().run)(&ctx).unwrap();
+        let out = run_in(id, &ctx).unwrap();
         assert!(!out.figures.is_empty(), "{id}");
-        for f in &out.figures {
-            let len = std::fs::metadata(f).unwrap().len();
-            assert!(len > 2000, "{}: {len} bytes", f.display());
-        }
+        assert_figures_larger(&out, 2000);
         if id == "p1c523_ex8_adip_lqr" {
             // Time responses (SVG + PNG) and the animation (GIF + SMIL SVG).
             for ext in ["svg", "png", "gif"] {
@@ -200,5 +163,4 @@ fn figures_are_written() {
             }
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

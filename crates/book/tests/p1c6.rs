@@ -4,36 +4,13 @@
 //! second/third-order loops, and SciPy 1.17.1 values printed by
 //! `tools/reference/book_p1c5_reference.py`.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
+
 use pendulab_lti::Complex64;
 
 const AC: f64 = 6.25;
 const BC: f64 = 4.36;
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn num(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(x)) => *x,
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn poles(out: &ExampleOutput) -> Vec<Complex64> {
-    match out.get("poles") {
-        Some(Value::Complex(p)) => p.clone(),
-        other => panic!("poles: {other:?}"),
-    }
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
 
 /// Every `want` has a computed pole within `tol`.
 fn assert_poles(got: &[Complex64], want: &[(f64, f64)], tol: f64) {
@@ -47,32 +24,30 @@ fn assert_poles(got: &[Complex64], want: &[(f64, f64)], tol: f64) {
     }
 }
 
-fn assert_book_values_reproduced(out: &ExampleOutput) {
-    for c in out.comparisons() {
-        assert!(c.reproduced, "{c:?}");
-    }
-}
-
 #[test]
 fn p1c62_ex1_cart_p_step() {
     let out = run("p1c62_ex1_cart_p_step");
     // Book: −3.125 ± 5.817j (3 decimals: |Δ| ≤ 5e-4·√2).
     assert_poles(
-        &poles(&out),
+        &cplx(&out, "poles"),
         &[(-3.125, 5.817), (-3.125, -5.817)],
         5e-4 * 2f64.sqrt(),
     );
     // Closed form s² + a s + b k_P: (−a ± j√(4 b k_P − a²))/2, to rounding of a 2×2 eigen-solve.
     let w = (4.0 * BC * 10.0 - AC * AC).sqrt() / 2.0;
-    assert_poles(&poles(&out), &[(-AC / 2.0, w), (-AC / 2.0, -w)], 1e-12);
+    assert_poles(
+        &cplx(&out, "poles"),
+        &[(-AC / 2.0, w), (-AC / 2.0, -w)],
+        1e-12,
+    );
     assert_eq!(num(&out, "e_inf"), 0.0);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
 fn p1c62_ex2_cart_pi_ramp() {
     let out = run("p1c62_ex2_cart_pi_ramp");
-    let p = poles(&out);
+    let p = cplx(&out, "poles");
     // Book: −2.203 ± 5.534j, −1.843 (3 decimals).
     assert_poles(
         &p,
@@ -88,7 +63,7 @@ fn p1c62_ex2_cart_pi_ramp() {
     // The simulated ramp error is a transient of the slowest pole (−1.843) on a scale of
     // r0/k_I-ish millimetres: by 2.5 s, e^{-4.6} ≈ 1 % of it is left, far below 5 mm.
     assert!(num(&out, "e_final_sim").abs() < 5e-3);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -99,7 +74,7 @@ fn p1c62_ex3_cart_p_step_dis() {
     // The simulation settles there: 2.5 s after the step at decay rate 3.125 the transient is
     // ≤ 0.3·e^{-7.8}·(1 + a/ω) ≈ 2e-4 m; 1e-3 m allows for it.
     assert!((num(&out, "e_final_sim") + 0.3).abs() < 1e-3);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -113,7 +88,7 @@ fn p1c62_ex4_cart_pi_step_dis() {
         "{}",
         num(&out, "e_final_sim")
     );
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -141,27 +116,20 @@ fn p1c63_ex5_cdip_lqr_servo() {
         "{}",
         num(&out, "e_final_sim")
     );
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
 fn figures_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p1c6-{}", std::process::id()));
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
+    let dir = TempDir::new("p1c6");
+    let ctx = dir.ctx(None);
     // Response (SVG + PNG); the servo also animates the rig (GIF + SMIL SVG).
     for (id, n) in [
         ("p1c62_ex3_cart_p_step_dis", 2),
         ("p1c63_ex5_cdip_lqr_servo", 4),
     ] {
-        let out = (find(id).unwrap().run)(&ctx).unwrap();
+        let out = run_in(id, &ctx).unwrap();
         assert_eq!(out.figures.len(), n, "{id}");
-        for f in &out.figures {
-            let len = std::fs::metadata(f).unwrap().len();
-            assert!(len > 2000, "{}: {len} bytes", f.display());
-        }
+        assert_figures_larger(&out, 2000);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,25 +3,11 @@
 //! Independent references: examples.md's printed gain and ranks, the design specification
 //! (observer poles 4× the state-feedback poles), and the separation principle.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
+
+use pendulab_book::Value;
 use pendulab_lti::Complex64;
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn num(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(x)) => *x,
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn assert_book_values_reproduced(out: &ExampleOutput) {
-    for c in out.comparisons() {
-        assert!(c.reproduced, "{c:?}");
-    }
-}
 
 #[test]
 fn p1c74_ex1_cdip_ob_design() {
@@ -45,7 +31,7 @@ fn p1c74_ex1_cdip_ob_design() {
     // slowest designed pole −2.5 has decayed by e^{-5} from the 10° start).
     assert!(num(&out, "theta_max_after_2s_deg") < 1.0);
     assert!(num(&out, "z_max_abs") < 0.5);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -54,7 +40,7 @@ fn p1c74_ex2_cdip_mo() {
     // Book: rank M_o = 2 (y = z), 3 (y = θ).
     assert_eq!(num(&out, "rank_y_z"), 2.0);
     assert_eq!(num(&out, "rank_y_theta"), 3.0);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -63,22 +49,15 @@ fn p1c75_ex3_cdip_detectability() {
     // Book: neither output is detectable.
     assert_eq!(out.get("detectable_y_z"), Some(&Value::Bool(false)));
     assert_eq!(out.get("detectable_y_theta"), Some(&Value::Bool(false)));
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
 fn figures_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p1c7-{}", std::process::id()));
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
-    let out = (find("p1c74_ex1_cdip_ob_design").unwrap().run)(&ctx).unwrap();
+    let dir = TempDir::new("p1c7");
+    let ctx = dir.ctx(None);
+    let out = run_in("p1c74_ex1_cdip_ob_design", &ctx).unwrap();
     // Response (SVG + PNG), pole map (SVG + PNG), animation (GIF + SVG).
     assert_eq!(out.figures.len(), 6);
-    for f in &out.figures {
-        let len = std::fs::metadata(f).unwrap().len();
-        assert!(len > 2000, "{}: {len} bytes", f.display());
-    }
-    let _ = std::fs::remove_dir_all(&dir);
+    assert_figures_larger(&out, 2000);
 }

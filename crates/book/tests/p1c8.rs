@@ -5,55 +5,27 @@
 //! `tools/reference/book_p1c5_reference.py`, and the eigenvalue maps of ZOH (z = e^{λ ts})
 //! and Tustin (z = (1 + λ ts/2)/(1 − λ ts/2)).
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
+
+use pendulab_book::{ExampleOutput, Value};
 use pendulab_lti::Complex64;
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn complex(out: &ExampleOutput, name: &str) -> Vec<Complex64> {
-    match out.get(name) {
-        Some(Value::Complex(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn assert_close(got: &[f64], want: &[f64], tol: f64, what: &str) {
-    assert_eq!(got.len(), want.len(), "{what}: {got:?}");
-    for (g, w) in got.iter().zip(want) {
-        assert!((g - w).abs() <= tol, "{what}: {got:?} vs {want:?}");
-    }
-}
-
-fn assert_book_values_reproduced(out: &ExampleOutput) {
-    for c in out.comparisons() {
-        assert!(c.reproduced, "{c:?}");
-    }
-}
 
 #[test]
 fn p1c83_ex1_zero_order_hold() {
     let out = run("p1c83_ex1_zero_order_hold");
     let (n, d) = (vector(&out, "num"), vector(&out, "den"));
     // Book (4 decimals): (0.3403 z + 0.2417)/(z² − 0.7859 z + 0.3679).
-    assert_close(&n, &[0.3403, 0.2417], 5e-5, "num");
-    assert_close(&d, &[1.0, -0.7859, 0.3679], 5e-5, "den");
+    assert_abs(&n, &[0.3403, 0.2417], 5e-5, "num");
+    assert_abs(&d, &[1.0, -0.7859, 0.3679], 5e-5, "den");
     // Closed form of the ZOH denominator: poles e^{(−1/2 ± j√3/2)}, so
     // z² − 2e^{−1/2} cos(√3/2) z + e^{−1}; SciPy for the numerator. 1e-10: expm to rounding.
     let a1 = -2.0 * (-0.5f64).exp() * (0.75f64.sqrt()).cos();
-    assert_close(&d, &[1.0, a1, (-1.0f64).exp()], 1e-10, "den closed form");
-    assert_close(&n, &[0.340299846608, 0.241686482894], 1e-10, "num (SciPy)");
+    assert_abs(&d, &[1.0, a1, (-1.0f64).exp()], 1e-10, "den closed form");
+    assert_abs(&n, &[0.340299846608, 0.241686482894], 1e-10, "num (SciPy)");
     // DC gain preserved by ZOH: C[1] = C(0) = 1.
     assert!(((n[0] + n[1]) / (1.0 + d[1] + d[2]) - 1.0).abs() < 1e-12);
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -61,18 +33,18 @@ fn p1c84_ex3_bilinear() {
     let out = run("p1c84_ex3_bilinear");
     let (n, d) = (vector(&out, "num"), vector(&out, "den"));
     // Closed form with s = 2(z − 1)/(z + 1), ts = 1: (z + 1)²/(7z² − 6z + 3).
-    assert_close(&n, &[1.0 / 7.0, 2.0 / 7.0, 1.0 / 7.0], 1e-13, "num");
-    assert_close(&d, &[1.0, -6.0 / 7.0, 3.0 / 7.0], 1e-13, "den");
+    assert_abs(&n, &[1.0 / 7.0, 2.0 / 7.0, 1.0 / 7.0], 1e-13, "num");
+    assert_abs(&d, &[1.0, -6.0 / 7.0, 3.0 / 7.0], 1e-13, "den");
     // Book (5 decimals).
-    assert_close(&n, &[0.14286, 0.28571, 0.14286], 5e-6, "num (book)");
-    assert_close(&d, &[1.0, -0.85714, 0.42857], 5e-6, "den (book)");
-    assert_book_values_reproduced(&out);
+    assert_abs(&n, &[0.14286, 0.28571, 0.14286], 5e-6, "num (book)");
+    assert_abs(&d, &[1.0, -0.85714, 0.42857], 5e-6, "den (book)");
+    all_reproduced(&out);
 }
 
 /// Every mapped continuous pole appears among the discrete ones.
 fn assert_mapped(out: &ExampleOutput, map: impl Fn(Complex64) -> Complex64) {
-    let cont = complex(out, "controller_poles_continuous");
-    let disc = complex(out, "controller_poles");
+    let cont = cplx(out, "controller_poles_continuous");
+    let disc = cplx(out, "controller_poles");
     assert_eq!(cont.len(), disc.len());
     for p in cont {
         let z = map(p);
@@ -108,21 +80,14 @@ fn p1c84_ex4_cdip_ob_design_bilinear() {
 
 #[test]
 fn figures_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p1c8-{}", std::process::id()));
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
+    let dir = TempDir::new("p1c8");
+    let ctx = dir.ctx(None);
     for (id, n) in [
         ("p1c83_ex1_zero_order_hold", 2),
         ("p1c84_ex4_cdip_ob_design_bilinear", 4),
     ] {
-        let out = (find(id).unwrap().run)(&ctx).unwrap();
+        let out = run_in(id, &ctx).unwrap();
         assert_eq!(out.figures.len(), n, "{id}");
-        for f in &out.figures {
-            let len = std::fs::metadata(f).unwrap().len();
-            assert!(len > 2000, "{}: {len} bytes", f.display());
-        }
+        assert_figures_larger(&out, 2000);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

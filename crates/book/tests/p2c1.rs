@@ -3,33 +3,11 @@
 //! Clarabel (the committed fixture of pendulab-lmi, `tools/reference/lmi_reference.py`), and
 //! examples.md's printed values.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
-use std::path::PathBuf;
+mod common;
+use common::*;
+
+use pendulab_book::{ExampleOutput, Value};
 use std::sync::OnceLock;
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn number(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(v)) => *v,
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn all_reproduced(out: &ExampleOutput) {
-    for c in out.comparisons() {
-        assert!(c.reproduced, "{c:?}");
-    }
-}
 
 fn fixture() -> serde_json::Value {
     serde_json::from_str(include_str!("../../lmi/tests/fixtures/lmi_reference.json")).unwrap()
@@ -105,9 +83,9 @@ fn p2c121_optimum_matches_the_closed_form_and_the_printed_digits() {
     let x2: f64 = (524.25 - (524.25f64.powi(2) - 4.0 * 233.0 * 292.25).sqrt()) / 466.0;
     let x1 = 2.25 * x2 - 0.25 - ((2.5 - 2.0 * x2) * (2.0 * x2 - 2.0)).sqrt();
     // The margin ε = 1e-6 moves the optimum by O(ε‖dual‖) ≈ 1e-5.
-    assert!((number(&out, "optimum") - (x1 + x2)).abs() < 1e-4);
-    assert!((number(&out, "xi1") - x1).abs() < 1e-4);
-    assert!((number(&out, "xi2") - x2).abs() < 1e-4);
+    assert!((num(&out, "optimum") - (x1 + x2)).abs() < 1e-4);
+    assert!((num(&out, "xi1") - x1).abs() < 1e-4);
+    assert!((num(&out, "xi2") - x2).abs() < 1e-4);
 }
 
 #[test]
@@ -131,7 +109,7 @@ fn p2c122_lmi_servo_agrees_with_scipys_riccati_gain() {
     assert!(rel(&k_lmi, &k_ref) < 1e-3, "{k_lmi:?} vs {k_ref:?}");
     // Same optimum tr X as CVXPY + Clarabel (relative 1e-4, both at tolerance 1e-8).
     let tr = fixture()["p2c122_lq"]["trace_X"].as_f64().unwrap();
-    assert!((number(&out, "trace_X") - tr).abs() < 1e-4 * tr);
+    assert!((num(&out, "trace_X") - tr).abs() < 1e-4 * tr);
 }
 
 #[test]
@@ -219,11 +197,11 @@ fn p2c13_nominal_lq_is_unstable_at_one_vertex_and_the_robust_design_is_not() {
 #[test]
 fn p2c14_saturation_design_keeps_the_input_within_01_volt() {
     let out = run("p2c14_ex6_adip_oc_saturation");
-    let umax = number(&out, "max_abs_u");
+    let umax = num(&out, "max_abs_u");
     assert!(umax <= 0.1, "max |u| = {umax}");
     // Also with encoder quantisation and pseudo-differentiated velocities (the design's
     // ellipsoid leaves margin: the exact-state run peaks at ≈ 0.04 V).
-    let urig = number(&out, "max_abs_u_quantised_rig");
+    let urig = num(&out, "max_abs_u_quantised_rig");
     assert!(urig <= 0.1, "quantised rig: max |u| = {urig}");
     // The first command is |K x0| with x0 = [10°, 0, 0, 0]: within the recorded maximum.
     let k = vector(&out, "K");
@@ -232,7 +210,7 @@ fn p2c14_saturation_design_keeps_the_input_within_01_volt() {
     // The bound is what the design adds: the LQR with the same Q, R from the same state
     // needs far more than 0.1 V (its first command alone is |K_lq,1| · 10°).
     let k_lq = vector(&out, "K_lq");
-    let u_lq = number(&out, "max_abs_u_lq");
+    let u_lq = num(&out, "max_abs_u_lq");
     assert!(u_lq >= (k_lq[0] * 10f64.to_radians()).abs() - 1e-12);
     assert!(u_lq > 0.1, "LQR max |u| = {u_lq}");
     // Stable on the linear model rebuilt here.
@@ -258,29 +236,25 @@ fn p2c15_constant_lq_servo_loses_the_pendulum_on_the_way_to_60_degrees() {
         let (a, b) = arm_servo(6.20, 15.8, rho);
         let m = max_re(&closed_loop(&a, &b, &k));
         assert!(
-            (number(&out, name) - m).abs() < 1e-8 * m.abs().max(1.0),
+            (num(&out, name) - m).abs() < 1e-8 * m.abs().max(1.0),
             "{name}"
         );
         assert_eq!(m < 0.0, stable, "{name}: {m}");
     }
     // So on the nonlinear plant the pendulum falls on the way to 60° (the run stops at
     // |θ2| > 90°), before r returns to 0 at 6 s.
-    let fell = number(&out, "fell_at");
+    let fell = num(&out, "fell_at");
     assert!(fell > 0.0 && fell < 6.0, "{fell}");
 }
 
 /// The gain-scheduled example, run once per test binary (the SOS solve takes ~1–2 s), with
 /// its figures in a temporary directory.
-fn gs() -> &'static (ExampleOutput, PathBuf) {
-    static GS: OnceLock<(ExampleOutput, PathBuf)> = OnceLock::new();
+fn gs() -> &'static (ExampleOutput, TempDir) {
+    static GS: OnceLock<(ExampleOutput, TempDir)> = OnceLock::new();
     GS.get_or_init(|| {
-        let dir = std::env::temp_dir().join(format!("pendulab-book-p2c1-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let ctx = RunContext {
-            out_dir: Some(dir.clone()),
-            data_csv: None,
-        };
-        let out = (find("p2c15_ex7_adip_oc_gs_servo").unwrap().run)(&ctx).unwrap();
+        let dir = TempDir::new("p2c1");
+        let ctx = dir.ctx(None);
+        let out = run_in("p2c15_ex7_adip_oc_gs_servo", &ctx).unwrap();
         (out, dir)
     })
 }
@@ -289,13 +263,13 @@ fn gs() -> &'static (ExampleOutput, PathBuf) {
 fn p2c15_gain_scheduled_servo_reaches_the_known_optimum() {
     let (out, _) = gs();
     all_reproduced(out);
-    let g = number(out, "gamma");
+    let g = num(out, "gamma");
     // CVXPY + Clarabel on a hand-written copy of the SOS program (fixture), 0.2 %.
     let g_ref = fixture()["p2c15_gain_schedule"]["gamma_star"]
         .as_f64()
         .unwrap();
     assert!((g - g_ref).abs() < 0.002 * g_ref, "{g} vs {g_ref}");
-    assert!(number(out, "gamma_design") <= 1.06 * g * (1.0 + 1e-9));
+    assert!(num(out, "gamma_design") <= 1.06 * g * (1.0 + 1e-9));
     // At the optimum the gain at ρ̄ is well determined (examples.md): CVXPY's agrees to 2 %
     // (both solvers stop at reduced accuracy on this boundary point; the fixture is in the
     // library sign).
@@ -342,7 +316,7 @@ fn p2c15_gain_scheduled_servo_stays_in_its_design_ranges_and_tracks() {
         rho_dot[0] >= -0.75 && rho_dot[1] <= 0.75,
         "ρ̇ in {rho_dot:?}"
     );
-    let e6 = number(out, "tracking_error_at_6s_deg");
+    let e6 = num(out, "tracking_error_at_6s_deg");
     assert!(e6 < 1.0, "|θ1(6 s) − 60°| = {e6}°");
     let fin = vector(out, "final_state");
     assert!(
@@ -356,17 +330,19 @@ fn p2c15_gain_scheduled_servo_writes_its_figures() {
     let (out, dir) = gs();
     for what in ["gains", "response", "rho"] {
         for ext in ["svg", "png"] {
-            let p = dir.join(format!("p2c15_ex7_adip_oc_gs_servo_{what}.{ext}"));
+            let p = dir
+                .path()
+                .join(format!("p2c15_ex7_adip_oc_gs_servo_{what}.{ext}"));
             let len = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);
             assert!(len > 5_000, "{} has {len} bytes", p.display());
             assert!(out.figures.contains(&p));
         }
     }
-    let gif = std::fs::read(dir.join("p2c15_ex7_adip_oc_gs_servo_animation.gif")).unwrap();
+    let gif = std::fs::read(dir.path().join("p2c15_ex7_adip_oc_gs_servo_animation.gif")).unwrap();
     assert!(gif.starts_with(b"GIF89a") && gif.len() > 10_000);
-    let svg =
-        std::fs::read_to_string(dir.join("p2c15_ex7_adip_oc_gs_servo_animation.svg")).unwrap();
+    let svg = std::fs::read_to_string(dir.path().join("p2c15_ex7_adip_oc_gs_servo_animation.svg"))
+        .unwrap();
     assert!(svg.contains("<animate"));
-    let png = std::fs::read(dir.join("p2c15_ex7_adip_oc_gs_servo_gains.png")).unwrap();
+    let png = std::fs::read(dir.path().join("p2c15_ex7_adip_oc_gs_servo_gains.png")).unwrap();
     assert!(png.starts_with(b"\x89PNG"));
 }

@@ -3,38 +3,15 @@
 //! exponential, checked by Simpson quadrature; `solve_discrete_are` with the cross term; the
 //! I–PD loop on the exact ZOH sampling of the drive).
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn number(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(v)) => *v,
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn all_reproduced(out: &ExampleOutput) {
-    for c in out.comparisons() {
-        assert!(c.reproduced, "{c:?}");
-    }
-}
+mod common;
+use common::*;
 
 #[test]
 fn p2c234_dynamic_quantizer_beats_static_rounding() {
     let out = run("p2c234_ex1_cdip_odq");
     // K = [3.16228, 13.47175, 4.48137, 2.26289] (examples.md, 5 decimals).
     all_reproduced(&out);
-    assert_eq!(number(&out, "quantizer_order"), 2.0);
+    assert_eq!(num(&out, "quantizer_order"), 2.0);
     let (s, q) = (
         vector(&out, "deviation_static"),
         vector(&out, "deviation_odq"),
@@ -50,7 +27,7 @@ fn p2c234_dynamic_quantizer_beats_static_rounding() {
             s[j]
         );
     }
-    assert!(number(&out, "worst_case_bound_odq") * 10.0 < number(&out, "worst_case_bound_static"));
+    assert!(num(&out, "worst_case_bound_odq") * 10.0 < num(&out, "worst_case_bound_static"));
 }
 
 #[test]
@@ -62,17 +39,17 @@ fn p2c242_ipd_gains_and_overshoots() {
     assert!((g[1] - 430.05).abs() < 0.005 && (g[2] - 15.768).abs() < 0.0005);
     // Continuous: closed loop ω_n³/(s + ω_n)³ — a triple real pole and no zero, so the step
     // response is monotone: no overshoot (to the accuracy of the exact sampling, 1e-9 %).
-    assert!(number(&out, "overshoot_continuous") < 1e-6);
+    assert!(num(&out, "overshoot_continuous") < 1e-6);
     // Discrete at 25 ms (Tustin integral and derivative): SciPy's exact ZOH sampling gives
     // 30.94677414909583 % at the samples. The loop is unstable (spectral radius 1.22, so
     // perturbations grow ×1.22⁴⁰ ≈ 3e3 over the 40 samples): the PID type's derivative filter
     // T_f = 1 ps (it needs T_f > 0; ~1e-10 relative) and RK4 at 1 ms on the drive (~1e-13)
     // end up ~1e-6 relative apart; tolerance 1e-3 % (3e-5 relative).
-    let os = number(&out, "overshoot_discrete");
+    let os = num(&out, "overshoot_discrete");
     assert!((os - 30.94677414909583).abs() < 1e-3, "{os}");
     // That loop is unstable: SciPy's eigenvalues of the same closed loop give a spectral
     // radius 1.220970845594806 (two eigenvalue routines on a 5 × 5 matrix: 1e-9).
-    let rho = number(&out, "discrete_spectral_radius");
+    let rho = num(&out, "discrete_spectral_radius");
     assert!((rho - 1.220970845594806).abs() < 1e-9, "{rho}");
 }
 
@@ -92,13 +69,13 @@ fn p2c244_sampled_data_lqr_matches_scipy() {
         // Two Riccati solvers and two Van Loan exponentials: 1e-9 relative.
         assert!((x - y).abs() < 1e-9 * y, "{kd:?}");
     }
-    let rd = number(&out, "Rd");
+    let rd = num(&out, "Rd");
     assert!((rd - 0.10088709658222006).abs() < 1e-12, "{rd}");
     // R_d ≥ R ts: the held input also drives the state cost.
     assert!(rd > 0.1);
     // The book's comparison on the nonlinear plant from 15°: K_d costs less than K held at
     // 0.1 s (measured with the same Van Loan weights; K_d is the optimum on the linear model).
-    let (jd, jh) = (number(&out, "cost_Kd"), number(&out, "cost_K_held"));
+    let (jd, jh) = (num(&out, "cost_Kd"), num(&out, "cost_K_held"));
     assert!(jd > 0.0 && jd < jh, "K_d {jd}, K held {jh}");
     // The continuous gain is the examples.md one (ch. 2 ex. 1 uses the same LQR).
     let k = vector(&out, "K");
@@ -109,18 +86,11 @@ fn p2c244_sampled_data_lqr_matches_scipy() {
 
 #[test]
 fn p2c242_writes_its_figure() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p2c2-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
-    let out = (find("p2c242_ex2_cart_ipd").unwrap().run)(&ctx).unwrap();
+    let dir = TempDir::new("p2c2");
+    let ctx = dir.ctx(None);
+    let out = run_in("p2c242_ex2_cart_ipd", &ctx).unwrap();
     assert_eq!(out.figures.len(), 2);
-    for f in &out.figures {
-        let len = std::fs::metadata(f).unwrap().len();
-        assert!(len > 5_000, "{} has {len} bytes", f.display());
-    }
-    let png = std::fs::read(dir.join("p2c242_ex2_cart_ipd_response.png")).unwrap();
+    assert_figures_larger(&out, 5_000);
+    let png = std::fs::read(dir.path().join("p2c242_ex2_cart_ipd_response.png")).unwrap();
     assert!(png.starts_with(b"\x89PNG"));
 }

@@ -2,25 +2,8 @@
 //! of pendulab-control, `tools/reference/sliding_mode_reference.py`), the swing-up and NMPC
 //! outcomes issue 7 asks for, and the figures.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn number(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(v)) => *v,
-        other => panic!("{name}: {other:?}"),
-    }
-}
+mod common;
+use common::*;
 
 #[test]
 fn p2c323_swing_up_reaches_and_holds_the_upright() {
@@ -42,29 +25,29 @@ fn p2c323_swing_up_reaches_and_holds_the_upright() {
     }
     // The pumping phase does not depend on δ: both runs switch at the same sample, after a
     // few swings (the pendulum starts at rest 0.001 rad from hanging).
-    let ts = number(&out, "switch_time");
-    assert_eq!(ts, number(&out, "switch_time_delta5"));
+    let ts = num(&out, "switch_time");
+    assert_eq!(ts, num(&out, "switch_time_delta5"));
     assert!(ts > 1.0 && ts < 12.0, "{ts}");
     // Upright and held at 16 s (θ wrapped), cart inside the ±0.5 m track throughout.
     // On the quantised rig preset too (issue 7), switching at a time of the same order.
-    let tq = number(&out, "switch_time_quantised");
+    let tq = num(&out, "switch_time_quantised");
     assert!(tq > 1.0 && tq < 12.0, "{tq}");
     for name in ["final_state", "final_state_delta5", "final_state_quantised"] {
         let f = vector(&out, name);
         assert!(f[1].abs() < 1f64.to_radians(), "{name}: {f:?}");
         assert!(f[0].abs() < 0.5, "{name}: {f:?}");
     }
-    assert!(number(&out, "max_abs_z") < 0.5);
+    assert!(num(&out, "max_abs_z") < 0.5);
 }
 
 #[test]
 fn p2c33_nmpc_swings_up_within_25_volts() {
     let out = run("p2c33_adip_nmpc_swing_up");
     // The ±2.5 V limiter makes the bound exact.
-    let u = number(&out, "max_abs_u");
+    let u = num(&out, "max_abs_u");
     assert!(u <= 2.5, "{u}");
     assert!(u > 2.0, "the swing-up uses the input range: {u}");
-    let t = number(&out, "swing_up_time");
+    let t = num(&out, "swing_up_time");
     assert!(t > 0.5 && t < 7.0, "{t}");
     let f = vector(&out, "final_state");
     let wrap = |a: f64| {
@@ -74,27 +57,25 @@ fn p2c33_nmpc_swings_up_within_25_volts() {
         wrap(f[0]).abs() < 1f64.to_radians() && wrap(f[1]).abs() < 1f64.to_radians(),
         "{f:?}"
     );
-    let us = number(&out, "mean_update_us");
+    let us = num(&out, "mean_update_us");
     assert!(us.is_finite() && us > 0.0);
 }
 
 #[test]
 fn p2c323_writes_its_figures_and_animation() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-p2c3-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
-    let out = (find("p2c323_ex1_cdip_swing_up").unwrap().run)(&ctx).unwrap();
+    let dir = TempDir::new("p2c3");
+    let ctx = dir.ctx(None);
+    let out = run_in("p2c323_ex1_cdip_swing_up", &ctx).unwrap();
     for stem in ["response", "energy_sigma"] {
         for ext in ["svg", "png"] {
-            let p = dir.join(format!("p2c323_ex1_cdip_swing_up_{stem}.{ext}"));
+            let p = dir
+                .path()
+                .join(format!("p2c323_ex1_cdip_swing_up_{stem}.{ext}"));
             let len = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);
             assert!(len > 5_000, "{} has {len} bytes", p.display());
             assert!(out.figures.contains(&p));
         }
     }
-    let gif = std::fs::read(dir.join("p2c323_ex1_cdip_swing_up_animation.gif")).unwrap();
+    let gif = std::fs::read(dir.path().join("p2c323_ex1_cdip_swing_up_animation.gif")).unwrap();
     assert!(gif.starts_with(b"GIF89a") && gif.len() > 10_000);
 }

@@ -6,43 +6,11 @@
 //! drive alone (the drive is an acceleration source, so the hanging pendulum does not act on
 //! it) simulated exactly by `pendulab_lti::response::lsim`.
 
-use pendulab_book::{ExampleOutput, RunContext, Value, find};
+mod common;
+use common::*;
+
 use pendulab_lti::response::{LsimOptions, lsim, time_vector};
 use pendulab_lti::{Mat, StateSpace};
-
-fn run(id: &str) -> ExampleOutput {
-    (find(id).unwrap().run)(&RunContext::default()).unwrap()
-}
-
-fn num(out: &ExampleOutput, name: &str) -> f64 {
-    match out.get(name) {
-        Some(Value::Number(x)) => *x,
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn vector(out: &ExampleOutput, name: &str) -> Vec<f64> {
-    match out.get(name) {
-        Some(Value::Vector(v)) => v.clone(),
-        other => panic!("{name}: {other:?}"),
-    }
-}
-
-fn assert_rel(got: &[f64], want: &[f64], rel: f64, what: &str) {
-    assert_eq!(got.len(), want.len(), "{what}");
-    for (g, w) in got.iter().zip(want) {
-        assert!(
-            (g - w).abs() <= rel * w.abs().max(1.0),
-            "{what}: {got:?} vs {want:?}"
-        );
-    }
-}
-
-fn assert_book_values_reproduced(out: &ExampleOutput) {
-    for c in out.comparisons() {
-        assert!(c.reproduced, "{c:?}");
-    }
-}
 
 /// Peak over the first 2 s of the drive coordinate of `q̈ = −a q̇ + b v`,
 /// `v = k_P (r − q) − f`, `T_f ḟ = k_D q̇ − f` (continuous P–D with the filtered derivative),
@@ -116,7 +84,7 @@ fn cdip_lqr_sim() {
     for th in vector(&out, "theta_max_after_3s_deg") {
         assert!(th < 1.0, "{th}");
     }
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -131,7 +99,7 @@ fn cdip_lqr_servo_sim() {
     // Integral action: the cart is back on r = 0.5 m 4 s after the 0.5 V disturbance.
     let e = num(&out, "e_final_sim_m");
     assert!(e.abs() < 5e-3, "{e}");
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -166,7 +134,7 @@ fn adip_lqr_sim() {
     for (g, w) in dips.iter().zip([-2.0, -4.0, -6.7]) {
         assert!((g - w).abs() <= 0.5, "{dips:?}");
     }
-    assert_book_values_reproduced(&out);
+    all_reproduced(&out);
 }
 
 #[test]
@@ -186,19 +154,13 @@ fn adip_lqr_servo_sim() {
 
 #[test]
 fn figures_and_animations_are_written() {
-    let dir = std::env::temp_dir().join(format!("pendulab-book-toolbox-{}", std::process::id()));
-    let ctx = RunContext {
-        out_dir: Some(dir.clone()),
-        data_csv: None,
-    };
+    let dir = TempDir::new("toolbox");
+    let ctx = dir.ctx(None);
     for id in ["cdip_lqr_sim", "adip_lqr_sim"] {
-        let out = (find(id).unwrap().run)(&ctx).unwrap();
+        let out = run_in(id, &ctx).unwrap();
         // Pole map and response (SVG + PNG each) and animation (GIF + SMIL SVG).
         assert_eq!(out.figures.len(), 6, "{id}");
-        for f in &out.figures {
-            let len = std::fs::metadata(f).unwrap().len();
-            assert!(len > 5000, "{}: {len} bytes", f.display());
-        }
+        assert_figures_larger(&out, 5000);
         let gif = out
             .figures
             .iter()
@@ -206,5 +168,4 @@ fn figures_and_animations_are_written() {
             .unwrap();
         assert_eq!(&std::fs::read(gif).unwrap()[..6], b"GIF89a");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -2,6 +2,7 @@
 
 use crate::registry::Example;
 
+mod common;
 mod p1c2;
 mod p1c3;
 mod p1c4;

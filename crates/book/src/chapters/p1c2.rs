@@ -7,18 +7,17 @@
 //! pseudo-differentiator constant). Linear-loop poles use the drive `P(s) = b_c/(s(s + a_c))`
 //! with an ideal derivative.
 
-pub(crate) mod common;
-
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
-use common::{Ctx, PanelSpec, complex_value, cpx, fail, save_cart_animation, save_figure, stacked};
 use pendulab_ident::{VelocityStepOptions, drive_from_velocity_steps, velocity_step};
 use pendulab_lti::frequency_response::logspace;
 use pendulab_lti::{Complex64, Mat, Polynomial};
-use pendulab_plants::{CartEquilibrium, CartPendulum, CartPendulumParams};
+use pendulab_plants::{CartEquilibrium, CartPendulum, CartPendulumParams, RigSpec};
 use pendulab_plot::Bode;
 use pendulab_sim::controllers::{OpenLoop, Pid, PidDiscretization, PidForm};
+use pendulab_sim::rig::RigChains;
 use pendulab_sim::{Controller, DisturbancePoint, SampledLoop, SampledOptions, Signal};
 use std::f64::consts::PI;
 
@@ -157,7 +156,12 @@ pub(crate) fn simulate_cart<C: Controller>(
     t_final: f64,
 ) -> Result<CartRun, BookError> {
     let e = id;
-    let mut rig = common::cart_rig(quantised).ctx(e)?;
+    let spec = RigSpec::cart();
+    let mut rig = if quantised {
+        quantized_rig(e, &spec)?
+    } else {
+        RigChains::plain(spec.nx)
+    };
     if let Some(d) = disturbance {
         rig.actuator = rig.actuator.disturbance(
             vec![Signal::constant(d).ctx(e)?],
@@ -200,7 +204,7 @@ fn pid(id: &'static str, form: PidForm) -> Result<Pid, BookError> {
 
 /// The usual figure of the chapter: z, φ and v of several runs overlaid.
 fn response_figure(title: &str, runs: &[CartRun], reference: f64) -> pendulab_plot::Figure {
-    let lines = |f: &dyn Fn(&CartRun) -> Vec<f64>| -> Vec<common::Line<'_>> {
+    let lines = |f: &dyn Fn(&CartRun) -> Vec<f64>| -> Vec<Line<'_>> {
         runs.iter()
             .map(|r| (r.label.clone(), r.t.as_slice(), f(r)))
             .collect()
@@ -225,17 +229,20 @@ fn write_response(
 ) -> Result<(), BookError> {
     if let Some(dir) = &ctx.out_dir {
         let fig = response_figure(&format!("{id}: r = {R} m step"), runs, R);
-        save_figure(id, out, dir, &format!("{id}_response"), &fig)?;
+        write_figure(id, out, dir, &format!("{id}_response"), &fig)?;
         if let Some(run) = runs.last() {
-            save_cart_animation(
+            write_animation(
                 id,
                 out,
                 dir,
                 &format!("{id}_anim"),
-                &format!("{id}: {}", run.label),
-                &run.t,
-                &run.z,
-                &run.theta,
+                animation(
+                    Rig::Cart,
+                    &run.t,
+                    &run.z,
+                    &run.theta,
+                    &format!("{id}: {}", run.label),
+                ),
             )?;
         }
     }
@@ -258,7 +265,7 @@ fn p1c211_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     for kp in [5.0, 10.0, 20.0] {
         // Linear loop: s² + a_c s + b_c k_P = 0.
         let p = roots(ID211, &[1.0, ac, bc * kp])?;
-        out.value(&format!("poles_kP{kp}"), complex_value(p));
+        out.value(&format!("poles_kP{kp}"), Value::Complex(sorted(p)));
         let run = simulate_cart(
             ID211,
             format!("k_P = {kp}"),
@@ -273,7 +280,7 @@ fn p1c211_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.value("z_max", Value::Vector(zmax));
     out.reference(
         "poles_kP10",
-        cpx(&[(-3.125, 5.817), (-3.125, -5.817)]),
+        Value::Complex(complex(&[(-3.125, 5.817), (-3.125, -5.817)])),
         "examples.md (book §2.1.1)",
         0.0005 * std::f64::consts::SQRT_2,
     );
@@ -298,7 +305,7 @@ fn p1c212_pdcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     for (name, kd) in [("kD01", 0.1), ("kD08", 0.8)] {
         // s² + (a_c + b_c k_D) s + b_c k_P = 0.
         let p = roots(ID212, &[1.0, ac + bc * kd, bc * kp])?;
-        out.value(&format!("poles_{name}"), complex_value(p));
+        out.value(&format!("poles_{name}"), Value::Complex(sorted(p)));
         let run = simulate_cart(
             ID212,
             format!("k_D = {kd}"),
@@ -343,7 +350,7 @@ fn p1c213_picont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     for ki in [5.0, 25.0] {
         // s³ + a_c s² + b_c k_P s + b_c k_I = 0.
         let p = roots(ID213I, &[1.0, ac, bc * kp, bc * ki])?;
-        out.value(&format!("poles_kI{ki}"), complex_value(p));
+        out.value(&format!("poles_kI{ki}"), Value::Complex(sorted(p)));
         let run = simulate_cart(
             ID213I,
             format!("k_I = {ki}"),
@@ -374,7 +381,7 @@ fn p1c213_pidcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut out = ExampleOutput::default();
     // s³ + (a_c + b_c k_D) s² + b_c k_P s + b_c k_I = 0.
     let p = roots(ID213D, &[1.0, ac + bc * kd, bc * kp, bc * ki])?;
-    out.value("poles", complex_value(p));
+    out.value("poles", Value::Complex(sorted(p)));
     let pi_run = simulate_cart(
         ID213D,
         "PI (k_P = 10, k_I = 5)",
@@ -454,7 +461,7 @@ fn p1c213_pidbode(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .response("P(s)", &w, &hp)
             .title("p1c213_pidbode: PID (k_P = 10, T_I = 2 s, T_D = 0.08 s)")
             .figure();
-        save_figure(ID213B, &mut out, dir, "p1c213_pidbode_bode", &fig)?;
+        write_figure(ID213B, &mut out, dir, "p1c213_pidbode_bode", &fig)?;
     }
     Ok(out)
 }
@@ -526,7 +533,7 @@ fn p1c221_id_cart(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .into(),
     );
     if let Some(dir) = &ctx.out_dir {
-        let lines: Vec<common::Line<'_>> = curves
+        let lines: Vec<Line<'_>> = curves
             .iter()
             .map(|(r, v, _)| (r.label.clone(), r.t.as_slice(), v.clone()))
             .collect();
@@ -539,7 +546,7 @@ fn p1c221_id_cart(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             "time [s]",
             vec![panel],
         );
-        save_figure(ID221, &mut out, dir, "p1c221_id_cart_velocity", &fig)?;
+        write_figure(ID221, &mut out, dir, "p1c221_id_cart_velocity", &fig)?;
     }
     Ok(out)
 }
@@ -593,31 +600,42 @@ fn p1c223_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .into(),
     );
     if let Some(dir) = &ctx.out_dir {
-        let t = runs[0].t.clone();
-        let m5 = second_order_step(&t, 5.0, ZETA);
-        let m10 = second_order_step(&t, 10.0, ZETA);
-        let mut lines: Vec<common::Line<'_>> = runs
-            .iter()
-            .map(|r| (r.label.clone(), r.t.as_slice(), r.z.clone()))
-            .collect();
-        lines.push(("model ω_n = 5".into(), &t, m5));
-        lines.push(("model ω_n = 10".into(), &t, m10));
-        let fig = stacked(
+        let fig = model_match_figure(
             "p1c223_pcont: P control against the reference models",
-            "time [s]",
-            vec![
-                PanelSpec::new("cart position z [m]", lines),
-                PanelSpec::new(
-                    "input voltage v [V]",
-                    runs.iter()
-                        .map(|r| (r.label.clone(), r.t.as_slice(), r.v.clone()))
-                        .collect(),
-                ),
-            ],
+            &runs,
         );
-        save_figure(ID223, &mut out, dir, "p1c223_pcont_response", &fig)?;
+        write_figure(ID223, &mut out, dir, "p1c223_pcont_response", &fig)?;
     }
     Ok(out)
+}
+
+/// Cart position and input of `runs` (3 s steps of r), the position overlaid with the reference
+/// models' steps for ω_n = 5 and 10 rad/s.
+fn model_match_figure(title: &str, runs: &[CartRun]) -> pendulab_plot::Figure {
+    let t = runs[0].t.clone();
+    let mut lines: Vec<Line<'_>> = runs
+        .iter()
+        .map(|r| (r.label.clone(), r.t.as_slice(), r.z.clone()))
+        .collect();
+    lines.push(("model ω_n = 5".into(), &t, second_order_step(&t, 5.0, ZETA)));
+    lines.push((
+        "model ω_n = 10".into(),
+        &t,
+        second_order_step(&t, 10.0, ZETA),
+    ));
+    stacked(
+        title,
+        "time [s]",
+        vec![
+            PanelSpec::new("cart position z [m]", lines),
+            PanelSpec::new(
+                "input voltage v [V]",
+                runs.iter()
+                    .map(|r| (r.label.clone(), r.t.as_slice(), r.v.clone()))
+                    .collect(),
+            ),
+        ],
+    )
 }
 
 const ID224PD: &str = "p1c224_p_dcont";
@@ -647,31 +665,11 @@ fn p1c224_p_dcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .into(),
     );
     if let Some(dir) = &ctx.out_dir {
-        let t = runs[0].t.clone();
-        let mut lines: Vec<common::Line<'_>> = runs
-            .iter()
-            .map(|r| (r.label.clone(), r.t.as_slice(), r.z.clone()))
-            .collect();
-        lines.push(("model ω_n = 5".into(), &t, second_order_step(&t, 5.0, ZETA)));
-        lines.push((
-            "model ω_n = 10".into(),
-            &t,
-            second_order_step(&t, 10.0, ZETA),
-        ));
-        let fig = stacked(
+        let fig = model_match_figure(
             "p1c224_p_dcont: P–D control and its reference models",
-            "time [s]",
-            vec![
-                PanelSpec::new("cart position z [m]", lines),
-                PanelSpec::new(
-                    "input voltage v [V]",
-                    runs.iter()
-                        .map(|r| (r.label.clone(), r.t.as_slice(), r.v.clone()))
-                        .collect(),
-                ),
-            ],
+            &runs,
         );
-        save_figure(ID224PD, &mut out, dir, "p1c224_p_dcont_response", &fig)?;
+        write_figure(ID224PD, &mut out, dir, "p1c224_p_dcont_response", &fig)?;
     }
     Ok(out)
 }
@@ -717,7 +715,7 @@ fn p1c224_i_pdcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     );
     if let Some(dir) = &ctx.out_dir {
         let fig = response_figure("p1c224_i_pdcont: I–PD, ω_n = 10", &runs, R);
-        save_figure(ID224IPD, &mut out, dir, "p1c224_i_pdcont_response", &fig)?;
+        write_figure(ID224IPD, &mut out, dir, "p1c224_i_pdcont_response", &fig)?;
     }
     Ok(out)
 }
@@ -772,7 +770,7 @@ fn p1c23_crane(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             }
         }
         let poles = pendulab_lti::linalg::eigenvalues(&acl).ctx(e)?;
-        out.value(&format!("poles_{name}"), complex_value(poles));
+        out.value(&format!("poles_{name}"), Value::Complex(sorted(poles)));
         let ctrl = Crane {
             ipd: pid(ID23, PidForm::IPD { kp, ki, kd, tf: TF })?,
             kp2,
@@ -800,17 +798,20 @@ fn p1c23_crane(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     );
     if let Some(dir) = &ctx.out_dir {
         let fig = response_figure("p1c23_crane: I–PD with and without damping", &runs, R);
-        save_figure(ID23, &mut out, dir, "p1c23_crane_response", &fig)?;
+        write_figure(ID23, &mut out, dir, "p1c23_crane_response", &fig)?;
         for (run, stem) in runs.iter().zip(["without", "with"]) {
-            save_cart_animation(
+            write_animation(
                 ID23,
                 &mut out,
                 dir,
                 &format!("p1c23_crane_anim_{stem}"),
-                &format!("crane, {}", run.label),
-                &run.t,
-                &run.z,
-                &run.theta,
+                animation(
+                    Rig::Cart,
+                    &run.t,
+                    &run.z,
+                    &run.theta,
+                    &format!("crane, {}", run.label),
+                ),
             )?;
         }
     }

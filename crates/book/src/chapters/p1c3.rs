@@ -3,9 +3,7 @@
 //! The cart-rig examples run on the measurements of `data/rig/` (embedded); the arm-rig
 //! examples (`p1c332_*`) run on a CSV given with `--data`.
 
-use super::p1c2::common::{
-    Ctx, PanelSpec, extrema, fail, save_cart_animation, save_figure, stacked,
-};
+use super::common::*;
 use super::p1c2::simulate_cart;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
@@ -280,16 +278,19 @@ fn p1c311_cdip_lagrange(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 ),
             ],
         );
-        save_figure(ID311, &mut out, dir, "p1c311_cdip_lagrange_energy", &fig)?;
-        save_cart_animation(
+        write_figure(ID311, &mut out, dir, "p1c311_cdip_lagrange_energy", &fig)?;
+        write_animation(
             ID311,
             &mut out,
             dir,
             "p1c311_cdip_lagrange_anim",
-            "cart driven, μ_p = 0",
-            driven.t(),
-            driven.x_signal(0),
-            driven.x_signal(1),
+            animation(
+                Rig::Cart,
+                driven.t(),
+                driven.x_signal(0),
+                driven.x_signal(1),
+                "cart driven, μ_p = 0",
+            ),
         )?;
     }
     Ok(out)
@@ -372,7 +373,7 @@ fn p1c321_cdip_plot_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> 
                 ),
             ],
         );
-        save_figure(
+        write_figure(
             ID321P,
             &mut out,
             dir,
@@ -407,7 +408,7 @@ fn fit_figure(
         f = f.signal(*label, y, &[("identified model", yh)]);
     }
     let fig = f.figure().ctx(id)?;
-    save_figure(id, out, dir, stem, &fig)
+    write_figure(id, out, dir, stem, &fig)
 }
 
 /// Pads a validation output (which starts at sample `start`) with NaN to the data length.
@@ -847,16 +848,19 @@ fn p1c34_cdip_plot_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 ),
             ],
         );
-        save_figure(ID34, &mut out, dir, "p1c34_cdip_plot_pcont_response", &fig)?;
-        save_cart_animation(
+        write_figure(ID34, &mut out, dir, "p1c34_cdip_plot_pcont_response", &fig)?;
+        write_animation(
             ID34,
             &mut out,
             dir,
             "p1c34_cdip_plot_pcont_anim",
-            "cart P control, k_P = 10",
-            &run.t,
-            &run.z,
-            &run.theta,
+            animation(
+                Rig::Cart,
+                &run.t,
+                &run.z,
+                &run.theta,
+                "cart P control, k_P = 10",
+            ),
         )?;
     }
     Ok(out)

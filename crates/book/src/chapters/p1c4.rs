@@ -1,6 +1,6 @@
 //! Part 1 chapter 4: state space, time responses and stability (book §4.1–4.3).
 
-use super::p1c2::common::{Ctx, PanelSpec, complex_value, cpx, fail, save_figure, stacked};
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -75,7 +75,7 @@ fn p1c41_cdip_response(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .map(|((a, b), c)| (c - a - b).abs())
         .fold(0.0, f64::max);
     let mut out = ExampleOutput::default();
-    out.value("eig", complex_value(eigenvalues(&a).ctx(e)?));
+    out.value("eig", Value::Complex(sorted(eigenvalues(&a).ctx(e)?)));
     out.value("max_superposition_error", Value::Number(err));
     out.notes.push(
         "y1 = initial(G, x0, t), y2 = lsim(G, 2 sin t, t), y3 = lsim(G, 2 sin t, t, x0) with the \
@@ -95,7 +95,7 @@ fn p1c41_cdip_response(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 ],
             )],
         );
-        save_figure(ID41, &mut out, dir, "p1c41_cdip_response_y", &fig)?;
+        write_figure(ID41, &mut out, dir, "p1c41_cdip_response_y", &fig)?;
     }
     Ok(out)
 }
@@ -146,26 +146,26 @@ fn p1c43_stability1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     // Asymptotically stable iff every eigenvalue has a negative real part (theorem 4.2).
     let stable = ev.iter().all(|z| z.re < 0.0);
     let mut out = ExampleOutput::default();
-    out.value("eig", complex_value(ev.clone()));
+    out.value("eig", Value::Complex(sorted(ev.clone())));
     out.value("stable", Value::Bool(stable));
     // Printed to three decimals: half a unit of the last digit, on the complex modulus of the
     // difference (0.0005·√2 covers both parts rounded).
     out.reference(
         "eig",
-        cpx(&[
+        Value::Complex(complex(&[
             (1.0, 0.0),
             (0.906, 0.934),
             (0.906, -0.934),
             (-0.426, 0.0),
             (-1.387, 0.0),
-        ]),
+        ])),
         "examples.md (book §4.3)",
         0.0005 * std::f64::consts::SQRT_2,
     );
     out.reference("stable", Value::Bool(false), "examples.md (book §4.3)", 0.0);
     if let Some(dir) = &ctx.out_dir {
         let fig = eig_figure("p1c43_stability1: eigenvalues of A (not stable)", &ev);
-        save_figure(ID431, &mut out, dir, "p1c43_stability1_eig", &fig)?;
+        write_figure(ID431, &mut out, dir, "p1c43_stability1_eig", &fig)?;
     }
     Ok(out)
 }
@@ -186,20 +186,20 @@ fn p1c43_stability2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let p_eig = symmetric_eigenvalues(&sol.x);
     let ev = eigenvalues(&a).ctx(e)?;
     let mut out = ExampleOutput::default();
-    out.value("eig", complex_value(ev.clone()));
+    out.value("eig", Value::Complex(sorted(ev.clone())));
     out.value("P_eig", Value::Vector(p_eig.clone()));
     out.value("P", Value::matrix(&sol.x));
     out.value("lyapunov_residual", Value::Number(sol.residual));
     out.value("P_positive_definite", Value::Bool(p_eig[0] > 0.0));
     out.reference(
         "eig",
-        cpx(&[
+        Value::Complex(complex(&[
             (-0.0220, 1.8470),
             (-0.0220, -1.8470),
             (-0.4085, 0.0),
             (-0.7737, 1.5071),
             (-0.7737, -1.5071),
-        ]),
+        ])),
         "book p. 74 (eig(A), format short)",
         0.00005 * std::f64::consts::SQRT_2,
     );
@@ -217,7 +217,7 @@ fn p1c43_stability2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     );
     if let Some(dir) = &ctx.out_dir {
         let fig = eig_figure("p1c43_stability2: eigenvalues of A (stable)", &ev);
-        save_figure(ID432, &mut out, dir, "p1c43_stability2_eig", &fig)?;
+        write_figure(ID432, &mut out, dir, "p1c43_stability2_eig", &fig)?;
     }
     Ok(out)
 }
@@ -253,7 +253,7 @@ fn p1c43_lyapunov_func(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .labels("x1", "x2", "V(x)")
             .title("p1c43_lyapunov_func: V(x) = x1² + x2²");
         let fig = Figure::new(s).size(640.0, 520.0);
-        save_figure(ID433, &mut out, dir, "p1c43_lyapunov_func_surface", &fig)?;
+        write_figure(ID433, &mut out, dir, "p1c43_lyapunov_func_surface", &fig)?;
     }
     Ok(out)
 }

@@ -3,10 +3,7 @@
 //! Gains are reported in the book's convention `u = +K x` (pendulab's library uses
 //! `u = −K x`; `K_book = −K`).
 
-use super::toolbox::common::{
-    Rig, book_row, column, complex, diag, fail, filtered_rig, max_of, min_of, save_animation,
-    save_figure, sorted,
-};
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -101,8 +98,7 @@ fn m(r: usize, c: usize, v: &[f64]) -> Mat {
 
 fn ex1(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c511_ex1";
-    let mc =
-        ctrb(&m(2, 2, &[1.0, 0.0, 1.0, 1.0]), &m(2, 1, &[1.0, 1.0])).map_err(|e| fail(id, e))?;
+    let mc = ctrb(&m(2, 2, &[1.0, 0.0, 1.0, 1.0]), &m(2, 1, &[1.0, 1.0])).ctx(id)?;
     let mut out = ExampleOutput::default();
     out.value("Mc", Value::matrix(&mc))
         .value("rank", Value::Number(rank(&mc).rank as f64));
@@ -123,7 +119,7 @@ fn ex2(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c511_ex2";
     let a = m(3, 3, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
     let b = m(3, 1, &[0.0, 0.0, 1.0]);
-    let mc = ctrb(&a, &b).map_err(|e| fail(id, e))?;
+    let mc = ctrb(&a, &b).ctx(id)?;
     let mut out = ExampleOutput::default();
     out.value("Mc", Value::matrix(&mc))
         .value("rank", Value::Number(rank(&mc).rank as f64));
@@ -150,10 +146,10 @@ fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         mu2: 0.0,
         ..ArmPendulumParams::book()
     })
-    .map_err(|e| fail(id, e))?;
-    let d0 = arm_det_mc(&book, 0.0).map_err(|e| fail(id, e))?;
-    let d90 = arm_det_mc(&book, PI / 2.0).map_err(|e| fail(id, e))?;
-    let d90_free = arm_det_mc(&frictionless, PI / 2.0).map_err(|e| fail(id, e))?;
+    .ctx(id)?;
+    let d0 = arm_det_mc(&book, 0.0).ctx(id)?;
+    let d90 = arm_det_mc(&book, PI / 2.0).ctx(id)?;
+    let d90_free = arm_det_mc(&frictionless, PI / 2.0).ctx(id)?;
     let mut out = ExampleOutput::default();
     out.value("det_Mc_at_0", Value::Number(d0))
         .value("det_Mc_at_pi_over_2", Value::Number(d90))
@@ -168,8 +164,8 @@ fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let mut dets = Vec::with_capacity(th.len());
         let mut dets0 = Vec::with_capacity(th.len());
         for &t in &th {
-            dets.push(arm_det_mc(&book, t).map_err(|e| fail(id, e))?);
-            dets0.push(arm_det_mc(&frictionless, t).map_err(|e| fail(id, e))?);
+            dets.push(arm_det_mc(&book, t).ctx(id)?);
+            dets0.push(arm_det_mc(&frictionless, t).ctx(id)?);
         }
         let mut ax = Axes::new();
         ax.xlabel("arm angle θ1e [deg]").ylabel("det M_c");
@@ -198,7 +194,7 @@ fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .color(Color::RED)
             .dashed();
         let fig = Figure::column([ax, lg]).title("p1c511_ex3_adip: det M_c against θ1e");
-        save_figure(ctx, id, "det_mc", &fig, &mut out)?;
+        save_figure(ctx, &mut out, id, "det_mc", Ok(fig))?;
     }
     Ok(out)
 }
@@ -206,11 +202,11 @@ fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 fn ex4_cdip(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c511_ex4_cdip";
     let rank_of = |p: TwoPendulumCartParams| -> Result<usize, BookError> {
-        let plant = TwoPendulumCart::new(p).map_err(|e| fail(id, e))?;
+        let plant = TwoPendulumCart::new(p).ctx(id)?;
         let sys = plant
             .linearize(0.0, Posture::Upright, Posture::Upright)
-            .map_err(|e| fail(id, e))?;
-        let mc = ctrb(sys.a(), sys.b()).map_err(|e| fail(id, e))?;
+            .ctx(id)?;
+        let mc = ctrb(sys.a(), sys.b()).ctx(id)?;
         Ok(rank(&mc).rank)
     };
     let rd = rank_of(TwoPendulumCartParams::book_example())?;
@@ -240,8 +236,8 @@ fn ex5(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         m(1, 2, &[1.0, 0.0]),
         Mat::zeros(1, 1),
     )
-    .map_err(|e| fail(id, e))?;
-    let f = controllable_canonical_form(&sys).map_err(|e| fail(id, e))?;
+    .ctx(id)?;
+    let f = controllable_canonical_form(&sys).ctx(id)?;
     let mut out = ExampleOutput::default();
     out.value("T", Value::matrix(&f.t))
         .value("A_hat", Value::matrix(f.system.a()));
@@ -273,8 +269,8 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let a = m(2, 2, &[1.0, 0.0, 1.0, 1.0]);
     let b = m(2, 1, &[1.0, 1.0]);
     let sys = StateSpace::continuous(a.clone(), b.clone(), m(1, 2, &[1.0, 0.0]), Mat::zeros(1, 1))
-        .map_err(|e| fail(id, e))?;
-    let f = controllable_canonical_form(&sys).map_err(|e| fail(id, e))?;
+        .ctx(id)?;
+    let f = controllable_canonical_form(&sys).ctx(id)?;
     // Desired (s + 1)(s + 2) = s² + 3 s + 2.
     let (d0, d1) = (2.0, 3.0);
     let c = &f.characteristic_coefficients;
@@ -285,7 +281,7 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .ok_or_else(|| fail(id, "the canonical transformation T is singular"))?;
     let k = &k_hat * t_inv;
     let closed = &a + &b * &k;
-    let poles = sorted(pendulab_lti::linalg::eigenvalues(&closed).map_err(|e| fail(id, e))?);
+    let poles = sorted(pendulab_lti::linalg::eigenvalues(&closed).ctx(id)?);
     let mut out = ExampleOutput::default();
     out.value("K", Value::vector(&[k[(0, 0)], k[(0, 1)]]))
         .value("K_hat", Value::vector(&[k_hat[(0, 0)], k_hat[(0, 1)]]))
@@ -308,14 +304,14 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 fn arm_at(id: &str, theta1e: f64) -> Result<StateSpace<Continuous>, BookError> {
     ArmPendulum::book()
         .linearize(ArmEquilibrium::upright(theta1e))
-        .map_err(|e| fail(id, e))
+        .ctx(id)
 }
 
 fn ex7_adip_place(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c522_ex7_adip_place";
     let sys = arm_at(id, PI / 4.0)?;
     let want = complex(&[(-2.0, 0.0), (-2.5, 0.0), (-3.0, 0.0), (-3.5, 0.0)]);
-    let pl = place(sys.a(), sys.b(), &want).map_err(|e| fail(id, e))?;
+    let pl = place(sys.a(), sys.b(), &want).ctx(id)?;
     let mut out = ExampleOutput::default();
     out.value("K", Value::vector(&book_row(&pl.gain)))
         .value("poles", Value::Complex(pl.achieved_poles.clone()));
@@ -327,13 +323,13 @@ fn ex7_adip_place(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     );
     out.notes.push(BOOK_CONVENTION.into());
     if ctx.out_dir.is_some() {
-        let open = sorted(sys.poles().map_err(|e| fail(id, e))?);
+        let open = sorted(sys.poles().ctx(id)?);
         let fig = PoleZeroMap::new()
             .poles("open loop", &open)
             .poles("A + BK", &pl.achieved_poles)
             .title("p1c522_ex7_adip_place: poles at θ1e = π/4")
             .figure();
-        save_figure(ctx, id, "poles", &fig, &mut out)?;
+        save_figure(ctx, &mut out, id, "poles", Ok(fig))?;
     }
     Ok(out)
 }
@@ -353,20 +349,20 @@ fn ex8_adip_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut runs: Vec<(String, Trajectory)> = Vec::new();
     let rig = filtered_rig(id, &RigSpec::arm())?;
     for (case, q, r) in EX8_CASES {
-        let l = lqr(&sys, &diag(&q), &diag(&[r]), None).map_err(|e| fail(id, e))?;
+        let l = lqr(&sys, &diag(&q), &diag(&[r]), None).ctx(id)?;
         out.value(&format!("K_{case}"), Value::vector(&book_row(&l.gain)));
         // u = −K (y − x_e): the arm is driven from θ1 = 0 to the equilibrium θ1e = π/4.
         let ctrl = StaticStateFeedback::new(l.gain.clone())
             .and_then(|c| c.with_reference(&[theta1e, 0.0, 0.0, 0.0]))
-            .map_err(|e| fail(id, e))?;
+            .ctx(id)?;
         let opts = SampledOptions {
             t_final: 3.0,
             ..Default::default()
         };
         let mut lp = SampledLoop::new(ArmPendulum::book(), ctrl, opts)
             .and_then(|l| l.with_rig(rig.clone()))
-            .map_err(|e| fail(id, e))?;
-        let run = lp.run(&[0.0, 0.0, 0.0, 0.0]).map_err(|e| fail(id, e))?;
+            .ctx(id)?;
+        let run = lp.run(&[0.0, 0.0, 0.0, 0.0]).ctx(id)?;
         let th1 = column(run.trajectory.x(), 0);
         let th2 = column(run.trajectory.x(), 1);
         out.value(
@@ -402,17 +398,11 @@ fn ex8_adip_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .panel(SignalPanel::new(Channel::State(1), "pendulum θ2 [deg]").scaled(deg))
             .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs())
             .figure()
-            .map_err(|e| fail(id, e))?;
-        save_figure(ctx, id, "response", &fig, &mut out)?;
-        save_animation(
-            ctx,
-            id,
-            "animation",
-            Rig::Arm,
-            &runs[0].1,
-            "p1c523_ex8_adip_lqr, case 1",
-            &mut out,
-        )?;
+            .ctx(id)?;
+        save_figure(ctx, &mut out, id, "response", Ok(fig))?;
+        save_animation(ctx, &mut out, id, "animation", || {
+            run_animation(Rig::Arm, &runs[0].1, "p1c523_ex8_adip_lqr, case 1")
+        })?;
     }
     Ok(out)
 }

@@ -4,10 +4,7 @@
 //! or PI control; example 6.5 is the LQ integral servo of the nonlinear cart pendulum. Gains are
 //! reported in the book's convention `u = +K x`.
 
-use super::toolbox::common::{
-    Rig, book_row, column, complex, diag, fail, filtered_rig, max_abs_after, min_of,
-    save_animation, save_figure, sorted,
-};
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -262,8 +259,8 @@ fn drive_figure(
                 .with(Channel::Input(1), "d"),
         )
         .figure()
-        .map_err(|e| fail(id, e))?;
-    save_figure(ctx, id, "response", &fig, out)
+        .ctx(id)?;
+    save_figure(ctx, out, id, "response", Ok(fig))
 }
 
 struct DriveCase {
@@ -280,7 +277,7 @@ struct DriveCase {
 fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookError> {
     let id = c.id;
     let lp = DriveLoop::new(10.0, c.ki);
-    let poles = lp.poles().map_err(|e| fail(id, e))?;
+    let poles = lp.poles().ctx(id)?;
     let r0 = if c.ramp { 0.1 } else { 0.5 };
     let k = if c.ramp { 2 } else { 1 };
     let e_inf = lp.e_inf(r0, k, c.d0);
@@ -292,7 +289,7 @@ fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookE
             move |t| if ramp { 0.1 * t } else { 0.5 },
             move |t| if t >= 2.5 - 1e-9 { d0 } else { 0.0 },
         )
-        .map_err(|e| fail(id, e))?;
+        .ctx(id)?;
     let e_end = traj.y_signal(1).last().copied().unwrap_or(f64::NAN);
     let mut out = ExampleOutput::default();
     out.value("poles", Value::Complex(poles))
@@ -390,9 +387,7 @@ fn ex4(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c63_ex5_cdip_lqr_servo";
     let plant = CartPendulum::book();
-    let lin = plant
-        .linearize(CartEquilibrium::upright())
-        .map_err(|e| fail(id, e))?;
+    let lin = plant.linearize(CartEquilibrium::upright()).ctx(id)?;
     let cz = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
     let sys = StateSpace::continuous(
         lin.a().clone(),
@@ -400,18 +395,17 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         cz.clone(),
         Mat::zeros(1, 1),
     )
-    .map_err(|e| fail(id, e))?;
+    .ctx(id)?;
     // J = ∫ q1 e² + q2 w² + R u² with e = r − z (r = 0 in the design): Q = C̃ᵀ diag(q1, q2) C̃
     // = diag(q1 CᵀC, q2) on [x; w] (book eqs 6.24b, 6.30).
     let (q1, q2) = (800.0, 20000.0);
-    let design =
-        lq_servo(&sys, &diag(&[q1, 0.0, 0.0, 0.0, q2]), &diag(&[1.0])).map_err(|e| fail(id, e))?;
+    let design = lq_servo(&sys, &diag(&[q1, 0.0, 0.0, 0.0, q2]), &diag(&[1.0])).ctx(id)?;
     let k1 = book_row(&design.state_gain);
     let k2 = book_row(&design.integral_gain);
     // Steady state of the linear loop (book eq. 6.33): x∞, w∞ from Ã + B̃K̃ and [B d0; r0].
     let (r0, d0) = (0.5, 5.0);
     let kb = Mat::from_row_slice(1, 5, &[k1[0], k1[1], k1[2], k1[3], k2[0]]);
-    let (am, bm) = pendulab_lti::design::integral_augmentation(&sys).map_err(|e| fail(id, e))?;
+    let (am, bm) = pendulab_lti::design::integral_augmentation(&sys).ctx(id)?;
     let acl = &am + &bm * &kb;
     let mut rhs = nalgebra::DVector::zeros(5);
     for i in 0..4 {
@@ -429,14 +423,14 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let ctrl = LqIntegralServo::from_design(
         &design,
         &cz,
-        vec![Signal::constant(r0).map_err(|e| fail(id, e))?],
+        vec![Signal::constant(r0).ctx(id)?],
         1e-3,
         IntegrationRule::ForwardEuler,
     )
-    .map_err(|e| fail(id, e))?;
+    .ctx(id)?;
     let mut chains = rig;
     chains.actuator = chains.actuator.disturbance(
-        vec![Signal::step(2.5, d0).map_err(|e| fail(id, e))?],
+        vec![Signal::step(2.5, d0).ctx(id)?],
         DisturbancePoint::AfterSaturation,
     );
     let opts = SampledOptions {
@@ -445,8 +439,8 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     };
     let mut lp = SampledLoop::new(plant, ctrl, opts)
         .and_then(|l| l.with_rig(chains))
-        .map_err(|e| fail(id, e))?;
-    let run = lp.run(&[0.0; 4]).map_err(|e| fail(id, e))?;
+        .ctx(id)?;
+    let run = lp.run(&[0.0; 4]).ctx(id)?;
     let t = run.trajectory.t().to_vec();
     let z = column(run.trajectory.x(), 0);
     let undershoot = -min_of(&z).min(0.0);
@@ -485,17 +479,11 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             )
             .panel(SignalPanel::new(Channel::Input(0), "plant input v + d [V]").stairs())
             .figure()
-            .map_err(|e| fail(id, e))?;
-        save_figure(ctx, id, "response", &fig, &mut out)?;
-        save_animation(
-            ctx,
-            id,
-            "animation",
-            Rig::Cart,
-            &run.trajectory,
-            "p1c63_ex5: LQ integral servo",
-            &mut out,
-        )?;
+            .ctx(id)?;
+        save_figure(ctx, &mut out, id, "response", Ok(fig))?;
+        save_animation(ctx, &mut out, id, "animation", || {
+            run_animation(Rig::Cart, &run.trajectory, "p1c63_ex5: LQ integral servo")
+        })?;
     }
     Ok(out)
 }

@@ -3,9 +3,7 @@
 //! Gains are reported in the book's convention `u = +K x`, observer `A + L C` (pendulab's
 //! library: `u = −K x`, `A − L C`).
 
-use super::toolbox::common::{
-    Rig, column, complex, fail, max_abs_after, quantized_rig, save_animation, save_figure, sorted,
-};
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -62,16 +60,12 @@ pub(crate) fn ob_design(
 ) -> Result<(StateSpace<Continuous>, StateFeedback, Mat), BookError> {
     let lin = CartPendulum::book()
         .linearize_measured(CartEquilibrium::upright())
-        .map_err(|e| fail(id, e))?;
+        .ctx(id)?;
     let poles = complex(&EX1_POLES);
-    let k = place(lin.a(), lin.b(), &poles)
-        .map_err(|e| fail(id, e))?
-        .gain;
-    let fb = StateFeedback::new(k).map_err(|e| fail(id, e))?;
+    let k = place(lin.a(), lin.b(), &poles).ctx(id)?.gain;
+    let fb = StateFeedback::new(k).ctx(id)?;
     let observer: Vec<Complex64> = poles.iter().map(|p| p * 4.0).collect();
-    let l = place_observer(lin.a(), lin.c(), &observer)
-        .map_err(|e| fail(id, e))?
-        .gain;
+    let l = place_observer(lin.a(), lin.c(), &observer).ctx(id)?.gain;
     Ok((lin, fb, l))
 }
 
@@ -86,9 +80,9 @@ pub(crate) fn run_ob_controller(
     method: Discretization,
 ) -> Result<Trajectory, BookError> {
     let rig = RigSpec::cart();
-    let c = output_feedback_controller(lin, fb, l, ts, method).map_err(|e| fail(id, e))?;
+    let c = output_feedback_controller(lin, fb, l, ts, method).ctx(id)?;
     let enc: Vec<(usize, f64)> = rig.encoders.iter().map(|e| (e.state, e.step)).collect();
-    let sensor = SensorChain::encoders(&enc).map_err(|e| fail(id, e))?;
+    let sensor = SensorChain::encoders(&enc).ctx(id)?;
     let opts = SampledOptions {
         ts,
         t_final: 3.0,
@@ -97,10 +91,8 @@ pub(crate) fn run_ob_controller(
     let mut lp = SampledLoop::new(CartPendulum::book(), c, opts)
         .and_then(|l| l.with_sensor(sensor))
         .and_then(|l| l.with_actuator(Actuator::rig(rig.input_limit, rig.dac.bits)?))
-        .map_err(|e| fail(id, e))?;
-    let run = lp
-        .run(&[0.0, 10f64.to_radians(), 0.0, 0.0])
-        .map_err(|e| fail(id, e))?;
+        .ctx(id)?;
+    let run = lp.run(&[0.0, 10f64.to_radians(), 0.0, 0.0]).ctx(id)?;
     Ok(run.trajectory)
 }
 
@@ -124,8 +116,8 @@ pub(crate) fn ob_figure(
         .panel(SignalPanel::new(Channel::State(1), "pendulum θ [deg]").scaled(180.0 / PI))
         .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs())
         .figure()
-        .map_err(|e| fail(id, e))?;
-    save_figure(ctx, id, "response", &fig, out)
+        .ctx(id)?;
+    save_figure(ctx, out, id, "response", Ok(fig))
 }
 
 /// Simulation summary values shared by the observer-based examples.
@@ -143,9 +135,7 @@ pub(crate) fn ob_summary(traj: &Trajectory, out: &mut ExampleOutput) {
 fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c74_ex1_cdip_ob_design";
     let (lin, fb, l) = ob_design(id)?;
-    let obs_poles = sorted(
-        pendulab_lti::linalg::eigenvalues(&(lin.a() - &l * lin.c())).map_err(|e| fail(id, e))?,
-    );
+    let obs_poles = sorted(pendulab_lti::linalg::eigenvalues(&(lin.a() - &l * lin.c())).ctx(id)?);
     let mut out = ExampleOutput::default();
     out.value(
         "K",
@@ -181,7 +171,7 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     if ctx.out_dir.is_some() {
         // For comparison: the same K as state feedback with the rig's pseudo-differentiated
         // velocities (preset "with quantizer").
-        let sf = StaticStateFeedback::from_state_feedback(&fb).map_err(|e| fail(id, e))?;
+        let sf = StaticStateFeedback::from_state_feedback(&fb).ctx(id)?;
         let opts = SampledOptions {
             t_final: 3.0,
             ..Default::default()
@@ -190,7 +180,7 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let sf_run = SampledLoop::new(CartPendulum::book(), sf, opts)
             .and_then(|l| l.with_rig(rig))
             .and_then(|mut l| l.run(&[0.0, 10f64.to_radians(), 0.0, 0.0]))
-            .map_err(|e| fail(id, e))?;
+            .ctx(id)?;
         ob_figure(
             ctx,
             id,
@@ -204,25 +194,17 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             ],
             &mut out,
         )?;
-        let cl = sorted(
-            pendulab_lti::linalg::eigenvalues(&(lin.a() - lin.b() * fb.gain()))
-                .map_err(|e| fail(id, e))?,
-        );
+        let cl =
+            sorted(pendulab_lti::linalg::eigenvalues(&(lin.a() - lin.b() * fb.gain())).ctx(id)?);
         let fig = PoleZeroMap::new()
             .poles("A + BK", &cl)
             .poles("A + LC (observer)", &obs_poles)
             .title("p1c74_ex1: state-feedback and observer poles")
             .figure();
-        save_figure(ctx, id, "poles", &fig, &mut out)?;
-        save_animation(
-            ctx,
-            id,
-            "animation",
-            Rig::Cart,
-            &traj,
-            "p1c74_ex1_cdip_ob_design",
-            &mut out,
-        )?;
+        save_figure(ctx, &mut out, id, "poles", Ok(fig))?;
+        save_animation(ctx, &mut out, id, "animation", || {
+            run_animation(Rig::Cart, &traj, "p1c74_ex1_cdip_ob_design")
+        })?;
     }
     Ok(out)
 }
@@ -230,14 +212,14 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 fn cdip_single_output(id: &str, c: &[f64]) -> Result<StateSpace<Continuous>, BookError> {
     let lin = CartPendulum::book()
         .linearize(CartEquilibrium::upright())
-        .map_err(|e| fail(id, e))?;
+        .ctx(id)?;
     StateSpace::continuous(
         lin.a().clone(),
         lin.b().clone(),
         Mat::from_row_slice(1, 4, c),
         Mat::zeros(1, 1),
     )
-    .map_err(|e| fail(id, e))
+    .ctx(id)
 }
 
 const Y_Z: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
@@ -248,7 +230,7 @@ fn ex2_cdip_mo(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut out = ExampleOutput::default();
     for (name, c) in [("rank_y_z", Y_Z), ("rank_y_theta", Y_THETA)] {
         let sys = cdip_single_output(id, &c)?;
-        let mo = obsv(sys.a(), sys.c()).map_err(|e| fail(id, e))?;
+        let mo = obsv(sys.a(), sys.c()).ctx(id)?;
         out.value(name, Value::Number(rank(&mo).rank as f64));
     }
     out.reference("rank_y_z", Value::Number(2.0), "book / examples.md", 0.0)
@@ -268,10 +250,7 @@ fn ex3_cdip_detectability(_ctx: &RunContext) -> Result<ExampleOutput, BookError>
     let mut out = ExampleOutput::default();
     for (name, c) in [("detectable_y_z", Y_Z), ("detectable_y_theta", Y_THETA)] {
         let sys = cdip_single_output(id, &c)?;
-        out.value(
-            name,
-            Value::Bool(sys.is_detectable().map_err(|e| fail(id, e))?),
-        );
+        out.value(name, Value::Bool(sys.is_detectable().ctx(id)?));
     }
     out.reference(
         "detectable_y_z",

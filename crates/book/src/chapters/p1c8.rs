@@ -1,7 +1,7 @@
 //! Part 1 chapter 8 — discretisation (zero-order hold and bilinear transform).
 
+use super::common::*;
 use super::p1c7::{ob_design, ob_figure, ob_summary, run_ob_controller};
-use super::toolbox::common::{fail, save_figure, sorted};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -66,7 +66,7 @@ fn tf_example(
     tol: f64,
     what: &str,
 ) -> Result<ExampleOutput, BookError> {
-    let (num, den) = discretize_c(method).map_err(|e| fail(id, e))?;
+    let (num, den) = discretize_c(method).ctx(id)?;
     let mut out = ExampleOutput::default();
     out.value("num", Value::vector(&num))
         .value("den", Value::vector(&den));
@@ -76,8 +76,8 @@ fn tf_example(
         "{what}: C[z] = num/den in descending powers of z, den monic."
     ));
     if ctx.out_dir.is_some() {
-        let c = TransferFunction::continuous(&[1.0], &[1.0, 1.0, 1.0]).map_err(|e| fail(id, e))?;
-        let d = TransferFunction::discrete(&num, &den, 1.0).map_err(|e| fail(id, e))?;
+        let c = TransferFunction::continuous(&[1.0], &[1.0, 1.0, 1.0]).ctx(id)?;
+        let d = TransferFunction::discrete(&num, &den, 1.0).ctx(id)?;
         // Up to the Nyquist frequency π rad/s of ts = 1 s.
         let top = std::f64::consts::PI.log10();
         let w: Vec<f64> = (0..=200)
@@ -93,7 +93,7 @@ fn tf_example(
             .response(format!("C[z], {what}, ts = 1 s"), &w, &hd)
             .title(format!("{id}: continuous and discretised"))
             .figure();
-        save_figure(ctx, id, "bode", &fig, &mut out)?;
+        save_figure(ctx, &mut out, id, "bode", Ok(fig))?;
     }
     Ok(out)
 }
@@ -132,10 +132,10 @@ fn ob_discrete(
 ) -> Result<ExampleOutput, BookError> {
     let ts = 0.01;
     let (lin, fb, l) = ob_design(id)?;
-    let ctrl = observer_controller(&lin, fb.gain(), &l).map_err(|e| fail(id, e))?;
-    let cont_poles = sorted(eigenvalues(ctrl.a()).map_err(|e| fail(id, e))?);
-    let disc = ctrl.c2d(ts, method).map_err(|e| fail(id, e))?;
-    let disc_poles = sorted(eigenvalues(disc.a()).map_err(|e| fail(id, e))?);
+    let ctrl = observer_controller(&lin, fb.gain(), &l).ctx(id)?;
+    let cont_poles = sorted(eigenvalues(ctrl.a()).ctx(id)?);
+    let disc = ctrl.c2d(ts, method).ctx(id)?;
+    let disc_poles = sorted(eigenvalues(disc.a()).ctx(id)?);
     let mut out = ExampleOutput::default();
     out.value("Ad", Value::matrix(disc.a()))
         .value("Bd", Value::matrix(disc.b()))
@@ -173,7 +173,7 @@ fn ob_discrete(
             .poles(format!("controller poles, {label}"), &disc_poles)
             .title(format!("{id}: discrete controller poles (ts = 10 ms)"))
             .figure();
-        save_figure(ctx, id, "poles", &fig, &mut out)?;
+        save_figure(ctx, &mut out, id, "poles", Ok(fig))?;
     }
     Ok(out)
 }

@@ -4,15 +4,14 @@
 //! Every LMI uses the margin ε = 1e-6 for strict inequalities (examples.md). Gains are
 //! reported in the book's convention `u = +K x` (pendulab's library uses `u = −K x`).
 
-pub(in crate::chapters) mod support;
-
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_lmi::synthesis::{
-    GainScheduleSpec, InputBound, LpvPlant, LqWeights, Region, ScheduledGain, Vertex,
-    gain_scheduled_lq, lq_state_feedback, multiobjective_state_feedback, robust_state_feedback,
-    saturated_state_feedback,
+    Feedback, GainScheduleSpec, InputBound, LpvPlant, LqWeights, Region, ScheduledGain,
+    StateFeedbackDesign, Vertex, gain_scheduled_lq, lq_state_feedback,
+    multiobjective_state_feedback, robust_state_feedback, saturated_state_feedback,
 };
 use pendulab_lmi::{Expr, Problem, SolveOptions, Status};
 use pendulab_lti::Mat;
@@ -25,10 +24,6 @@ use pendulab_sim::{
     Controller, RunStatus, SampledLoop, SampledOptions, SampledRun, Signal, StayWithin,
 };
 use std::f64::consts::PI;
-use support::{
-    arm_animation, arm_servo_model, book_row, diag, err, max_abs_after, max_re, quantized, save,
-    save_animation, sorted,
-};
 
 const EPS: f64 = 1e-6;
 const DEG: f64 = 180.0 / PI;
@@ -132,35 +127,34 @@ fn alpha_problem(id: &str) -> Result<(Problem, Expr, Expr, Expr), BookError> {
     let xi1 = p.scalar("xi1");
     let xi2 = p.scalar("xi2");
     let pm = Expr::block(&[&[&xi1, &xi2], &[&xi2, &Expr::scalar(1.0)]]);
-    p.positive_definite("P ≻ 0", &pm, EPS)
-        .map_err(|e| err(id, e))?;
+    p.positive_definite("P ≻ 0", &pm, EPS).ctx(id)?;
     p.negative_definite(
         "AᵀP + PA + 2αP ≺ 0",
         &((&a.transpose() * &pm).he() + pm.scale(2.0)),
         EPS,
     )
-    .map_err(|e| err(id, e))?;
+    .ctx(id)?;
     Ok((p, pm, xi1, xi2))
 }
 
 fn p2c112_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c112_ex1_alpha_stability";
     let (p, pm, _, _) = alpha_problem(id)?;
-    let sol = p.solve(&SolveOptions::default()).map_err(|e| err(id, e))?;
+    let sol = p.solve(&SolveOptions::default()).ctx(id)?;
     let feasible = sol.status == Status::Solved && sol.all_checks_pass();
     let mut out = ExampleOutput::default();
     out.value("feasible", Value::Bool(feasible));
     if feasible {
-        out.value("P", Value::matrix(&sol.value(&pm).map_err(|e| err(id, e))?));
+        out.value("P", Value::matrix(&sol.value(&pm).ctx(id)?));
     }
-    let ev = sorted(eigenvalues(&a_ex1()).map_err(|e| err(id, e))?);
+    let ev = sorted(eigenvalues(&a_ex1()).ctx(id)?);
     out.value("eigenvalues_A", Value::Complex(ev.clone()));
     out.reference("feasible", Value::Bool(true), "examples.md", 0.0);
     out.notes.push(
         "α-stability: every eigenvalue of A has Re λ < −α = −1 (here −1.125 ± 0.992j), so a P exists."
             .into(),
     );
-    save(
+    save_figure(
         ctx,
         &mut out,
         id,
@@ -177,14 +171,12 @@ fn p2c112_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 fn p2c121_ex3(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c121_ex3_alpha_stability_opt";
     let (mut p, _, xi1, xi2) = alpha_problem(id)?;
-    p.minimize(&(&xi1 + &xi2)).map_err(|e| err(id, e))?;
-    let sol = p.solve(&SolveOptions::default()).map_err(|e| err(id, e))?;
+    p.minimize(&(&xi1 + &xi2)).ctx(id)?;
+    let sol = p.solve(&SolveOptions::default()).ctx(id)?;
     if sol.status != Status::Solved {
-        return Err(err(id, format!("solver status {:?}", sol.status)));
+        return Err(fail(id, format!("solver status {:?}", sol.status)));
     }
-    let v = |e: &Expr| -> Result<f64, BookError> {
-        Ok(sol.value(e).map_err(|er| err(id, er))?[(0, 0)])
-    };
+    let v = |e: &Expr| -> Result<f64, BookError> { Ok(sol.value(e).ctx(id)?[(0, 0)]) };
     let (x1, x2) = (v(&xi1)?, v(&xi2)?);
     let mut out = ExampleOutput::default();
     out.value("optimum", Value::Number(x1 + x2))
@@ -215,8 +207,8 @@ fn riccati_servo_gain(
         Mat::identity(5, 5),
         Mat::zeros(5, 1),
     )
-    .map_err(|e| err(id, e))?;
-    lqr(&sys, &q, &r, None).map_err(|e| err(id, e))
+    .ctx(id)?;
+    lqr(&sys, &q, &r, None).ctx(id)
 }
 
 fn nominal_servo(id: &str) -> Result<(Mat, Mat), BookError> {
@@ -237,7 +229,7 @@ fn arm_servo_run(
     let k2 = k.columns(4, 1).into_owned();
     let cs = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
     let c = LqIntegralServo::new(&k1, &k2, &cs, vec![r], 1e-3, IntegrationRule::ForwardEuler)
-        .map_err(|e| err(id, e))?;
+        .ctx(id)?;
     run_arm(id, params, c, t_final, &[0.0, 0.0, 0.0, 0.0])
 }
 
@@ -248,7 +240,7 @@ fn run_arm<C: Controller>(
     t_final: f64,
     x0: &[f64],
 ) -> Result<SampledRun, BookError> {
-    let plant = ArmPendulum::new(params).map_err(|e| err(id, e))?;
+    let plant = ArmPendulum::new(params).ctx(id)?;
     // The rig's safety stop: the run ends when the pendulum falls past 90°.
     let mut fall = StayWithin::new(1, PI / 2.0);
     let mut l = SampledLoop::new(
@@ -259,10 +251,10 @@ fn run_arm<C: Controller>(
             ..Default::default()
         },
     )
-    .map_err(|e| err(id, e))?
-    .with_rig(quantized(id, &RigSpec::arm())?)
-    .map_err(|e| err(id, e))?;
-    l.run_with(x0, &mut fall).map_err(|e| err(id, e))
+    .ctx(id)?
+    .with_rig(quantized_rig(id, &RigSpec::arm())?)
+    .ctx(id)?;
+    l.run_with(x0, &mut fall).ctx(id)
 }
 
 /// The time the pendulum fell (the run was stopped), if it did.
@@ -297,11 +289,8 @@ fn p2c122_ex4_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c122_ex4_adip_oc_servo";
     let (at, bt) = nominal_servo(id)?;
     let (q, r) = servo_weights();
-    let d =
-        lq_state_feedback(&at, &bt, &q, &r, &SolveOptions::default()).map_err(|e| err(id, e))?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| err(id, format!("LMI not solved: {:?}", d.status)))?;
+    let d = lq_state_feedback(&at, &bt, &q, &r, &SolveOptions::default()).ctx(id)?;
+    let fb = solved(id, d)?;
     let lq = riccati_servo_gain(id, &at, &bt)?;
     let mut out = ExampleOutput::default();
     let rel = (&fb.gain - &lq.gain).norm() / lq.gain.norm();
@@ -315,26 +304,45 @@ fn p2c122_ex4_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .into(),
     );
     if ctx.out_dir.is_some() {
-        let step = Signal::step(0.0, 30f64.to_radians()).map_err(|e| err(id, e))?;
-        let params = pendulab_plants::ArmPendulumParams::book();
-        let lmi_run = arm_servo_run(id, params, &fb.gain, step.clone(), 6.0)?;
-        let lq_run = arm_servo_run(id, params, &lq.gain, step, 6.0)?;
-        save(
+        save_servo_comparison(
             ctx,
             &mut out,
             id,
-            "response",
-            arm_response(
-                "p2c122_ex4: LMI LQ servo vs Riccati LQ servo, r = 30°",
-                &[("LMI", &lmi_run), ("Riccati LQ", &lq_run)],
-                Some(30.0),
-            ),
+            "p2c122_ex4: LMI LQ servo vs Riccati LQ servo, r = 30°",
+            "LMI",
+            &fb.gain,
+            &lq.gain,
         )?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            arm_animation(&lmi_run.trajectory)
-        })?;
     }
     Ok(out)
+}
+
+/// Runs the nonlinear arm servo with the designed gain `k` and the Riccati gain `k_lq` for a
+/// 30° step and writes both responses (titled `title`, the design labelled `label`) and an
+/// animation of the design's run.
+fn save_servo_comparison(
+    ctx: &RunContext,
+    out: &mut ExampleOutput,
+    id: &str,
+    title: &str,
+    label: &str,
+    k: &Mat,
+    k_lq: &Mat,
+) -> Result<(), BookError> {
+    let step = Signal::step(0.0, 30f64.to_radians()).ctx(id)?;
+    let params = pendulab_plants::ArmPendulumParams::book();
+    let run = arm_servo_run(id, params, k, step.clone(), 6.0)?;
+    let lq_run = arm_servo_run(id, params, k_lq, step, 6.0)?;
+    save_figure(
+        ctx,
+        out,
+        id,
+        "response",
+        arm_response(title, &[(label, &run), ("Riccati LQ", &lq_run)], Some(30.0)),
+    )?;
+    save_animation(ctx, out, id, "animation", || {
+        run_animation(Rig::Arm, &run.trajectory, id)
+    })
 }
 
 fn multiobjective_regions() -> [Region; 3] {
@@ -353,11 +361,9 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
     let (q, r) = servo_weights();
     let regions = multiobjective_regions();
     let d = multiobjective_state_feedback(&at, &bt, &q, &r, &regions, &SolveOptions::default())
-        .map_err(|e| err(id, e))?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| err(id, format!("LMI not solved: {:?}", d.status)))?;
-    let poles = sorted(eigenvalues(&(&at - &bt * &fb.gain)).map_err(|e| err(id, e))?);
+        .ctx(id)?;
+    let fb = solved(id, d)?;
+    let poles = sorted(eigenvalues(&(&at - &bt * &fb.gain)).ctx(id)?);
     let inside = poles
         .iter()
         .all(|z| regions.iter().all(|reg| reg.contains(*z)));
@@ -374,7 +380,7 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
     if ctx.out_dir.is_some() {
         let lq = riccati_servo_gain(id, &at, &bt)?;
         let lq_poles = sorted(lq.closed_loop_poles.clone());
-        save(
+        save_figure(
             ctx,
             &mut out,
             id,
@@ -393,24 +399,15 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
                 .title("p2c122_ex4: closed-loop poles and the D-stability region")
                 .figure()),
         )?;
-        let step = Signal::step(0.0, 30f64.to_radians()).map_err(|e| err(id, e))?;
-        let params = pendulab_plants::ArmPendulumParams::book();
-        let run = arm_servo_run(id, params, &fb.gain, step.clone(), 6.0)?;
-        let lq_run = arm_servo_run(id, params, &lq.gain, step, 6.0)?;
-        save(
+        save_servo_comparison(
             ctx,
             &mut out,
             id,
-            "response",
-            arm_response(
-                "p2c122_ex4: multi-objective servo vs LQ servo, r = 30°",
-                &[("multi-objective LMI", &run), ("Riccati LQ", &lq_run)],
-                Some(30.0),
-            ),
+            "p2c122_ex4: multi-objective servo vs LQ servo, r = 30°",
+            "multi-objective LMI",
+            &fb.gain,
+            &lq.gain,
         )?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            arm_animation(&run.trajectory)
-        })?;
     }
     Ok(out)
 }
@@ -447,7 +444,7 @@ fn p2c13_report(
     let mut maxre = Vec::new();
     let mut all_poles = Vec::new();
     for v in &verts {
-        let p = sorted(eigenvalues(&(&v.a - &v.b * k)).map_err(|e| err(id, e))?);
+        let p = sorted(eigenvalues(&(&v.a - &v.b * k)).ctx(id)?);
         maxre.push(max_re(&p));
         all_poles.push(p);
     }
@@ -475,7 +472,7 @@ fn p2c13_report(
     for ((a1, b1), p) in vertex_params().iter().zip(&all_poles) {
         map = map.poles(format!("a1 = {a1}, b1 = {b1}"), p);
     }
-    save(
+    save_figure(
         ctx,
         out,
         id,
@@ -486,7 +483,7 @@ fn p2c13_report(
     )?;
     // Nonlinear runs at the vertices, r = 30°, 6 s (an unstable vertex swings away; the
     // ±5 V amplifier bounds it).
-    let step = Signal::step(0.0, 30f64.to_radians()).map_err(|e| err(id, e))?;
+    let step = Signal::step(0.0, 30f64.to_radians()).ctx(id)?;
     let mut runs = Vec::new();
     for (a1, b1) in vertex_params() {
         let params = pendulab_plants::ArmPendulumParams {
@@ -500,7 +497,7 @@ fn p2c13_report(
         ));
     }
     let refs: Vec<(&str, &SampledRun)> = runs.iter().map(|(n, r)| (n.as_str(), r)).collect();
-    save(
+    save_figure(
         ctx,
         out,
         id,
@@ -513,9 +510,23 @@ fn p2c13_report(
     )?;
     // Animation at the vertex the nominal LQ servo cannot hold.
     save_animation(ctx, out, id, "animation", || {
-        arm_animation(&runs[2].1.trajectory)
+        run_animation(Rig::Arm, &runs[2].1.trajectory, id)
     })?;
     Ok(())
+}
+
+/// The gain of a solved LMI design, or a computation error naming the solver status.
+fn solved(id: &str, d: StateFeedbackDesign) -> Result<Feedback, BookError> {
+    d.feedback
+        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))
+}
+
+/// The pole region of the p2c13 designs: `Re λ < −2` and `|λ| < 40`.
+fn p2c13_regions() -> [Region; 2] {
+    [
+        Region::DecayRate { alpha: 2.0 },
+        Region::SpeedLimit { beta: 40.0 },
+    ]
 }
 
 fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
@@ -539,15 +550,10 @@ fn p2c13_nominal(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_oc_nominal_servo";
     let (at, bt) = nominal_servo(id)?;
     let (q, r) = servo_weights();
-    let regions = [
-        Region::DecayRate { alpha: 2.0 },
-        Region::SpeedLimit { beta: 40.0 },
-    ];
+    let regions = p2c13_regions();
     let d = multiobjective_state_feedback(&at, &bt, &q, &r, &regions, &SolveOptions::default())
-        .map_err(|e| err(id, e))?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| err(id, format!("LMI not solved: {:?}", d.status)))?;
+        .ctx(id)?;
+    let fb = solved(id, d)?;
     let mut out = ExampleOutput::default();
     p2c13_report(ctx, id, "K", &fb.gain, true, &mut out)?;
     Ok(out)
@@ -557,15 +563,9 @@ fn p2c13_robust(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_oc_robust_servo";
     let verts = vertices(id)?;
     let (q, r) = servo_weights();
-    let regions = [
-        Region::DecayRate { alpha: 2.0 },
-        Region::SpeedLimit { beta: 40.0 },
-    ];
-    let d = robust_state_feedback(&verts, &q, &r, &regions, &SolveOptions::default())
-        .map_err(|e| err(id, e))?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| err(id, format!("LMI not solved: {:?}", d.status)))?;
+    let regions = p2c13_regions();
+    let d = robust_state_feedback(&verts, &q, &r, &regions, &SolveOptions::default()).ctx(id)?;
+    let fb = solved(id, d)?;
     let mut out = ExampleOutput::default();
     p2c13_report(ctx, id, "K_robust", &fb.gain, true, &mut out)?;
     out.reference(
@@ -584,7 +584,7 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let plant = ArmPendulum::book();
     let lin = plant
         .linearize(pendulab_plants::ArmEquilibrium::upright(0.0))
-        .map_err(|e| err(id, e))?;
+        .ctx(id)?;
     let q = diag(&[20.0, 10.0, 0.1, 0.1]);
     let r = diag(&[1.0]);
     let x0 = vec![10f64.to_radians(), 0.0, 0.0, 0.0];
@@ -593,15 +593,13 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         initial_states: vec![x0.clone()],
     };
     let d = saturated_state_feedback(lin.a(), lin.b(), &q, &r, &bound, &SolveOptions::default())
-        .map_err(|e| err(id, e))?;
-    let fb = d
-        .feedback
-        .ok_or_else(|| err(id, format!("LMI not solved: {:?}", d.status)))?;
+        .ctx(id)?;
+    let fb = solved(id, d)?;
     // Simulation on the nonlinear plant, exact state measurement (the design's assumption),
     // ideal amplifier, 1 ms, 10 s.
     // Also on the rig preset with quantizer (encoders, pseudo-differentiated velocities).
     let sim_on = |k: &Mat, rig: bool| -> Result<SampledRun, BookError> {
-        let c = StaticStateFeedback::new(k.clone()).map_err(|e| err(id, e))?;
+        let c = StaticStateFeedback::new(k.clone()).ctx(id)?;
         let mut l = SampledLoop::new(
             plant,
             c,
@@ -610,13 +608,11 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 ..Default::default()
             },
         )
-        .map_err(|e| err(id, e))?;
+        .ctx(id)?;
         if rig {
-            l = l
-                .with_rig(quantized(id, &RigSpec::arm())?)
-                .map_err(|e| err(id, e))?;
+            l = l.with_rig(quantized_rig(id, &RigSpec::arm())?).ctx(id)?;
         }
-        l.run(&x0).map_err(|e| err(id, e))
+        l.run(&x0).ctx(id)
     };
     let sim = |k: &Mat| sim_on(k, false);
     let run = sim(&fb.gain)?;
@@ -627,8 +623,8 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         Mat::identity(4, 4),
         Mat::zeros(4, 1),
     )
-    .map_err(|e| err(id, e))?;
-    let k_lq = lqr(&lin_sys, &q, &r, None).map_err(|e| err(id, e))?.gain;
+    .ctx(id)?;
+    let k_lq = lqr(&lin_sys, &q, &r, None).ctx(id)?.gain;
     let lq_run = sim(&k_lq)?;
     let max_u_lq = max_abs_after(lq_run.trajectory.t(), lq_run.trajectory.u_signal(0), 0.0);
     let rig_run = sim_on(&fb.gain, true)?;
@@ -660,9 +656,9 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                     .reference(-0.1, None),
             )
             .figure();
-        save(ctx, &mut out, id, "response", fig)?;
+        save_figure(ctx, &mut out, id, "response", fig)?;
         save_animation(ctx, &mut out, id, "animation", || {
-            arm_animation(&run.trajectory)
+            run_animation(Rig::Arm, &run.trajectory, id)
         })?;
     }
     Ok(out)
@@ -680,7 +676,7 @@ fn augment(a: &Mat, b: &Mat) -> (Mat, Mat) {
 
 /// r = 60° for 0–6 s, then 0 (12 s).
 fn gs_reference(id: &str) -> Result<Signal, BookError> {
-    Signal::piecewise_constant(&[0.0, 6.0], &[60f64.to_radians(), 0.0]).map_err(|e| err(id, e))
+    Signal::piecewise_constant(&[0.0, 6.0], &[60f64.to_radians(), 0.0]).ctx(id)
 }
 
 fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
@@ -700,9 +696,7 @@ fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let rho = 1.0 - th.to_radians().cos();
         let (mut a, b) = augment(&lpv.a(rho), &lpv.b(rho));
         a[(4, 0)] = -1.0;
-        Ok(max_re(
-            &eigenvalues(&(&a - &b * &lq.gain)).map_err(|e| err(id, e))?,
-        ))
+        Ok(max_re(&eigenvalues(&(&a - &b * &lq.gain)).ctx(id)?))
     };
     let grid: Vec<f64> = (0..=65).map(f64::from).collect();
     let mut frozen_re = Vec::new();
@@ -746,7 +740,7 @@ fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             None => "The run completed.".to_string(),
         }
     ));
-    save(
+    save_figure(
         ctx,
         &mut out,
         id,
@@ -758,7 +752,7 @@ fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         ),
     )?;
     save_animation(ctx, &mut out, id, "animation", || {
-        arm_animation(&run.trajectory)
+        run_animation(Rig::Arm, &run.trajectory, id)
     })?;
     Ok(out)
 }
@@ -848,12 +842,12 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         &spec,
         &SolveOptions::default(),
     )
-    .map_err(|e| err(id, e))?;
+    .ctx(id)?;
     let gamma = design
         .gamma_star
-        .ok_or_else(|| err(id, format!("γ minimisation failed: {:?}", design.status)))?;
+        .ok_or_else(|| fail(id, format!("γ minimisation failed: {:?}", design.status)))?;
     let sched = design.schedule.as_ref().ok_or_else(|| {
-        err(
+        fail(
             id,
             format!(
                 "feasibility re-solve failed its rechecks: {:?}",
@@ -866,9 +860,9 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .as_ref()
         .map(|o| o.gain(rho_bar))
         .transpose()
-        .map_err(|e| err(id, e))?;
-    let k0 = sched.gain(0.0).map_err(|e| err(id, e))?;
-    let kbar = sched.gain(rho_bar).map_err(|e| err(id, e))?;
+        .ctx(id)?;
+    let k0 = sched.gain(0.0).ctx(id)?;
+    let kbar = sched.gain(rho_bar).ctx(id)?;
     let run = run_arm(
         id,
         pendulab_plants::ArmPendulumParams::book(),
@@ -932,9 +926,7 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let th: Vec<f64> = (0..=130).map(|k| k as f64 * 0.5).collect();
         let mut ks: Vec<Vec<f64>> = vec![Vec::new(); 5];
         for t in &th {
-            let k = sched
-                .gain(1.0 - t.to_radians().cos())
-                .map_err(|e| err(id, e))?;
+            let k = sched.gain(1.0 - t.to_radians().cos()).ctx(id)?;
             for (j, v) in book_row(&k).into_iter().enumerate() {
                 ks[j].push(v);
             }
@@ -946,7 +938,7 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         for j in 0..5 {
             gc = gc.gain(names[j], &ks[j], Some(lq_book[j]));
         }
-        save(ctx, &mut out, id, "gains", gc.figure())?;
+        save_figure(ctx, &mut out, id, "gains", gc.figure())?;
         let lq_run = arm_servo_run(
             id,
             pendulab_plants::ArmPendulumParams::book(),
@@ -954,7 +946,7 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             gs_reference(id)?,
             12.0,
         )?;
-        save(
+        save_figure(
             ctx,
             &mut out,
             id,
@@ -983,7 +975,7 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .color(pendulab_plot::Color::RED)
             .dashed();
         ax2.hline(-0.75).color(pendulab_plot::Color::RED).dashed();
-        save(
+        save_figure(
             ctx,
             &mut out,
             id,
@@ -992,7 +984,7 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 .title("p2c15_ex7: scheduling parameter and its rate inside the design ranges")),
         )?;
         save_animation(ctx, &mut out, id, "animation", || {
-            arm_animation(&run.trajectory)
+            run_animation(Rig::Arm, &run.trajectory, id)
         })?;
     }
     Ok(out)

@@ -1,7 +1,7 @@
 //! Part 2 ch. 2 — digital control: the optimal dynamic quantizer, the I–PD controller at a
 //! slow sample rate, and the sampled-data LQR.
 
-use super::p2c1::support::{book_row, cart_animation, diag, err, save, save_animation};
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -61,7 +61,7 @@ fn options(ts: f64, t_final: f64) -> SampledOptions {
 fn cart_lin(id: &str) -> Result<StateSpace<pendulab_lti::Continuous>, BookError> {
     CartPendulum::book()
         .linearize(CartEquilibrium::upright())
-        .map_err(|e| err(id, e))
+        .ctx(id)
 }
 
 /// LQR Q = diag(10, 10, 0, 0), R = 1 on the upright cart model (library sign).
@@ -69,7 +69,7 @@ fn cart_lqr(id: &str) -> Result<Mat, BookError> {
     let lin = cart_lin(id)?;
     Ok(
         lqr(&lin, &diag(&[10.0, 10.0, 0.0, 0.0]), &diag(&[1.0]), None)
-            .map_err(|e| err(id, e))?
+            .ctx(id)?
             .gain,
     )
 }
@@ -85,10 +85,10 @@ fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let k = cart_lqr(id)?;
     let ts = 0.01;
     let d = 2.0;
-    let dsys = lin.c2d(ts, Discretization::Zoh).map_err(|e| err(id, e))?;
+    let dsys = lin.c2d(ts, Discretization::Zoh).ctx(id)?;
     let cy = Mat::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
-    let fb = StateFeedback::new(k.clone()).map_err(|e| err(id, e))?;
-    let errsys = feedback_error_system(&dsys, &fb, &cy).map_err(|e| err(id, e))?;
+    let fb = StateFeedback::new(k.clone()).ctx(id)?;
+    let errsys = feedback_error_system(&dsys, &fb, &cy).ctx(id)?;
     // The book's design: horizon T = 300, filter gain bound γ_wv = 3.35, order-2 realisation.
     let design = odq_lp(
         &errsys,
@@ -100,17 +100,12 @@ fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             ..Default::default()
         },
     )
-    .map_err(|e| err(id, e))?;
+    .ctx(id)?;
     let run = |q: InputQuantizer| -> Result<SampledRun, BookError> {
-        let c = QuantizedController::new(
-            StaticStateFeedback::new(k.clone()).map_err(|e| err(id, e))?,
-            q,
-        )
-        .map_err(|e| err(id, e))?;
-        let mut l =
-            SampledLoop::new(CartPendulum::book(), c, options(ts, 5.0)).map_err(|e| err(id, e))?;
-        l.run(&[0.0, 10f64.to_radians(), 0.0, 0.0])
-            .map_err(|e| err(id, e))
+        let c =
+            QuantizedController::new(StaticStateFeedback::new(k.clone()).ctx(id)?, q).ctx(id)?;
+        let mut l = SampledLoop::new(CartPendulum::book(), c, options(ts, 5.0)).ctx(id)?;
+        l.run(&[0.0, 10f64.to_radians(), 0.0, 0.0]).ctx(id)
     };
     let ideal = run(InputQuantizer::Ideal)?;
     let stat = run(InputQuantizer::Static { step: d })?;
@@ -167,9 +162,9 @@ fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         )
         .panel(SignalPanel::new(Channel::Input(0), "v [V]").stairs())
         .figure();
-        save(ctx, &mut out, id, "response", fig)?;
+        save_figure(ctx, &mut out, id, "response", fig)?;
         save_animation(ctx, &mut out, id, "animation", || {
-            cart_animation(&odq.trajectory)
+            run_animation(Rig::Cart, &odq.trajectory, id)
         })?;
     }
     Ok(out)
@@ -199,10 +194,12 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     );
     let bcl = Mat::from_column_slice(3, 1, &[0.0, 0.0, 1.0]);
     let ccl = Mat::from_row_slice(2, 3, &[1.0, 0.0, 0.0, -kp, -kd, ki]);
-    let cl = StateSpace::continuous(acl, bcl, ccl, Mat::zeros(2, 1)).map_err(|e| err(id, e))?;
+    let cl = StateSpace::continuous(acl, bcl, ccl, Mat::zeros(2, 1)).ctx(id)?;
     let t: Vec<f64> = (0..=1000).map(|k| k as f64 * 1e-3).collect();
-    let step = pendulab_lti::response::step(&cl, &t).map_err(|e| err(id, e))?;
-    let cont = step.first().ok_or_else(|| err(id, "empty step response"))?;
+    let step = pendulab_lti::response::step(&cl, &t).ctx(id)?;
+    let cont = step
+        .first()
+        .ok_or_else(|| fail(id, "empty step response"))?;
     let zc: Vec<f64> = cont.y_signal(0).iter().map(|v| v * r).collect();
     let uc: Vec<f64> = cont.y_signal(1).iter().map(|v| v * r).collect();
     // Discrete: the PID family's I–PD at 25 ms by Tustin, integral and derivative. The book's
@@ -219,22 +216,22 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         tsd,
         PidDiscretization::Tustin,
     )
-    .map_err(|e| err(id, e))?
-    .reference(Signal::step(0.0, r).map_err(|e| err(id, e))?)
+    .ctx(id)?
+    .reference(Signal::step(0.0, r).ctx(id)?)
     .measurement(0, 2)
-    .map_err(|e| err(id, e))?;
-    let drive = Drive::new(a, b).map_err(|e| err(id, e))?;
-    let mut l = SampledLoop::new(drive, pid, options(tsd, 1.0)).map_err(|e| err(id, e))?;
-    let dr = l.run(&[0.0, 0.0]).map_err(|e| err(id, e))?;
+    .ctx(id)?;
+    let drive = Drive::new(a, b).ctx(id)?;
+    let mut l = SampledLoop::new(drive, pid, options(tsd, 1.0)).ctx(id)?;
+    let dr = l.run(&[0.0, 0.0]).ctx(id)?;
     // The discrete loop's poles: ZOH drive and the controller's difference equations on
     // ξ_k = [z_k, ż_k, I_{k−1}, z_{k−1}, D_{k−1}] (r = 0):
     // I_k = I_{k−1} − (k_I ts/2)(z_k + z_{k−1}), D_k = −D_{k−1} − (2k_D/ts)(z_k − z_{k−1}),
     // u_k = −k_P z_k + I_k + D_k.
     let dd = drive
         .state_space()
-        .map_err(|e| err(id, e))?
+        .ctx(id)?
         .c2d(tsd, Discretization::Zoh)
-        .map_err(|e| err(id, e))?;
+        .ctx(id)?;
     let row_i = [-ki * tsd / 2.0, 0.0, 1.0, -ki * tsd / 2.0, 0.0];
     let row_d = [-2.0 * kd / tsd, 0.0, 0.0, 2.0 * kd / tsd, -1.0];
     let row_u: Vec<f64> = (0..5)
@@ -253,7 +250,7 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     }
     m[(3, 0)] = 1.0;
     let radius = pendulab_lti::linalg::eigenvalues(&m)
-        .map_err(|e| err(id, e))?
+        .ctx(id)?
         .iter()
         .map(|z| z.norm())
         .fold(0.0, f64::max);
@@ -298,7 +295,7 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         au.plot(&t, &uc).color(palette(0));
         au.step(dr.trajectory.t(), dr.trajectory.u_signal(0))
             .color(palette(1));
-        save(
+        save_figure(
             ctx,
             &mut out,
             id,
@@ -315,14 +312,13 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let lin = cart_lin(id)?;
     let (q, r) = (diag(&[10.0, 10.0, 0.0, 0.0]), diag(&[1.0]));
     let ts = 0.1;
-    let sd = lqr_sampled_data(&lin, &q, &r, None, ts).map_err(|e| err(id, e))?;
+    let sd = lqr_sampled_data(&lin, &q, &r, None, ts).ctx(id)?;
     let k = cart_lqr(id)?;
     let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
     let sim = |gain: &Mat, ts: f64| -> Result<SampledRun, BookError> {
-        let c = StaticStateFeedback::new(gain.clone()).map_err(|e| err(id, e))?;
-        let mut l =
-            SampledLoop::new(CartPendulum::book(), c, options(ts, 4.0)).map_err(|e| err(id, e))?;
-        l.run(&x0).map_err(|e| err(id, e))
+        let c = StaticStateFeedback::new(gain.clone()).ctx(id)?;
+        let mut l = SampledLoop::new(CartPendulum::book(), c, options(ts, 4.0)).ctx(id)?;
+        l.run(&x0).ctx(id)
     };
     let run_kd = sim(&sd.lqr.gain, ts)?;
     let run_held = sim(&k, ts)?;
@@ -382,9 +378,9 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         )
         .panel(SignalPanel::new(Channel::Input(0), "u [V]").stairs())
         .figure();
-        save(ctx, &mut out, id, "response", fig)?;
+        save_figure(ctx, &mut out, id, "response", fig)?;
         save_animation(ctx, &mut out, id, "animation", || {
-            cart_animation(&run_kd.trajectory)
+            run_animation(Rig::Cart, &run_kd.trajectory, id)
         })?;
     }
     Ok(out)

@@ -1,9 +1,7 @@
 //! Part 2 ch. 3 — nonlinear control: swing-up of the cart pendulum by energy pumping with a
 //! switch to sliding-mode balancing, and the C/GMRES NMPC swing-up of the arm pendulum.
 
-use super::p2c1::support::{
-    arm_animation, cart_animation, diag, err, max_abs_after, quantized, save, save_animation,
-};
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -54,9 +52,7 @@ fn surface(
     ),
     BookError,
 > {
-    let lin = plant
-        .linearize(CartEquilibrium::upright())
-        .map_err(|e| err(id, e))?;
+    let lin = plant.linearize(CartEquilibrium::upright()).ctx(id)?;
     let s = lq_sliding_surface(
         lin.a(),
         lin.b(),
@@ -64,21 +60,20 @@ fn surface(
         RegularForm::BookShear,
         ReducedWeight::BookScript,
     )
-    .map_err(|e| err(id, e))?;
+    .ctx(id)?;
     Ok((s, lin))
 }
 
 fn swing_up_run(id: &str, delta: f64, quantised: bool) -> Result<SampledRun, BookError> {
     let plant = CartPendulum::book();
     let (s, lin) = surface(id, &plant)?;
-    let smc = SlidingModeController::from_surface(&s, lin.a(), lin.b(), 30.0, delta)
-        .map_err(|e| err(id, e))?;
+    let smc = SlidingModeController::from_surface(&s, lin.a(), lin.b(), 30.0, delta).ctx(id)?;
     let c = swing_up_then_balance(
-        EnergyPumping::new(&plant, 0.8).map_err(|e| err(id, e))?,
+        EnergyPumping::new(&plant, 0.8).ctx(id)?,
         smc,
         vec![(1, PI / 4.0)],
     )
-    .map_err(|e| err(id, e))?;
+    .ctx(id)?;
     let mut l = SampledLoop::new(
         plant,
         c,
@@ -87,14 +82,14 @@ fn swing_up_run(id: &str, delta: f64, quantised: bool) -> Result<SampledRun, Boo
             ..Default::default()
         },
     )
-    .map_err(|e| err(id, e))?
+    .ctx(id)?
     .with_rig(if quantised {
-        quantized(id, &RigSpec::cart())?
+        quantized_rig(id, &RigSpec::cart())?
     } else {
         RigChains::plain(4)
     })
-    .map_err(|e| err(id, e))?;
-    l.run(&[0.1, PI + 0.001, 0.0, 0.0]).map_err(|e| err(id, e))
+    .ctx(id)?;
+    l.run(&[0.1, PI + 0.001, 0.0, 0.0]).ctx(id)
 }
 
 fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
@@ -106,7 +101,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let runq = swing_up_run(id, 5.0, true)?;
     let switch = |r: &SampledRun| -> Result<f64, BookError> {
         r.diagnostics.switch_times.first().copied().ok_or_else(|| {
-            err(
+            fail(
                 id,
                 "the pendulum never entered the switching window |θ| ≤ π/4",
             )
@@ -151,7 +146,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .panel(SignalPanel::new(Channel::State(1), "θ [deg]").scaled(DEG))
             .panel(SignalPanel::new(Channel::Input(0), "u [V]"))
             .figure();
-        save(ctx, &mut out, id, "response", fig)?;
+        save_figure(ctx, &mut out, id, "response", fig)?;
         // E(t) and σ(t) of both runs.
         let e_up = plant.upright_energy();
         let mut ax_e = Axes::new();
@@ -188,7 +183,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .label("upright energy 2 m g l")
             .color(Color::DARK_GREY)
             .dashed();
-        save(
+        save_figure(
             ctx,
             &mut out,
             id,
@@ -197,7 +192,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 .title("p2c323_ex1: pendulum energy E(t) and switching function σ(t)")),
         )?;
         save_animation(ctx, &mut out, id, "animation", || {
-            cart_animation(&run5.trajectory)
+            run_animation(Rig::Cart, &run5.trajectory, id)
         })?;
     }
     Ok(out)
@@ -220,13 +215,12 @@ fn settle_time(run: &SampledRun, tol: f64) -> Option<f64> {
 fn nmpc_run(id: &str, quantised: bool) -> Result<(SampledRun, f64, f64), BookError> {
     let plant = ArmPendulum::book();
     let settings = ArmSwingUpSettings::book();
-    let inner =
-        TimedController::new(arm_swing_up_controller(plant, &settings).map_err(|e| err(id, e))?);
+    let inner = TimedController::new(arm_swing_up_controller(plant, &settings).ctx(id)?);
     // The controller's own limiter at ±u_max: the dummy-input bound holds only up to the
     // optimality residual of the continuation; the limiter makes |u| ≤ 2.5 V exact.
-    let c = Saturated::new(inner, -settings.u_max, settings.u_max).map_err(|e| err(id, e))?;
+    let c = Saturated::new(inner, -settings.u_max, settings.u_max).ctx(id)?;
     let rig = if quantised {
-        quantized(id, &RigSpec::arm())?
+        quantized_rig(id, &RigSpec::arm())?
     } else {
         RigChains::plain(4)
     };
@@ -238,10 +232,10 @@ fn nmpc_run(id: &str, quantised: bool) -> Result<(SampledRun, f64, f64), BookErr
             ..Default::default()
         },
     )
-    .map_err(|e| err(id, e))?
+    .ctx(id)?
     .with_rig(rig)
-    .map_err(|e| err(id, e))?;
-    let run = l.run(&[PI, PI, 0.0, 0.0]).map_err(|e| err(id, e))?;
+    .ctx(id)?;
+    let run = l.run(&[PI, PI, 0.0, 0.0]).ctx(id)?;
     let timing = *l.controller().inner().timing();
     Ok((run, timing.mean_seconds() * 1e6, timing.max_seconds * 1e6))
 }
@@ -251,7 +245,7 @@ fn p2c33_nmpc(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let (run, mean_us, max_us) = nmpc_run(id, true)?;
     let tol = 5f64.to_radians();
     let t_up = settle_time(&run, tol).ok_or_else(|| {
-        err(
+        fail(
             id,
             "the arm pendulum was not upright (both angles within 5°) at the end of the run",
         )
@@ -289,9 +283,9 @@ fn p2c33_nmpc(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                     .reference(-2.5, None),
             )
             .figure();
-        save(ctx, &mut out, id, "response", fig)?;
+        save_figure(ctx, &mut out, id, "response", fig)?;
         save_animation(ctx, &mut out, id, "animation", || {
-            arm_animation(&run.trajectory)
+            run_animation(Rig::Arm, &run.trajectory, id)
         })?;
     }
     Ok(out)

@@ -2,15 +2,10 @@
 //! "with quantizer" (encoders, pseudo-differentiated velocities `s/(0.02 s + 1)`, ±5 V,
 //! 16-bit D/A) at 1 ms. Gains are reported in the book's convention `u = +K x`.
 
-pub(crate) mod common;
-
+use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
-use common::{
-    Rig, book_row, column, diag, fail, max_abs_after, max_of, min_of, quantized_rig,
-    save_animation, save_figure,
-};
 use pendulab_lti::design::{lq_servo, lqr};
 use pendulab_lti::{Complex64, Continuous, Mat, StateSpace, Trajectory};
 use pendulab_plants::{ArmEquilibrium, ArmPendulum, CartEquilibrium, CartPendulum, RigSpec};
@@ -104,20 +99,20 @@ fn run_quantized<P: Dynamics, C: Controller>(
     };
     let mut lp = SampledLoop::new(plant, controller, opts)
         .and_then(|l| l.with_rig(chains))
-        .map_err(|e| fail(id, e))?;
-    Ok(lp.run(x0).map_err(|e| fail(id, e))?.trajectory)
+        .ctx(id)?;
+    Ok(lp.run(x0).ctx(id)?.trajectory)
 }
 
 fn cart_model(id: &str) -> Result<StateSpace<Continuous>, BookError> {
     CartPendulum::book()
         .linearize(CartEquilibrium::upright())
-        .map_err(|e| fail(id, e))
+        .ctx(id)
 }
 
 fn arm_model(id: &str) -> Result<StateSpace<Continuous>, BookError> {
     ArmPendulum::book()
         .linearize(ArmEquilibrium::upright(0.0))
-        .map_err(|e| fail(id, e))
+        .ctx(id)
 }
 
 /// `y = first state` servo model of a linearisation.
@@ -131,7 +126,7 @@ fn first_state_output(
         Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
         Mat::zeros(1, 1),
     )
-    .map_err(|e| fail(id, e))
+    .ctx(id)
 }
 
 /// The PD samples: `v = k_P (r − q) − k_D s/(0.02 s + 1) q` on the drive coordinate `q`
@@ -147,7 +142,7 @@ struct PdCase {
 
 fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
     let id = c.id;
-    let reference = Signal::pulse_train(0.0, 4.0, 2.0, c.amplitude).map_err(|e| fail(id, e))?;
+    let reference = Signal::pulse_train(0.0, 4.0, 2.0, c.amplitude).ctx(id)?;
     let pid = Pid::new(
         PidForm::PMinusD {
             kp: c.kp,
@@ -158,7 +153,7 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
         PidDiscretization::Tustin,
     )
     .and_then(|p| p.reference(reference).measurement(0, 4))
-    .map_err(|e| fail(id, e))?;
+    .ctx(id)?;
     let x0 = [0.0, PI, 0.0, 0.0];
     let traj = if c.arm {
         run_quantized(
@@ -227,8 +222,7 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
                 .map(|s| s.value(t[k]))
                 .unwrap_or(f64::NAN)
         });
-        let shown =
-            Trajectory::new(t.to_vec(), x, traj.u().clone(), rvals).map_err(|e| fail(id, e))?;
+        let shown = Trajectory::new(t.to_vec(), x, traj.u().clone(), rvals).ctx(id)?;
         let fig = TimeResponse::new()
             .run("PD", &shown)
             .title(format!("{id}: PD control, k_P = {}, k_D = {}", c.kp, c.kd))
@@ -240,10 +234,12 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
             .panel(SignalPanel::new(Channel::State(1), thlabel))
             .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs())
             .figure()
-            .map_err(|e| fail(id, e))?;
-        save_figure(ctx, id, "response", &fig, &mut out)?;
+            .ctx(id)?;
+        save_figure(ctx, &mut out, id, "response", Ok(fig))?;
         let rig = if c.arm { Rig::Arm } else { Rig::Cart };
-        save_animation(ctx, id, "animation", rig, &traj, id, &mut out)?;
+        save_animation(ctx, &mut out, id, "animation", || {
+            run_animation(rig, &traj, id)
+        })?;
     }
     Ok(out)
 }
@@ -285,11 +281,10 @@ fn cdip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut settle = Vec::new();
     let mut poles = Vec::new();
     for q2 in CDIP_Q2 {
-        let l = lqr(&lin, &diag(&[10.0, q2, 0.0, 0.0]), &diag(&[1.0]), None)
-            .map_err(|e| fail(id, e))?;
+        let l = lqr(&lin, &diag(&[10.0, q2, 0.0, 0.0]), &diag(&[1.0]), None).ctx(id)?;
         out.value(&format!("K_q{q2}"), Value::vector(&book_row(&l.gain)));
         poles.push((format!("q2 = {q2}"), l.closed_loop_poles.clone()));
-        let ctrl = StaticStateFeedback::new(l.gain).map_err(|e| fail(id, e))?;
+        let ctrl = StaticStateFeedback::new(l.gain).ctx(id)?;
         let traj = run_quantized(
             id,
             CartPendulum::book(),
@@ -333,7 +328,7 @@ fn lqr_figures(
     for (label, p) in poles {
         map = map.poles(label.clone(), p);
     }
-    save_figure(ctx, id, "poles", &map.figure(), out)?;
+    save_figure(ctx, out, id, "poles", Ok(map.figure()))?;
     let mut tr = TimeResponse::new().title(format!("{id}: {what}"));
     for (label, t) in runs {
         tr = tr.run(label.clone(), t);
@@ -353,18 +348,12 @@ fn lqr_figures(
         .panel(l1)
         .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs())
         .figure()
-        .map_err(|e| fail(id, e))?;
-    save_figure(ctx, id, "response", &fig, out)?;
+        .ctx(id)?;
+    save_figure(ctx, out, id, "response", Ok(fig))?;
     let last = runs.len() - 1;
-    save_animation(
-        ctx,
-        id,
-        "animation",
-        rig,
-        &runs[last].1,
-        &format!("{id}, {}", runs[last].0),
-        out,
-    )
+    save_animation(ctx, out, id, "animation", || {
+        run_animation(rig, &runs[last].1, &format!("{id}, {}", runs[last].0))
+    })
 }
 
 /// The arm LQR sample's weights `q1`.
@@ -378,11 +367,10 @@ fn adip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut dips = Vec::new();
     let mut poles = Vec::new();
     for q1 in ADIP_Q1 {
-        let l = lqr(&lin, &diag(&[q1, 10.0, 0.1, 0.1]), &diag(&[1.0]), None)
-            .map_err(|e| fail(id, e))?;
+        let l = lqr(&lin, &diag(&[q1, 10.0, 0.1, 0.1]), &diag(&[1.0]), None).ctx(id)?;
         out.value(&format!("K_q{q1}"), Value::vector(&book_row(&l.gain)));
         poles.push((format!("q1 = {q1}"), l.closed_loop_poles.clone()));
-        let ctrl = StaticStateFeedback::new(l.gain).map_err(|e| fail(id, e))?;
+        let ctrl = StaticStateFeedback::new(l.gain).ctx(id)?;
         let traj = run_quantized(
             id,
             ArmPendulum::book(),
@@ -435,16 +423,16 @@ fn servo_sample(ctx: &RunContext, c: &ServoCase) -> Result<ExampleOutput, BookEr
         cart_model(id)?
     };
     let sys = first_state_output(id, &lin)?;
-    let design = lq_servo(&sys, &diag(&c.q), &diag(&[1.0])).map_err(|e| fail(id, e))?;
+    let design = lq_servo(&sys, &diag(&c.q), &diag(&[1.0])).ctx(id)?;
     let ctrl = LqIntegralServo::from_design(
         &design,
         sys.c(),
-        vec![Signal::constant(c.r).map_err(|e| fail(id, e))?],
+        vec![Signal::constant(c.r).ctx(id)?],
         1e-3,
         IntegrationRule::ForwardEuler,
     )
-    .map_err(|e| fail(id, e))?;
-    let d = Signal::step(4.0, 0.5).map_err(|e| fail(id, e))?;
+    .ctx(id)?;
+    let d = Signal::step(4.0, 0.5).ctx(id)?;
     let traj = if c.arm {
         run_quantized(
             id,
@@ -520,10 +508,12 @@ fn servo_sample(ctx: &RunContext, c: &ServoCase) -> Result<ExampleOutput, BookEr
             )
             .panel(SignalPanel::new(Channel::Input(0), "plant input v + d [V]").stairs())
             .figure()
-            .map_err(|e| fail(id, e))?;
-        save_figure(ctx, id, "response", &fig, &mut out)?;
+            .ctx(id)?;
+        save_figure(ctx, &mut out, id, "response", Ok(fig))?;
         let rig = if c.arm { Rig::Arm } else { Rig::Cart };
-        save_animation(ctx, id, "animation", rig, &traj, id, &mut out)?;
+        save_animation(ctx, &mut out, id, "animation", || {
+            run_animation(rig, &traj, id)
+        })?;
     }
     Ok(out)
 }

@@ -1,0 +1,382 @@
+//! Helpers shared by every chapter: error mapping, the book's gain and pole conventions, the
+//! rig presets, small signal summaries, stacked time-response figures and figure/animation
+//! writing.
+
+use crate::error::BookError;
+use crate::output::ExampleOutput;
+use crate::registry::RunContext;
+use pendulab_lti::{Complex64, Continuous, Mat, StateSpace, Trajectory};
+use pendulab_plants::{ArmEquilibrium, ArmPendulum, ArmPendulumParams, RigSpec};
+use pendulab_plot::{
+    Animation, AnimationOptions, ArmGeometry, Axes, CartGeometry, Figure, LegendPos, PlotError,
+    palette,
+};
+use pendulab_sim::rig::RigChains;
+use pendulab_sim::{Actuator, SensorChain};
+use std::path::Path;
+
+// ------------------------------------------------------------------------------ errors
+
+/// A [`BookError::Computation`] of example `id` with the message `e`.
+pub(crate) fn fail(id: &str, e: impl std::fmt::Display) -> BookError {
+    BookError::Computation {
+        id: id.to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// `Result<T, E>` → `Result<T, BookError>` for example `id` ([`BookError::Computation`]).
+pub(crate) trait Ctx<T> {
+    /// Maps the error with [`fail`].
+    fn ctx(self, id: &str) -> Result<T, BookError>;
+}
+
+impl<T, E: std::fmt::Display> Ctx<T> for Result<T, E> {
+    fn ctx(self, id: &str) -> Result<T, BookError> {
+        self.map_err(|e| fail(id, e))
+    }
+}
+
+/// A [`BookError::Figure`] of example `id` about the file `path`.
+fn figure_error(id: &str, path: &Path, e: impl std::fmt::Display) -> BookError {
+    BookError::Figure {
+        id: id.to_string(),
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+// ------------------------------------------------------------------ matrices and conventions
+
+/// `diag(d)`.
+pub(crate) fn diag(d: &[f64]) -> Mat {
+    Mat::from_diagonal(&nalgebra::DVector::from_row_slice(d))
+}
+
+/// Row `0` of a `1 × n` matrix as a vector.
+pub(crate) fn row(m: &Mat) -> Vec<f64> {
+    m.row(0).iter().copied().collect()
+}
+
+/// Row `0` of a library gain (`u = −K x`) in the book's convention `u = +K_book x`
+/// (`K_book = −K`).
+pub(crate) fn book_row(k: &Mat) -> Vec<f64> {
+    row(k).into_iter().map(|v| -v).collect()
+}
+
+/// Column `j` of a sample matrix (rows = samples).
+pub(crate) fn column(x: &Mat, j: usize) -> Vec<f64> {
+    (0..x.nrows()).map(|i| x[(i, j)]).collect()
+}
+
+/// Complex numbers from `(re, im)` pairs (for printed references).
+pub(crate) fn complex(p: &[(f64, f64)]) -> Vec<Complex64> {
+    p.iter().map(|&(r, i)| Complex64::new(r, i)).collect()
+}
+
+/// Poles sorted the workspace's way (real part descending, then imaginary part descending;
+/// [`pendulab_lti::linalg::sort_eigenvalues`]).
+pub(crate) fn sorted(mut p: Vec<Complex64>) -> Vec<Complex64> {
+    pendulab_lti::linalg::sort_eigenvalues(&mut p);
+    p
+}
+
+/// Largest real part of a set of poles (−∞ for none).
+pub(crate) fn max_re(p: &[Complex64]) -> f64 {
+    p.iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max)
+}
+
+// ------------------------------------------------------------------------- signal summaries
+
+/// Largest `|v_k|` over the samples with `t_k ≥ from` (0 for none).
+pub(crate) fn max_abs_after(t: &[f64], v: &[f64], from: f64) -> f64 {
+    t.iter()
+        .zip(v)
+        .filter(|(ti, _)| **ti >= from - 1e-12)
+        .map(|(_, v)| v.abs())
+        .fold(0.0, f64::max)
+}
+
+/// Smallest value of `v` (+∞ for none).
+pub(crate) fn min_of(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+/// Largest value of `v` (−∞ for none).
+pub(crate) fn max_of(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Local extrema of `y` (strict sign changes of the first difference, plateaus timed at their
+/// midpoint) after index `start`: `(time, value)` pairs.
+pub(crate) fn extrema(t: &[f64], y: &[f64], start: usize) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    let mut k = start.max(1);
+    let mut dir = 0.0f64; // sign of the last non-zero difference
+    let mut plateau_start = k - 1;
+    while k < y.len() {
+        let d = y[k] - y[k - 1];
+        if d != 0.0 {
+            let s = d.signum();
+            if dir != 0.0 && s != dir {
+                // Extremum on the plateau [plateau_start, k − 1].
+                let mid = 0.5 * (t[plateau_start] + t[k - 1]);
+                out.push((mid, y[k - 1]));
+            }
+            dir = s;
+            plateau_start = k;
+        }
+        k += 1;
+    }
+    out
+}
+
+// ------------------------------------------------------------------------------- rig presets
+
+/// `(position state, velocity state, time constant)` of each pseudo-differentiator of `rig`.
+fn velocities(rig: &RigSpec) -> Vec<(usize, usize, f64)> {
+    rig.velocity_estimators
+        .iter()
+        .map(|v| (v.position_state, v.velocity_state, v.time_constant))
+        .collect()
+}
+
+/// The book's rig preset "with quantizer" (SPEC §1.3): encoders on the positions, velocities
+/// by the pseudo-differentiator `s/(0.02 s + 1)`, ±5 V and a 16-bit D/A.
+///
+/// # Errors
+/// The preset's construction errors (none for the built-in rigs).
+pub(crate) fn quantized_rig(id: &str, rig: &RigSpec) -> Result<RigChains, BookError> {
+    let enc: Vec<(usize, f64)> = rig.encoders.iter().map(|e| (e.state, e.step)).collect();
+    RigChains::with_quantizer(
+        rig.nx,
+        &enc,
+        &velocities(rig),
+        rig.input_limit,
+        rig.dac.bits,
+    )
+    .ctx(id)
+}
+
+/// The nonlinear plant "plain" with the book's default measurement (examples.md preamble):
+/// exact positions, velocities by derivative + `1/(0.02 s + 1)`, ideal actuator.
+///
+/// # Errors
+/// The sensor's construction errors (none for the built-in rigs).
+pub(crate) fn filtered_rig(id: &str, rig: &RigSpec) -> Result<RigChains, BookError> {
+    Ok(RigChains {
+        sensor: SensorChain::state_layout(rig.nx, &[], &velocities(rig)).ctx(id)?,
+        actuator: Actuator::ideal(),
+    })
+}
+
+/// The arm pendulum linearised upright at `θ₁ = 0` with drive parameters `a1`, `b1`,
+/// augmented with the servo integrator `w = ∫(r − θ₁)`: `Ã = [[A, 0], [−C, 0]]`, `B̃ = [B; 0]`.
+///
+/// # Errors
+/// The model's construction errors (none for positive `a1`, `b1`).
+pub(crate) fn arm_servo_model(id: &str, a1: f64, b1: f64) -> Result<(Mat, Mat), BookError> {
+    let plant = ArmPendulum::new(ArmPendulumParams {
+        a1,
+        b1,
+        ..ArmPendulumParams::book()
+    })
+    .ctx(id)?;
+    let lin = plant.linearize(ArmEquilibrium::upright(0.0)).ctx(id)?;
+    let c = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
+    let sys =
+        StateSpace::<Continuous>::continuous(lin.a().clone(), lin.b().clone(), c, Mat::zeros(1, 1))
+            .ctx(id)?;
+    pendulab_lti::design::integral_augmentation(&sys).ctx(id)
+}
+
+// ---------------------------------------------------------------------------------- figures
+
+/// One line of a panel: legend label, abscissa, ordinate.
+pub(crate) type Line<'a> = (String, &'a [f64], Vec<f64>);
+
+/// One panel of a stacked figure.
+pub(crate) struct PanelSpec<'a> {
+    /// Vertical axis label with unit.
+    pub ylabel: String,
+    /// The lines, overlaid in palette colours.
+    pub lines: Vec<Line<'a>>,
+    /// Horizontal reference lines (value, legend label).
+    pub refs: Vec<(f64, String)>,
+}
+
+impl<'a> PanelSpec<'a> {
+    /// A panel of `lines` under the axis label `ylabel`.
+    pub(crate) fn new(ylabel: &str, lines: Vec<Line<'a>>) -> Self {
+        Self {
+            ylabel: ylabel.to_string(),
+            lines,
+            refs: Vec::new(),
+        }
+    }
+    /// Adds a dashed horizontal reference line at `value`.
+    pub(crate) fn reference(mut self, value: f64, label: &str) -> Self {
+        self.refs.push((value, label.to_string()));
+        self
+    }
+}
+
+/// Panels stacked over a common horizontal axis labelled `xlabel`.
+pub(crate) fn stacked(title: &str, xlabel: &str, panels: Vec<PanelSpec<'_>>) -> Figure {
+    let n = panels.len();
+    let axes: Vec<Axes> = panels
+        .into_iter()
+        .enumerate()
+        .map(|(p, spec)| {
+            let mut ax = Axes::new();
+            ax.ylabel(spec.ylabel).legend(LegendPos::Best);
+            if p + 1 == n {
+                ax.xlabel(xlabel);
+            }
+            for (i, (label, x, y)) in spec.lines.iter().enumerate() {
+                ax.plot(x, y).label(label.clone()).color(palette(i));
+            }
+            for (v, label) in spec.refs {
+                ax.hline(v).label(label).dashed();
+            }
+            ax
+        })
+        .collect();
+    let h = 240.0 * n as f64 + 60.0;
+    Figure::column(axes).title(title).size(640.0, h)
+}
+
+/// Writes `fig` as `dir/stem.svg` + `dir/stem.png` and records both paths.
+///
+/// # Errors
+/// [`BookError::Figure`] naming the path.
+pub(crate) fn write_figure(
+    id: &str,
+    out: &mut ExampleOutput,
+    dir: &Path,
+    stem: &str,
+    fig: &Figure,
+) -> Result<(), BookError> {
+    let saved = fig
+        .save(dir, stem)
+        .map_err(|e| figure_error(id, &dir.join(stem), e))?;
+    out.figures.push(saved.svg);
+    out.figures.push(saved.png);
+    Ok(())
+}
+
+/// Writes `fig` as `<out>/<id>_<what>.svg/.png` when the context has an output directory
+/// (nothing otherwise).
+///
+/// # Errors
+/// [`BookError::Figure`] naming the path, also when `fig` could not be drawn.
+pub(crate) fn save_figure(
+    ctx: &RunContext,
+    out: &mut ExampleOutput,
+    id: &str,
+    what: &str,
+    fig: Result<Figure, PlotError>,
+) -> Result<(), BookError> {
+    let Some(dir) = &ctx.out_dir else {
+        return Ok(());
+    };
+    let stem = format!("{id}_{what}");
+    let fig = fig.map_err(|e| figure_error(id, &dir.join(format!("{stem}.svg")), e))?;
+    write_figure(id, out, dir, &stem, &fig)
+}
+
+// ------------------------------------------------------------------------------- animations
+
+/// Which rig an animation draws.
+pub(crate) enum Rig {
+    /// The cart-type pendulum: `a` = cart position `z` [m], `b` = `θ` [rad] from upright.
+    Cart,
+    /// The arm-type pendulum: `a` = arm angle `θ₁`, `b` = pendulum angle `θ₂` [rad].
+    Arm,
+}
+
+/// An animation of `rig` over the samples `t` [s] of its two position coordinates `a`, `b`,
+/// at 20 frames/s and at most 160 frames. The cart's rail is widened to keep the cart 0.3 m
+/// inside its ends.
+///
+/// # Errors
+/// The plot crate's errors for mismatched or non-finite samples.
+pub(crate) fn animation(
+    rig: Rig,
+    t: &[f64],
+    a: &[f64],
+    b: &[f64],
+    title: &str,
+) -> Result<Animation, PlotError> {
+    let anim = match rig {
+        Rig::Cart => {
+            let zmax = a.iter().fold(0.5f64, |m, v| m.max(v.abs() + 0.3));
+            let geometry = CartGeometry {
+                rail: (-zmax, zmax),
+                ..CartGeometry::default()
+            };
+            Animation::cart(t, a, b, geometry)?
+        }
+        Rig::Arm => Animation::arm(t, a, b, ArmGeometry::default())?,
+    };
+    Ok(anim
+        .options(AnimationOptions {
+            fps: 20.0,
+            max_frames: 160,
+            ..AnimationOptions::default()
+        })
+        .title(title))
+}
+
+/// [`animation`] of a recorded run whose state starts with the two position coordinates
+/// (`x = [z, θ, ż, θ̇]` or `[θ₁, θ₂, θ̇₁, θ̇₂]`).
+///
+/// # Errors
+/// As [`animation`].
+pub(crate) fn run_animation(
+    rig: Rig,
+    tr: &Trajectory,
+    title: &str,
+) -> Result<Animation, PlotError> {
+    animation(rig, tr.t(), tr.x_signal(0), tr.x_signal(1), title)
+}
+
+/// Writes `anim` as `dir/stem.gif` and the animated `dir/stem.svg` and records both paths.
+///
+/// # Errors
+/// [`BookError::Figure`] naming the path.
+pub(crate) fn write_animation(
+    id: &str,
+    out: &mut ExampleOutput,
+    dir: &Path,
+    stem: &str,
+    anim: Result<Animation, PlotError>,
+) -> Result<(), BookError> {
+    let anim = anim.map_err(|e| figure_error(id, &dir.join(stem), e))?;
+    std::fs::create_dir_all(dir).map_err(|e| figure_error(id, dir, e))?;
+    let gif = dir.join(format!("{stem}.gif"));
+    anim.save_gif(&gif).map_err(|e| figure_error(id, &gif, e))?;
+    let svg = dir.join(format!("{stem}.svg"));
+    anim.save_svg(&svg).map_err(|e| figure_error(id, &svg, e))?;
+    out.figures.push(gif);
+    out.figures.push(svg);
+    Ok(())
+}
+
+/// Writes the animation `build` makes as `<out>/<id>_<what>.gif` and `.svg` when the
+/// context has an output directory (`build` is not called otherwise).
+///
+/// # Errors
+/// [`BookError::Figure`] naming the path.
+pub(crate) fn save_animation(
+    ctx: &RunContext,
+    out: &mut ExampleOutput,
+    id: &str,
+    what: &str,
+    build: impl FnOnce() -> Result<Animation, PlotError>,
+) -> Result<(), BookError> {
+    let Some(dir) = &ctx.out_dir else {
+        return Ok(());
+    };
+    write_animation(id, out, dir, &format!("{id}_{what}"), build())
+}
