@@ -90,7 +90,11 @@ fn every_example_states_its_section_parameters_and_title() {
     for e in pendulab_book::registry() {
         assert!(!e.title.trim().is_empty(), "{}: empty title", e.id);
         assert!(!e.section.trim().is_empty(), "{}: empty section", e.id);
-        assert!(!e.parameters.trim().is_empty(), "{}: empty parameters", e.id);
+        assert!(
+            !e.parameters.trim().is_empty(),
+            "{}: empty parameters",
+            e.id
+        );
     }
 }
 
