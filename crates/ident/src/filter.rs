@@ -321,6 +321,9 @@ impl LowPass3 {
     }
 }
 
+/// Lanes of a [`FilterBank`]: the most columns one bank filters.
+pub(crate) const LANES: usize = 4;
+
 /// Rows per block of [`FilterBank::process`].
 pub(crate) const BANK_BLOCK: usize = crate::least_squares::BLOCK;
 
@@ -330,15 +333,17 @@ pub(crate) const BANK_BLOCK: usize = crate::least_squares::BLOCK;
 /// recurrence is one multiply and one add, and the `W` columns' work overlaps.
 #[derive(Debug, Clone)]
 pub(crate) struct FilterBank<const W: usize> {
-    w: [[f64; W]; 3],
+    /// States `w₁, w₂, w₃` of each column, in [`LANES`] lanes (lanes `≥ W` stay zero).
+    w: [[f64; LANES]; 3],
     e: f64,
     c: [f64; 4],
 }
 
 impl<const W: usize> FilterBank<W> {
     pub(crate) fn new(f: &LowPass3) -> Self {
+        const { assert!(W <= LANES, "at most LANES columns per bank") };
         Self {
-            w: [[0.0; W]; 3],
+            w: [[0.0; LANES]; 3],
             e: f.e,
             c: f.c,
         }
@@ -368,14 +373,21 @@ impl<const W: usize> FilterBank<W> {
         let e = self.e;
         let [d, c1, c2, c3] = self.c;
         let [mut w1, mut w2, mut w3] = self.w;
+        // Every lane runs the same operations in the same order whatever `W`, so the fixed
+        // width changes no result; it lets the compiler keep the lanes in vector registers
+        // (two per state with 128-bit vectors) instead of `3 W` scalars.
         for i in 0..m.min(BANK_BLOCK) {
-            for c in 0..W {
-                let uu = u[c][i];
-                let out = c1 * w1[c] + c2 * w2[c] + c3 * w3[c];
-                y[c][i] = if DIRECT { out + d * uu } else { out };
+            let uu: [f64; LANES] = std::array::from_fn(|c| if c < W { u[c][i] } else { 0.0 });
+            let mut out = [0.0; LANES];
+            for c in 0..LANES {
+                let o = c1 * w1[c] + c2 * w2[c] + c3 * w3[c];
+                out[c] = if DIRECT { o + d * uu[c] } else { o };
                 w3[c] = e * w3[c] + w2[c];
                 w2[c] = e * w2[c] + w1[c];
-                w1[c] = e * w1[c] + uu;
+                w1[c] = e * w1[c] + uu[c];
+            }
+            for c in 0..W {
+                y[c][i] = out[c];
             }
         }
         self.w = [w1, w2, w3];

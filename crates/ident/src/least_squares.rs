@@ -182,7 +182,7 @@ impl QrAccumulator {
     pub(crate) fn push_scratch<const W: usize>(&mut self, block: &mut [[f64; BLOCK]; W], m: usize) {
         debug_assert_eq!(W, self.names.len() + 1);
         let m = m.min(BLOCK);
-        reduce(&mut self.r, W, block.as_flattened_mut(), BLOCK, m);
+        reduce_fused::<W>(&mut self.r, block, m);
         self.rows += m;
     }
 
@@ -324,6 +324,69 @@ fn reduce(r: &mut [f64], w: usize, buf: &mut [f64], stride: usize, m: usize) {
         }
         r[j * w + j] = alpha;
     }
+}
+
+/// [`reduce`] for a block of `W` columns known at compile time, with the passes over the block
+/// fused: for each pivot column `j` one pass forms all the dot products `b_jᵀ b_c` (`c ≥ j`)
+/// and one pass applies the reflector to all the later columns, so each pivot column is read
+/// twice instead of `2(W − j) − 1` times. Every sum is accumulated in the same order as
+/// [`dot`] (four partial sums over the rows `4i + l`, then the tail), and every update is the
+/// same operation, so the result equals [`reduce`]'s bit for bit.
+fn reduce_fused<const W: usize>(r: &mut [f64], buf: &mut [[f64; BLOCK]; W], m: usize) {
+    let m = m.min(BLOCK);
+    if W > 4 {
+        reduce(r, W, buf.as_flattened_mut(), BLOCK, m);
+        return;
+    }
+    pivot::<W, 0>(r, buf, m);
+    pivot::<W, 1>(r, buf, m);
+    pivot::<W, 2>(r, buf, m);
+    pivot::<W, 3>(r, buf, m);
+}
+
+/// Pivot column `J` of [`reduce_fused`] (nothing if `J ≥ W`); `J` and `W` are constants so the
+/// loops over the columns unroll and the passes over the rows vectorise.
+#[inline(always)]
+fn pivot<const W: usize, const J: usize>(r: &mut [f64], buf: &mut [[f64; BLOCK]; W], m: usize) {
+    if J >= W {
+        return;
+    }
+    let chunks = m / 4;
+    // dots[c] = b_Jᵀ b_c for c ≥ J, four partial sums each.
+    let mut acc = [[0.0f64; 4]; W];
+    for i in 0..chunks {
+        for c in J..W {
+            for l in 0..4 {
+                acc[c][l] += buf[J][4 * i + l] * buf[c][4 * i + l];
+            }
+        }
+    }
+    let mut dots = [0.0f64; W];
+    for c in J..W {
+        let mut tail = 0.0;
+        for i in 4 * chunks..m {
+            tail += buf[J][i] * buf[c][i];
+        }
+        let a = acc[c];
+        dots[c] = (a[0] + a[1]) + (a[2] + a[3]) + tail;
+    }
+    let Some((alpha, v0, tau)) = reflector(r[J * W + J], &buf[J][..m], dots[J]) else {
+        return;
+    };
+    let mut s = [0.0f64; W];
+    for c in J + 1..W {
+        s[c] = tau * (v0 * r[J * W + c] + dots[c]);
+        r[J * W + c] -= s[c] * v0;
+    }
+    let (head, tail) = buf.split_at_mut(J + 1);
+    let bj = &head[J];
+    for (k, bc) in tail.iter_mut().enumerate() {
+        let sc = s[J + 1 + k];
+        for (b, a) in bc[..m].iter_mut().zip(&bj[..m]) {
+            *b -= sc * a;
+        }
+    }
+    r[J * W + J] = alpha;
 }
 
 /// The Householder reflector `H = I − τ v vᵀ` that maps `[R_jj; b_j]` onto `α e₁`:
