@@ -354,10 +354,15 @@ fn pivot<const W: usize, const J: usize>(r: &mut [f64], buf: &mut [[f64; BLOCK];
     let chunks = m / 4;
     // dots[c] = b_Jᵀ b_c for c ≥ J, four partial sums each.
     let mut acc = [[0.0f64; 4]; W];
-    for i in 0..chunks {
-        for c in J..W {
-            for l in 0..4 {
-                acc[c][l] += buf[J][4 * i + l] * buf[c][4 * i + l];
+    {
+        let quads: [&[[f64; 4]]; W] = std::array::from_fn(|c| buf[c][..4 * chunks].as_chunks().0);
+        for i in 0..chunks {
+            let a = quads[J][i];
+            for c in J..W {
+                let b = quads[c][i];
+                for l in 0..4 {
+                    acc[c][l] += a[l] * b[l];
+                }
             }
         }
     }
