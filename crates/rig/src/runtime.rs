@@ -20,7 +20,7 @@
 //! reports the [`StopReason`] with the loop's statistics ([`LoopStats`]).
 
 use crate::RigError;
-use crate::clock::{Percentiles, sleep_until};
+use crate::clock::{Histogram, Percentiles, sleep_until};
 use crate::emulator::PlantKind;
 use crate::log::{Logger, Sample};
 use crate::protocol::{CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags};
@@ -164,7 +164,8 @@ impl fmt::Display for StopReason {
     }
 }
 
-/// What the loop measured of itself. Times in seconds.
+/// What the loop measured of itself. Times in seconds; percentiles from fixed-memory
+/// [`Histogram`]s (resolution 1 % or 1 ns), maxima and means exact.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct LoopStats {
     /// `|period − ts|` of consecutive wake-ups.
@@ -208,10 +209,11 @@ impl fmt::Display for RunReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let us = |p: &Percentiles| {
             format!(
-                "p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs",
+                "p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs, mean {:.1} µs",
                 p.p50 * 1e6,
                 p.p99 * 1e6,
-                p.max * 1e6
+                p.max * 1e6,
+                p.mean * 1e6
             )
         };
         let s = &self.stats;
@@ -498,11 +500,11 @@ pub fn run(
         .duration
         .map(|d| (d / config.ts).round() as u64)
         .unwrap_or(u64::MAX);
-    let cap = n_max.min(600_000) as usize;
-    let mut jitter = Vec::with_capacity(cap);
-    let mut lateness = Vec::with_capacity(cap);
-    let mut compute = Vec::with_capacity(cap);
-    let mut rtt = Vec::with_capacity(cap);
+    // Fixed memory however long the run (`duration: None` runs until stopped).
+    let mut jitter = Histogram::new();
+    let mut lateness = Histogram::new();
+    let mut compute = Histogram::new();
+    let mut rtt = Histogram::new();
     // Send times of recent commands, indexed by sequence number modulo the ring size.
     const RING: usize = 4096;
     let mut sent_at = vec![(0u32, start); RING];
@@ -530,9 +532,9 @@ pub fn run(
         let deadline = t0 + period.mul_f64(k as f64);
         sleep_until(deadline, spin);
         let wake = Instant::now();
-        lateness.push((wake - deadline).as_secs_f64());
+        lateness.record((wake - deadline).as_secs_f64());
         if let Some(p) = prev_wake {
-            jitter.push(((wake - p).as_secs_f64() - config.ts).abs());
+            jitter.record(((wake - p).as_secs_f64() - config.ts).abs());
         }
         prev_wake = Some(wake);
         let t = k as f64 * config.ts;
@@ -556,7 +558,7 @@ pub fn run(
                     last_echo = f.command_seq;
                     let (s, at) = sent_at[f.command_seq as usize % RING];
                     if s == f.command_seq {
-                        rtt.push((wake - at).as_secs_f64());
+                        rtt.record((wake - at).as_secs_f64());
                     }
                 }
             }
@@ -622,7 +624,7 @@ pub fn run(
         };
         let done = Instant::now();
         sent_at[seq as usize % RING] = (seq, done);
-        compute.push((done - wake).as_secs_f64());
+        compute.record((done - wake).as_secs_f64());
         if done > deadline + period {
             stats.deadline_misses += 1;
         }
@@ -682,10 +684,10 @@ pub fn run(
         Some(l) => Some(l.finish()?),
         None => None,
     };
-    stats.jitter = Percentiles::of(&mut jitter);
-    stats.lateness = Percentiles::of(&mut lateness);
-    stats.compute = Percentiles::of(&mut compute);
-    stats.round_trip = Percentiles::of(&mut rtt);
+    stats.jitter = jitter.summary();
+    stats.lateness = lateness.summary();
+    stats.compute = compute.summary();
+    stats.round_trip = rtt.summary();
     stats.rejects = link.rejects;
     Ok(RunReport {
         reason,
