@@ -321,24 +321,23 @@ impl Link {
         }
     }
 
-    /// The newest fresh frame waiting, if any.
-    fn receive(&mut self) -> Result<Option<SensorFrame>, std::io::Error> {
-        let mut newest = None;
+    /// Appends every fresh frame waiting to `out`, oldest first (the last is the newest).
+    fn receive(&mut self, out: &mut Vec<SensorFrame>) -> Result<(), std::io::Error> {
         #[cfg(feature = "serial")]
         if let Transport::Serial(port) = &mut self.transport {
             port.poll()?;
             while let Some(f) = port.next_frame() {
                 if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
-                    newest = Some(f);
+                    out.push(f);
                 }
             }
-            return Ok(newest);
+            return Ok(());
         }
         loop {
             let got = match &self.transport {
                 Transport::Udp(socket) => socket.recv(&mut self.buf),
                 #[cfg(feature = "serial")]
-                Transport::Serial(_) => return Ok(newest),
+                Transport::Serial(_) => return Ok(()),
             };
             match got {
                 Ok(n) => {
@@ -350,11 +349,11 @@ impl Link {
                         }
                     };
                     if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
-                        newest = Some(f);
+                        out.push(f);
                     }
                 }
-                Err(e) if e.kind() == ErrorKind::WouldBlock => return Ok(newest),
-                Err(e) if e.kind() == ErrorKind::ConnectionRefused => return Ok(newest),
+                Err(e) if e.kind() == ErrorKind::WouldBlock => return Ok(()),
+                Err(e) if e.kind() == ErrorKind::ConnectionRefused => return Ok(()),
                 Err(e) => return Err(e),
             }
         }
@@ -466,8 +465,10 @@ pub fn run(
 
     // Connect: disabled commands until the rig answers in this session.
     let start = Instant::now();
-    let mut first = None;
-    while first.is_none() {
+    // Fresh frames of the current period, oldest first (reused: no allocation per period
+    // unless a burst outgrows it).
+    let mut frames: Vec<SensorFrame> = Vec::with_capacity(256);
+    while frames.is_empty() {
         if stop.load(Ordering::Relaxed) {
             if let Some(l) = log {
                 l.finish()?;
@@ -490,11 +491,14 @@ pub fn run(
         link.send(0.0, 0, 0)
             .map_err(|e| RigError::io(format!("sending to {}", config.connect), e))?;
         std::thread::sleep(Duration::from_millis(5));
-        first = link
-            .receive()
+        link.receive(&mut frames)
             .map_err(|e| RigError::io(format!("receiving from {}", config.connect), e))?;
     }
-    let mut frame = first.expect("connected");
+    let mut frame = frames[frames.len() - 1];
+    // The log's time origin: the rig's stamp of the first frame of the run.
+    let origin_us = frames[0].time_us;
+    let rig_time = |f: &SensorFrame| f.time_us.wrapping_sub(origin_us) as i64 as f64 / 1e6;
+    let mut last_t = rig_time(&frame);
 
     let n_max = config
         .duration
@@ -505,9 +509,10 @@ pub fn run(
     let mut lateness = Histogram::new();
     let mut compute = Histogram::new();
     let mut rtt = Histogram::new();
-    // Send times of recent commands, indexed by sequence number modulo the ring size.
+    // Send times and voltages of recent commands, indexed by sequence number modulo the ring
+    // size.
     const RING: usize = 4096;
-    let mut sent_at = vec![(0u32, start); RING];
+    let mut sent_at = vec![(0u32, start, 0.0f64); RING];
     let mut last_echo = 0u32;
     let mut stats = LoopStats::default();
     let period = Duration::from_secs_f64(config.ts);
@@ -525,7 +530,6 @@ pub fn run(
     let mut k: u64 = 0;
     let t0 = Instant::now();
     controller.reset();
-    let mut fresh = Some(frame);
     let mut logger_alive = true;
 
     loop {
@@ -541,8 +545,9 @@ pub fn run(
 
         // 1. Sensors.
         if k > 0 {
-            match link.receive() {
-                Ok(f) => fresh = f,
+            frames.clear();
+            match link.receive(&mut frames) {
+                Ok(()) => {}
                 Err(e) => {
                     reason = StopReason::Io;
                     detail = format!("receiving from {}: {e}", config.connect);
@@ -550,13 +555,13 @@ pub fn run(
                 }
             }
         }
-        match fresh.take() {
+        match frames.last().copied() {
             Some(f) => {
                 frame = f;
                 stale_run = 0;
                 if f.command_seq != last_echo && f.command_seq != 0 {
                     last_echo = f.command_seq;
-                    let (s, at) = sent_at[f.command_seq as usize % RING];
+                    let (s, at, _) = sent_at[f.command_seq as usize % RING];
                     if s == f.command_seq {
                         rtt.record((wake - at).as_secs_f64());
                     }
@@ -623,23 +628,43 @@ pub fn run(
             }
         };
         let done = Instant::now();
-        sent_at[seq as usize % RING] = (seq, done);
+        sent_at[seq as usize % RING] = (seq, done, v);
         compute.record((done - wake).as_secs_f64());
         if done > deadline + period {
             stats.deadline_misses += 1;
         }
         if let Some(l) = &log {
-            logger_alive &= l.log(Sample {
-                k,
-                t,
-                t_wall: (wake - t0).as_secs_f64(),
-                seq: frame.seq,
-                q: [y[0], y[1]],
-                dq: [y[2], y[3]],
-                v,
-                u_ctrl,
-                status: frame.status,
-            });
+            // One row per fresh rig frame, oldest first, stamped with the rig's time; the
+            // velocity estimate and the controller's output belong to the newest only.
+            let n = frames.len();
+            for (i, f) in frames.iter().enumerate() {
+                let newest = i + 1 == n;
+                let nan = f64::NAN;
+                let applied = match f.command_seq {
+                    0 => 0.0,
+                    c => match sent_at[c as usize % RING] {
+                        (s, _, volts) if s == c => volts,
+                        _ => nan,
+                    },
+                };
+                last_t = rig_time(f);
+                logger_alive &= l.log(Sample {
+                    k,
+                    t: last_t,
+                    t_nominal: t,
+                    t_wall: (wake - t0).as_secs_f64(),
+                    seq: f.seq,
+                    q: [
+                        f.counts[0] as f64 * steps[0],
+                        f.counts[1] as f64 * steps[1] + PI,
+                    ],
+                    dq: if newest { [y[2], y[3]] } else { [nan, nan] },
+                    v: applied,
+                    v_sent: if newest { v } else { nan },
+                    u_ctrl: if newest { u_ctrl } else { nan },
+                    status: f.status,
+                });
+            }
             if !logger_alive {
                 reason = StopReason::Io;
                 detail = "the log writer stopped".into();
@@ -666,14 +691,18 @@ pub fn run(
     let wake = Instant::now();
     if reason != StopReason::Completed {
         if let Some(l) = &log {
+            // Not a measurement: the last one repeated, stamped one period after it, with the
+            // 0 V the stop commands.
             l.log(Sample {
                 k,
-                t: k as f64 * config.ts,
+                t: last_t + config.ts,
+                t_nominal: k as f64 * config.ts,
                 t_wall: (wake - t0).as_secs_f64(),
                 seq: frame.seq,
                 q: [y[0], y[1]],
                 dq: [y[2], y[3]],
                 v: 0.0,
+                v_sent: 0.0,
                 u_ctrl: 0.0,
                 status: frame.status,
             });
