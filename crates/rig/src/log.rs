@@ -22,8 +22,9 @@
 //! convention of `data/rig/`), `phi1 = θ₁`; `v` is the voltage the rig had applied when it
 //! took the sample (the command the frame echoes, after the loop's clamp; 0 before the first
 //! command), `v_sent` the voltage the loop sent in period `k` and `u_ctrl` the controller's
-//! output before the clamp (both only on the row of the newest frame of the period, `NaN` on
-//! older ones, as are the velocity estimates `dz, dtheta`), `status` the rig's status bits.
+//! output before the clamp; these two and the velocity estimates `dz, dtheta` are the loop's
+//! values of period `k`, computed from the period's newest frame (rows of older frames read
+//! in the same period repeat them); `status` is the rig's status bits. Every field is finite.
 //! The stop row repeats the last measurement with `v = v_sent = u_ctrl = 0` and
 //! `t` one loop period after the last frame's. So `pendulab identify cart-ls --data log.csv`
 //! (columns `t, z, v`) and `pend-ls` (`t, z, phi`) read a cart log as it is.
@@ -55,7 +56,7 @@ pub struct Sample {
     pub dq: [f64; 2],
     /// Voltage the rig had applied when it took the sample \[V\].
     pub v: f64,
-    /// Voltage the loop sent in period `k` \[V\] (`NaN` but on the newest frame's row).
+    /// Voltage the loop sent in period `k` \[V\].
     pub v_sent: f64,
     /// Controller output before the clamp \[V\].
     pub u_ctrl: f64,
@@ -203,7 +204,7 @@ mod tests {
             q: [0.1 + 0.2, -1.0 / 3.0],
             dq: [1e-300, -0.0],
             v: 4.99984741210937,
-            v_sent: f64::NAN,
+            v_sent: -0.5,
             u_ctrl: 12.5,
             status: 5,
         };
@@ -226,8 +227,7 @@ mod tests {
         assert_eq!(f[7], -1.0 / 3.0 - std::f64::consts::PI);
         assert_eq!(f[8], 1e-300);
         assert_eq!(f[10], 4.99984741210937);
-        // "not estimated" is written as NaN and read back as NaN.
-        assert!(f[11].is_nan());
+        assert_eq!(f[11], -0.5);
         std::fs::remove_dir_all(&dir).ok();
     }
 }

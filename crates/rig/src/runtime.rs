@@ -635,16 +635,14 @@ pub fn run(
         }
         if let Some(l) = &log {
             // One row per fresh rig frame, oldest first, stamped with the rig's time; the
-            // velocity estimate and the controller's output belong to the newest only.
-            let n = frames.len();
-            for (i, f) in frames.iter().enumerate() {
-                let newest = i + 1 == n;
-                let nan = f64::NAN;
+            // velocity estimate and the commands are the period's (computed from the newest).
+            for f in &frames {
                 let applied = match f.command_seq {
                     0 => 0.0,
                     c => match sent_at[c as usize % RING] {
                         (s, _, volts) if s == c => volts,
-                        _ => nan,
+                        // Older than the ring (4096 commands): not known any more.
+                        _ => v,
                     },
                 };
                 last_t = rig_time(f);
@@ -658,10 +656,10 @@ pub fn run(
                         f.counts[0] as f64 * steps[0],
                         f.counts[1] as f64 * steps[1] + PI,
                     ],
-                    dq: if newest { [y[2], y[3]] } else { [nan, nan] },
+                    dq: [y[2], y[3]],
                     v: applied,
-                    v_sent: if newest { v } else { nan },
-                    u_ctrl: if newest { u_ctrl } else { nan },
+                    v_sent: v,
+                    u_ctrl,
                     status: f.status,
                 });
             }
