@@ -17,7 +17,10 @@
 //! 4. reads the encoders (the book rigs' resolutions, `pendulab_plants::RigSpec`; encoder 0
 //!    counts the drive from its start position, encoder 1 the pendulum from the **hanging
 //!    rest**, as a real incremental encoder powered up with the pendulum hanging does), with
-//!    optional Gaussian noise in counts, and sends a sensor frame to the controller's address.
+//!    optional Gaussian noise in counts, and sends a sensor frame to the controller's address
+//!    **after every plant step** (a late wake-up sends one frame per step it took), stamped
+//!    with the plant's clock in µs — the time the state it carries belongs to — so the rig's
+//!    record is uniform in time as a microcontroller sampling on a timer interrupt is.
 //!
 //! Fault injection, all seeded (ChaCha8): packet loss in both directions, a fixed extra
 //! latency of the sensor frames, and [`EmulatorHandle::stall`] (the whole emulator freezes,

@@ -13,7 +13,8 @@
 //! 4. safety on `y`: NaN guard, drive travel limit `|q₀| ≤ travel_limit`, and for balance
 //!    controllers the angle window `|wrap(q₁)| ≤ angle_window`;
 //! 5. `u = controller.update(k·ts, y)`, NaN guard on `u`, clamp to `±voltage_limit`, send the
-//!    command frame; hand the sample to the logger.
+//!    command frame; hand every fresh frame of the period to the logger (one row each,
+//!    stamped with the rig's clock, see [`crate::log`]).
 //!
 //! Every stop (completed, Ctrl-C, watchdog, limits, NaN, I/O) sends 0 V with
 //! [`flags::STOP`] (three times, for loss), logs a final row with `v = 0`, flushes the log and
@@ -193,9 +194,9 @@ pub struct RunReport {
     pub reason: StopReason,
     /// Human-readable detail (which limit, which value).
     pub detail: String,
-    /// Periods run (rows logged, including the final stop row).
+    /// Periods run (including the stop's period).
     pub samples: u64,
-    /// Rows the logger wrote (equal to `samples` when a log was kept).
+    /// Rows the logger wrote (one per sensor frame received, plus the stop row).
     pub logged: Option<u64>,
     /// Loop statistics.
     pub stats: LoopStats,
@@ -385,7 +386,7 @@ fn open_transport(config: &RunConfig) -> Result<Transport, RigError> {
 /// Runs the loop until the duration elapses, `stop` is raised or a safety stop.
 ///
 /// `controller` sees `y = [q₀, q₁, q̇₀, q̇₁]` and must have `ny = 4`, `nu = 1`, and a sample
-/// time (if it has one) equal to `config.ts`. With `log`, every period is logged and the log
+/// time (if it has one) equal to `config.ts`. With `log`, every sensor frame is logged and the log
 /// is finished (flushed) before returning, on every path.
 ///
 /// # Errors
