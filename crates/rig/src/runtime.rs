@@ -383,6 +383,52 @@ fn open_transport(config: &RunConfig) -> Result<Transport, RigError> {
     Ok(Transport::Udp(socket))
 }
 
+/// Logs one row per frame of a period, oldest first, stamped with the rig's time; `v` is the
+/// voltage of the command each frame echoes (from the ring of sent commands, falling back to
+/// the period's), `period = [dz, dθ, v_sent, u_ctrl]` the period's values. Returns `false` if
+/// the writer has stopped.
+#[allow(clippy::too_many_arguments)]
+fn log_frames(
+    l: &Logger,
+    frames: &[SensorFrame],
+    sent_at: &[(u32, Instant, f64)],
+    (k, t_nominal, t_wall): (u64, f64, f64),
+    rig_time: &dyn Fn(&SensorFrame) -> f64,
+    steps: &[f64; 2],
+    period: [f64; 4],
+    last_t: &mut f64,
+) -> bool {
+    let mut alive = true;
+    for f in frames {
+        let applied = match f.command_seq {
+            0 => 0.0,
+            c => match sent_at[c as usize % sent_at.len()] {
+                (s, _, volts) if s == c => volts,
+                // Older than the ring: not known any more.
+                _ => period[2],
+            },
+        };
+        *last_t = rig_time(f);
+        alive &= l.log(Sample {
+            k,
+            t: *last_t,
+            t_nominal,
+            t_wall,
+            seq: f.seq,
+            q: [
+                f.counts[0] as f64 * steps[0],
+                f.counts[1] as f64 * steps[1] + PI,
+            ],
+            dq: [period[0], period[1]],
+            v: applied,
+            v_sent: period[2],
+            u_ctrl: period[3],
+            status: f.status,
+        });
+    }
+    alive
+}
+
 /// Runs the loop until the duration elapses, `stop` is raised or a safety stop.
 ///
 /// `controller` sees `y = [q₀, q₁, q̇₀, q̇₁]` and must have `ny = 4`, `nu = 1`, and a sample
@@ -532,6 +578,8 @@ pub fn run(
     let t0 = Instant::now();
     controller.reset();
     let mut logger_alive = true;
+    // Frames received this period and not yet logged (a stop inside the period logs them).
+    let mut pending = true;
 
     loop {
         let deadline = t0 + period.mul_f64(k as f64);
@@ -548,7 +596,7 @@ pub fn run(
         if k > 0 {
             frames.clear();
             match link.receive(&mut frames) {
-                Ok(()) => {}
+                Ok(()) => pending = !frames.is_empty(),
                 Err(e) => {
                     reason = StopReason::Io;
                     detail = format!("receiving from {}: {e}", config.connect);
@@ -635,35 +683,17 @@ pub fn run(
             stats.deadline_misses += 1;
         }
         if let Some(l) = &log {
-            // One row per fresh rig frame, oldest first, stamped with the rig's time; the
-            // velocity estimate and the commands are the period's (computed from the newest).
-            for f in &frames {
-                let applied = match f.command_seq {
-                    0 => 0.0,
-                    c => match sent_at[c as usize % RING] {
-                        (s, _, volts) if s == c => volts,
-                        // Older than the ring (4096 commands): not known any more.
-                        _ => v,
-                    },
-                };
-                last_t = rig_time(f);
-                logger_alive &= l.log(Sample {
-                    k,
-                    t: last_t,
-                    t_nominal: t,
-                    t_wall: (wake - t0).as_secs_f64(),
-                    seq: f.seq,
-                    q: [
-                        f.counts[0] as f64 * steps[0],
-                        f.counts[1] as f64 * steps[1] + PI,
-                    ],
-                    dq: [y[2], y[3]],
-                    v: applied,
-                    v_sent: v,
-                    u_ctrl,
-                    status: f.status,
-                });
-            }
+            logger_alive &= log_frames(
+                l,
+                &frames,
+                &sent_at,
+                (k, t, (wake - t0).as_secs_f64()),
+                &rig_time,
+                &steps,
+                [y[2], y[3], v, u_ctrl],
+                &mut last_t,
+            );
+            pending = false;
             if !logger_alive {
                 reason = StopReason::Io;
                 detail = "the log writer stopped".into();
@@ -690,6 +720,19 @@ pub fn run(
     let wake = Instant::now();
     if reason != StopReason::Completed {
         if let Some(l) = &log {
+            // The frames of the stop's period, if the stop came before they were logged.
+            if pending {
+                log_frames(
+                    l,
+                    &frames,
+                    &sent_at,
+                    (k, k as f64 * config.ts, (wake - t0).as_secs_f64()),
+                    &rig_time,
+                    &steps,
+                    [y[2], y[3], 0.0, 0.0],
+                    &mut last_t,
+                );
+            }
             // Not a measurement: the last one repeated, stamped one period after it, with the
             // 0 V the stop commands.
             l.log(Sample {

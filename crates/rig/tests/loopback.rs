@@ -482,3 +482,49 @@ fn arm_gain_scheduled_lqr_brings_the_arm_back_from_50_degrees() {
         tel.state
     );
 }
+
+#[test]
+fn a_safety_stop_logs_the_frames_of_its_period_then_the_stop_row() {
+    // The pendulum held 40° from the top: outside the 30° window from the first frame on, so
+    // the run stops in period 0, before the period's frames reached the normal logging step.
+    let emu = Emulator::spawn(emulator(
+        PlantKind::Cart,
+        [0.0, 40f64.to_radians(), 0.0, 0.0],
+    ))
+    .unwrap();
+    let mut l = load(CART_LQR).unwrap();
+    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    cfg.safety = l.safety;
+    tolerant(&mut cfg);
+    let path = tmp("window.csv");
+    let log = Logger::create(&path, PlantKind::Cart).unwrap();
+    let r = run(
+        &cfg,
+        l.controller.as_mut(),
+        &AtomicBool::new(false),
+        Some(log),
+    )
+    .unwrap();
+    emu.stop().unwrap();
+    assert_eq!(r.reason, StopReason::AngleWindow, "{}", r.detail);
+    assert_eq!(r.samples, 1);
+    let (hd, rows) = read_log(&path);
+    let (ti, vi, thi, ki) = (
+        col(&hd, "t"),
+        col(&hd, "v"),
+        col(&hd, "theta"),
+        col(&hd, "k"),
+    );
+    // At least the frame that tripped the window, then the stop row; one rig period apart
+    // throughout (the stop row is stamped one period after the last frame).
+    assert!(rows.len() >= 2, "{rows:?}");
+    assert_eq!(r.logged, Some(rows.len() as u64));
+    for (j, row) in rows.iter().enumerate() {
+        assert_eq!(row[ti], j as f64 / 1e3, "row {j}");
+        assert_eq!(row[ki], 0.0);
+        // The measured angle is the emulator's 40° to the pendulum encoder's resolution
+        // (2π/14400 rad ≈ 0.025°; it has fallen by far less than 1° within a few ms).
+        assert!((row[thi].to_degrees() - 40.0).abs() < 1.0, "{row:?}");
+    }
+    assert_eq!(rows.last().unwrap()[vi], 0.0);
+}
