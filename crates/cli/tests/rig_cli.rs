@@ -3,7 +3,8 @@
 //! with every sample logged and the stop's exit status), the emulator subcommand, a log read
 //! back by `pendulab identify`, and bad input.
 //!
-//! Assertions are about behaviour; timing is only printed (2 shared cores under load).
+//! Assertions are about behaviour; timing is only printed (2 shared cores under load). The
+//! identification accuracy is asserted because the log's time is the rig's, not the loop's.
 
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use serde_json::Value;
@@ -77,6 +78,7 @@ fn rows(path: &str) -> Vec<Vec<f64>> {
                 .map(|x| x.parse().unwrap_or_else(|_| panic!("bad field in {l:?}")))
                 .collect();
             assert_eq!(r.len(), n, "incomplete row {l:?}");
+            assert!(r.iter().all(|x| x.is_finite()), "non-finite field in {l:?}");
             r
         })
         .collect()
@@ -98,11 +100,16 @@ fn wait_rows(path: &str, n: usize, child: &mut Child) {
     }
 }
 
-fn assert_contiguous(r: &[Vec<f64>]) {
-    for (k, row) in r.iter().enumerate() {
-        assert_eq!(row[0], k as f64, "row {k}");
-        // t = k·ts exactly as written (1 kHz).
-        assert!((row[1] - k as f64 * 1e-3).abs() < 1e-12);
+/// Every rig frame from the first is in the log, in order: the rig's time stamp `t` (column 1)
+/// advances by exactly one rig period (1 ms, µs / 10⁶) per row, and the loop period `k`
+/// (column 0) that read it never decreases. `skip_last` leaves out a stop row.
+fn assert_contiguous(r: &[Vec<f64>], skip_last: bool) {
+    let n = if skip_last { r.len() - 1 } else { r.len() };
+    for (j, row) in r[..n].iter().enumerate() {
+        assert_eq!(row[1], j as f64 / 1e3, "row {j}");
+        if j > 0 {
+            assert!(row[0] >= r[j - 1][0], "row {j}");
+        }
     }
 }
 
@@ -137,7 +144,7 @@ fn killing_the_controller_makes_the_emulator_zero_the_motor_and_leaves_an_intact
     // The log: every row complete and contiguous from k = 0 (nothing torn, nothing skipped).
     let r = rows(&log);
     assert!(r.len() >= 500);
-    assert_contiguous(&r);
+    assert_contiguous(&r, false);
     println!(
         "SIGKILL: {} rows logged; the emulator accepted {} commands",
         r.len(),
@@ -178,11 +185,13 @@ fn ctrl_c_and_sigterm_stop_safely_with_every_sample_logged() {
             .unwrap()
             .parse()
             .unwrap();
-        // Every sample up to the stop is in the log, the last one the 0 V stop row.
+        // Every frame up to the stop is in the log, then the 0 V stop row, logged in the
+        // stop's period (the last of `samples`).
         let r = rows(&log);
-        assert_eq!(r.len(), samples);
-        assert_contiguous(&r);
-        assert_eq!(r.last().unwrap()[9], 0.0); // column v
+        assert_contiguous(&r, true);
+        let last = r.last().unwrap();
+        assert_eq!(last[0], (samples - 1) as f64); // column k
+        assert_eq!(last[10], 0.0); // column v
         // The STOP frames freed the emulator at once: 0 V, no session.
         let t0 = Instant::now();
         while h.telemetry().session != 0 {
@@ -229,13 +238,16 @@ fn a_servo_log_from_the_emulator_identifies_the_book_cart_drive() {
     // `pendulab rig emulate` (the book plant) and `pendulab rig run` with the LQ servo to
     // 0.3 m; the log goes straight into `pendulab identify cart-ls` (columns t, z, v as the
     // rig data of data/rig/). The emulated plant has a_c = 6.25 1/s, b_c = 4.36 m/(s² V)
-    // (table 3.5), but how close the estimates come depends on the loop's timing: the log's
-    // t is the nominal k·ts, v is applied by the rig up to a period later, and on a loaded
-    // machine wake-ups are late by milliseconds (a quiet run gives ~10 %, a 2-core machine at
-    // load 14 gave 25 %). The test therefore asserts that the log is read as it is (the
-    // window's sample count) and that the estimates are the right physical quantities — a
-    // factor of 2, which still fails for mixed-up columns or units (v in µV, z in counts) —
-    // and prints them.
+    // (table 3.5, the emulator's parameters). The log's t is the rig's own stamp (plant time)
+    // and v the voltage the rig had applied for each frame, so the loop's late wake-ups do not
+    // enter the data: the estimates are those of the rig's uniform record. What remains is
+    // systematic and timing-free: v is the voltage applied over the step *before* each
+    // sample while the least-squares model holds it over the step after, a shift of one
+    // period, a bias of the order of a_c·ts ≈ 0.6 % (the estimates come out 0.3–0.4 % high
+    // whatever the load: 26–161 deadline misses gave the same digits), plus the encoder
+    // (0.048 mm) and D/A quantisation and the hanging pendulum's reaction, which the drive
+    // model leaves out. 2 % bounds that with margin; the nominal-time log this replaces gave
+    // 7.8 (+25 %) on a loaded machine, so the bound fails for the defect.
     let d = Dir::new("ident");
     let (mut emu, addr) = emulate(&["--plant", "cart", "--theta0-deg", "0", "--duration", "30"]);
     let ctl = d.file(
@@ -275,10 +287,10 @@ fn a_servo_log_from_the_emulator_identifies_the_book_cart_drive() {
         v["estimates"]["bc"].as_f64().unwrap(),
     );
     println!("identified from the rig log: ac = {ac}, bc = {bc}");
-    // 0.4 s to 3.5 s inclusive at 1 kHz.
+    // 0.4 s to 3.5 s of rig time inclusive at the rig's 1 kHz: every frame is there.
     assert_eq!(v["samples"], 3101);
-    assert!(ac > 6.25 / 2.0 && ac < 6.25 * 2.0, "ac = {ac}");
-    assert!(bc > 4.36 / 2.0 && bc < 4.36 * 2.0, "bc = {bc}");
+    assert!((ac / 6.25 - 1.0).abs() < 0.02, "ac = {ac}");
+    assert!((bc / 4.36 - 1.0).abs() < 0.02, "bc = {bc}");
 }
 
 #[test]

@@ -17,7 +17,10 @@
 //! 4. reads the encoders (the book rigs' resolutions, `pendulab_plants::RigSpec`; encoder 0
 //!    counts the drive from its start position, encoder 1 the pendulum from the **hanging
 //!    rest**, as a real incremental encoder powered up with the pendulum hanging does), with
-//!    optional Gaussian noise in counts, and sends a sensor frame to the controller's address.
+//!    optional Gaussian noise in counts, and sends a sensor frame to the controller's address
+//!    **after every plant step** (a late wake-up sends one frame per step it took), stamped
+//!    with the plant's clock in µs — the time the state it carries belongs to — so the rig's
+//!    record is uniform in time as a microcontroller sampling on a timer interrupt is.
 //!
 //! Fault injection, all seeded (ChaCha8): packet loss in both directions, a fixed extra
 //! latency of the sensor frames, and [`EmulatorHandle::stall`] (the whole emulator freezes,
@@ -535,25 +538,6 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
             v = (v / dac_step).round() * dac_step;
         }
         let fr = cfg.friction_volts;
-        for _ in 0..n_steps {
-            if fr > 0.0 {
-                rk4(&plant, &mut x, |xs| karnopp(v, xs[2], fr, fr, 1e-4), ts);
-            } else {
-                rk4(&plant, &mut x, |_| v, ts);
-            }
-            t += ts;
-        }
-
-        // 4. Encoders and the sensor frame.
-        let mut counts = [0i32; 2];
-        let zero = [0.0, PI];
-        for j in 0..2 {
-            let mut c = (x[j] - zero[j]) / steps[j];
-            if cfg.encoder_noise_counts > 0.0 {
-                c += noise.sample(&mut rng);
-            }
-            counts[j] = c.round().clamp(i32::MIN as f64, i32::MAX as f64) as i32;
-        }
         if held.is_some_and(|c| c.flags & flags::ENABLE != 0) {
             st |= status::ENABLED;
         }
@@ -564,22 +548,47 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
             st |= status::BAD_FRAME;
             bad_since_last = false;
         }
-        seq = seq.wrapping_add(1);
-        let frame = SensorFrame {
-            session,
-            seq,
-            time_us: (now - t0).as_micros() as u64,
-            counts,
-            command_seq: tel.last_command_seq,
-            status: st,
-        };
-        if let Some(p) = peer {
-            tel.sensor_frames += 1;
-            if cfg.loss > 0.0 && rng.random::<f64>() < cfg.loss {
-                tel.lost.1 += 1;
+        // One sensor frame per plant step, as a microcontroller samples on every tick: a late
+        // wake-up steps several times and sends each step's frame, so the rig's record stays
+        // uniform. Frames are stamped with the plant's own clock (`t` after the step, µs):
+        // the time the state they carry belongs to.
+        for _ in 0..n_steps {
+            if fr > 0.0 {
+                rk4(&plant, &mut x, |xs| karnopp(v, xs[2], fr, fr, 1e-4), ts);
             } else {
-                out_queue.push_back((now + cfg.latency, frame.encode()));
+                rk4(&plant, &mut x, |_| v, ts);
             }
+            t += ts;
+
+            // 4. Encoders and the sensor frame.
+            let mut counts = [0i32; 2];
+            let zero = [0.0, PI];
+            for j in 0..2 {
+                let mut c = (x[j] - zero[j]) / steps[j];
+                if cfg.encoder_noise_counts > 0.0 {
+                    c += noise.sample(&mut rng);
+                }
+                counts[j] = c.round().clamp(i32::MIN as f64, i32::MAX as f64) as i32;
+            }
+            seq = seq.wrapping_add(1);
+            let frame = SensorFrame {
+                session,
+                seq,
+                time_us: (t * 1e6).round() as u64,
+                counts,
+                command_seq: tel.last_command_seq,
+                status: st,
+            };
+            if peer.is_some() {
+                tel.sensor_frames += 1;
+                if cfg.loss > 0.0 && rng.random::<f64>() < cfg.loss {
+                    tel.lost.1 += 1;
+                } else {
+                    out_queue.push_back((now + cfg.latency, frame.encode()));
+                }
+            }
+        }
+        if let Some(p) = peer {
             while let Some((at, bytes)) = out_queue.front() {
                 if *at > Instant::now() {
                     break;

@@ -13,14 +13,15 @@
 //! 4. safety on `y`: NaN guard, drive travel limit `|q₀| ≤ travel_limit`, and for balance
 //!    controllers the angle window `|wrap(q₁)| ≤ angle_window`;
 //! 5. `u = controller.update(k·ts, y)`, NaN guard on `u`, clamp to `±voltage_limit`, send the
-//!    command frame; hand the sample to the logger.
+//!    command frame; hand every fresh frame of the period to the logger (one row each,
+//!    stamped with the rig's clock, see [`crate::log`]).
 //!
 //! Every stop (completed, Ctrl-C, watchdog, limits, NaN, I/O) sends 0 V with
 //! [`flags::STOP`] (three times, for loss), logs a final row with `v = 0`, flushes the log and
 //! reports the [`StopReason`] with the loop's statistics ([`LoopStats`]).
 
 use crate::RigError;
-use crate::clock::{Percentiles, sleep_until};
+use crate::clock::{Histogram, Percentiles, sleep_until};
 use crate::emulator::PlantKind;
 use crate::log::{Logger, Sample};
 use crate::protocol::{CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags};
@@ -164,7 +165,8 @@ impl fmt::Display for StopReason {
     }
 }
 
-/// What the loop measured of itself. Times in seconds.
+/// What the loop measured of itself. Times in seconds; percentiles from fixed-memory
+/// [`Histogram`]s (resolution 1 % or 1 ns), maxima and means exact.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct LoopStats {
     /// `|period − ts|` of consecutive wake-ups.
@@ -192,9 +194,9 @@ pub struct RunReport {
     pub reason: StopReason,
     /// Human-readable detail (which limit, which value).
     pub detail: String,
-    /// Periods run (rows logged, including the final stop row).
+    /// Periods run (including the stop's period).
     pub samples: u64,
-    /// Rows the logger wrote (equal to `samples` when a log was kept).
+    /// Rows the logger wrote (one per sensor frame received, plus the stop row).
     pub logged: Option<u64>,
     /// Loop statistics.
     pub stats: LoopStats,
@@ -208,10 +210,11 @@ impl fmt::Display for RunReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let us = |p: &Percentiles| {
             format!(
-                "p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs",
+                "p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs, mean {:.1} µs",
                 p.p50 * 1e6,
                 p.p99 * 1e6,
-                p.max * 1e6
+                p.max * 1e6,
+                p.mean * 1e6
             )
         };
         let s = &self.stats;
@@ -319,24 +322,23 @@ impl Link {
         }
     }
 
-    /// The newest fresh frame waiting, if any.
-    fn receive(&mut self) -> Result<Option<SensorFrame>, std::io::Error> {
-        let mut newest = None;
+    /// Appends every fresh frame waiting to `out`, oldest first (the last is the newest).
+    fn receive(&mut self, out: &mut Vec<SensorFrame>) -> Result<(), std::io::Error> {
         #[cfg(feature = "serial")]
         if let Transport::Serial(port) = &mut self.transport {
             port.poll()?;
             while let Some(f) = port.next_frame() {
                 if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
-                    newest = Some(f);
+                    out.push(f);
                 }
             }
-            return Ok(newest);
+            return Ok(());
         }
         loop {
             let got = match &self.transport {
                 Transport::Udp(socket) => socket.recv(&mut self.buf),
                 #[cfg(feature = "serial")]
-                Transport::Serial(_) => return Ok(newest),
+                Transport::Serial(_) => return Ok(()),
             };
             match got {
                 Ok(n) => {
@@ -348,11 +350,11 @@ impl Link {
                         }
                     };
                     if let Some(f) = judge(self.session, &mut self.gate, &mut self.rejects, f) {
-                        newest = Some(f);
+                        out.push(f);
                     }
                 }
-                Err(e) if e.kind() == ErrorKind::WouldBlock => return Ok(newest),
-                Err(e) if e.kind() == ErrorKind::ConnectionRefused => return Ok(newest),
+                Err(e) if e.kind() == ErrorKind::WouldBlock => return Ok(()),
+                Err(e) if e.kind() == ErrorKind::ConnectionRefused => return Ok(()),
                 Err(e) => return Err(e),
             }
         }
@@ -381,10 +383,56 @@ fn open_transport(config: &RunConfig) -> Result<Transport, RigError> {
     Ok(Transport::Udp(socket))
 }
 
+/// Logs one row per frame of a period, oldest first, stamped with the rig's time; `v` is the
+/// voltage of the command each frame echoes (from the ring of sent commands, falling back to
+/// the period's), `period = [dz, dθ, v_sent, u_ctrl]` the period's values. Returns `false` if
+/// the writer has stopped.
+#[allow(clippy::too_many_arguments)]
+fn log_frames(
+    l: &Logger,
+    frames: &[SensorFrame],
+    sent_at: &[(u32, Instant, f64)],
+    (k, t_nominal, t_wall): (u64, f64, f64),
+    rig_time: &dyn Fn(&SensorFrame) -> f64,
+    steps: &[f64; 2],
+    period: [f64; 4],
+    last_t: &mut f64,
+) -> bool {
+    let mut alive = true;
+    for f in frames {
+        let applied = match f.command_seq {
+            0 => 0.0,
+            c => match sent_at[c as usize % sent_at.len()] {
+                (s, _, volts) if s == c => volts,
+                // Older than the ring: not known any more.
+                _ => period[2],
+            },
+        };
+        *last_t = rig_time(f);
+        alive &= l.log(Sample {
+            k,
+            t: *last_t,
+            t_nominal,
+            t_wall,
+            seq: f.seq,
+            q: [
+                f.counts[0] as f64 * steps[0],
+                f.counts[1] as f64 * steps[1] + PI,
+            ],
+            dq: [period[0], period[1]],
+            v: applied,
+            v_sent: period[2],
+            u_ctrl: period[3],
+            status: f.status,
+        });
+    }
+    alive
+}
+
 /// Runs the loop until the duration elapses, `stop` is raised or a safety stop.
 ///
 /// `controller` sees `y = [q₀, q₁, q̇₀, q̇₁]` and must have `ny = 4`, `nu = 1`, and a sample
-/// time (if it has one) equal to `config.ts`. With `log`, every period is logged and the log
+/// time (if it has one) equal to `config.ts`. With `log`, every sensor frame is logged and the log
 /// is finished (flushed) before returning, on every path.
 ///
 /// # Errors
@@ -464,8 +512,10 @@ pub fn run(
 
     // Connect: disabled commands until the rig answers in this session.
     let start = Instant::now();
-    let mut first = None;
-    while first.is_none() {
+    // Fresh frames of the current period, oldest first (reused: no allocation per period
+    // unless a burst outgrows it).
+    let mut frames: Vec<SensorFrame> = Vec::with_capacity(256);
+    while frames.is_empty() {
         if stop.load(Ordering::Relaxed) {
             if let Some(l) = log {
                 l.finish()?;
@@ -488,24 +538,28 @@ pub fn run(
         link.send(0.0, 0, 0)
             .map_err(|e| RigError::io(format!("sending to {}", config.connect), e))?;
         std::thread::sleep(Duration::from_millis(5));
-        first = link
-            .receive()
+        link.receive(&mut frames)
             .map_err(|e| RigError::io(format!("receiving from {}", config.connect), e))?;
     }
-    let mut frame = first.expect("connected");
+    let mut frame = frames[frames.len() - 1];
+    // The log's time origin: the rig's stamp of the first frame of the run.
+    let origin_us = frames[0].time_us;
+    let rig_time = |f: &SensorFrame| f.time_us.wrapping_sub(origin_us) as i64 as f64 / 1e6;
+    let mut last_t = rig_time(&frame);
 
     let n_max = config
         .duration
         .map(|d| (d / config.ts).round() as u64)
         .unwrap_or(u64::MAX);
-    let cap = n_max.min(600_000) as usize;
-    let mut jitter = Vec::with_capacity(cap);
-    let mut lateness = Vec::with_capacity(cap);
-    let mut compute = Vec::with_capacity(cap);
-    let mut rtt = Vec::with_capacity(cap);
-    // Send times of recent commands, indexed by sequence number modulo the ring size.
+    // Fixed memory however long the run (`duration: None` runs until stopped).
+    let mut jitter = Histogram::new();
+    let mut lateness = Histogram::new();
+    let mut compute = Histogram::new();
+    let mut rtt = Histogram::new();
+    // Send times and voltages of recent commands, indexed by sequence number modulo the ring
+    // size.
     const RING: usize = 4096;
-    let mut sent_at = vec![(0u32, start); RING];
+    let mut sent_at = vec![(0u32, start, 0.0f64); RING];
     let mut last_echo = 0u32;
     let mut stats = LoopStats::default();
     let period = Duration::from_secs_f64(config.ts);
@@ -523,24 +577,26 @@ pub fn run(
     let mut k: u64 = 0;
     let t0 = Instant::now();
     controller.reset();
-    let mut fresh = Some(frame);
     let mut logger_alive = true;
+    // Frames received this period and not yet logged (a stop inside the period logs them).
+    let mut pending = true;
 
     loop {
         let deadline = t0 + period.mul_f64(k as f64);
         sleep_until(deadline, spin);
         let wake = Instant::now();
-        lateness.push((wake - deadline).as_secs_f64());
+        lateness.record((wake - deadline).as_secs_f64());
         if let Some(p) = prev_wake {
-            jitter.push(((wake - p).as_secs_f64() - config.ts).abs());
+            jitter.record(((wake - p).as_secs_f64() - config.ts).abs());
         }
         prev_wake = Some(wake);
         let t = k as f64 * config.ts;
 
         // 1. Sensors.
         if k > 0 {
-            match link.receive() {
-                Ok(f) => fresh = f,
+            frames.clear();
+            match link.receive(&mut frames) {
+                Ok(()) => pending = !frames.is_empty(),
                 Err(e) => {
                     reason = StopReason::Io;
                     detail = format!("receiving from {}: {e}", config.connect);
@@ -548,15 +604,15 @@ pub fn run(
                 }
             }
         }
-        match fresh.take() {
+        match frames.last().copied() {
             Some(f) => {
                 frame = f;
                 stale_run = 0;
                 if f.command_seq != last_echo && f.command_seq != 0 {
                     last_echo = f.command_seq;
-                    let (s, at) = sent_at[f.command_seq as usize % RING];
+                    let (s, at, _) = sent_at[f.command_seq as usize % RING];
                     if s == f.command_seq {
-                        rtt.push((wake - at).as_secs_f64());
+                        rtt.record((wake - at).as_secs_f64());
                     }
                 }
             }
@@ -621,23 +677,23 @@ pub fn run(
             }
         };
         let done = Instant::now();
-        sent_at[seq as usize % RING] = (seq, done);
-        compute.push((done - wake).as_secs_f64());
+        sent_at[seq as usize % RING] = (seq, done, v);
+        compute.record((done - wake).as_secs_f64());
         if done > deadline + period {
             stats.deadline_misses += 1;
         }
         if let Some(l) = &log {
-            logger_alive &= l.log(Sample {
-                k,
-                t,
-                t_wall: (wake - t0).as_secs_f64(),
-                seq: frame.seq,
-                q: [y[0], y[1]],
-                dq: [y[2], y[3]],
-                v,
-                u_ctrl,
-                status: frame.status,
-            });
+            logger_alive &= log_frames(
+                l,
+                &frames,
+                &sent_at,
+                (k, t, (wake - t0).as_secs_f64()),
+                &rig_time,
+                &steps,
+                [y[2], y[3], v, u_ctrl],
+                &mut last_t,
+            );
+            pending = false;
             if !logger_alive {
                 reason = StopReason::Io;
                 detail = "the log writer stopped".into();
@@ -664,14 +720,31 @@ pub fn run(
     let wake = Instant::now();
     if reason != StopReason::Completed {
         if let Some(l) = &log {
+            // The frames of the stop's period, if the stop came before they were logged.
+            if pending {
+                log_frames(
+                    l,
+                    &frames,
+                    &sent_at,
+                    (k, k as f64 * config.ts, (wake - t0).as_secs_f64()),
+                    &rig_time,
+                    &steps,
+                    [y[2], y[3], 0.0, 0.0],
+                    &mut last_t,
+                );
+            }
+            // Not a measurement: the last one repeated, stamped one period after it, with the
+            // 0 V the stop commands.
             l.log(Sample {
                 k,
-                t: k as f64 * config.ts,
+                t: last_t + config.ts,
+                t_nominal: k as f64 * config.ts,
                 t_wall: (wake - t0).as_secs_f64(),
                 seq: frame.seq,
                 q: [y[0], y[1]],
                 dq: [y[2], y[3]],
                 v: 0.0,
+                v_sent: 0.0,
                 u_ctrl: 0.0,
                 status: frame.status,
             });
@@ -682,10 +755,10 @@ pub fn run(
         Some(l) => Some(l.finish()?),
         None => None,
     };
-    stats.jitter = Percentiles::of(&mut jitter);
-    stats.lateness = Percentiles::of(&mut lateness);
-    stats.compute = Percentiles::of(&mut compute);
-    stats.round_trip = Percentiles::of(&mut rtt);
+    stats.jitter = jitter.summary();
+    stats.lateness = lateness.summary();
+    stats.compute = compute.summary();
+    stats.round_trip = rtt.summary();
     stats.rejects = link.rejects;
     Ok(RunReport {
         reason,

@@ -84,7 +84,6 @@ fn cart_lqr_balances_the_emulated_rig_for_10_s_from_10_degrees() {
     // |z| inside 0.4 m for all 10 000 periods) and the true pendulum ends upright and still.
     assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
     assert_eq!(r.samples, 10_000);
-    assert_eq!(r.logged, Some(10_000));
     // The LQR from 10° settles in ~3 s on the book's simulation; after 10 s the residual is the
     // quantisation-limited cycle of the rig (encoder 0.025°, D/A 0.15 mV): 1° is a generous
     // bound that still fails for a falling or drifting pendulum.
@@ -95,12 +94,22 @@ fn cart_lqr_balances_the_emulated_rig_for_10_s_from_10_degrees() {
     );
     assert!(tel.state[0].abs() < 0.05, "{:?}", tel.state);
     assert!(tel.max_abs_pendulum < 12f64.to_radians());
-    // The log holds every period with t = k·ts.
+    // The log holds every frame the rig sent (one per plant step, none lost on loopback),
+    // stamped with the rig's clock: t advances by exactly one rig period (1000 µs, written
+    // as µs / 10⁶) from row to row however late the loop woke up, and k (the loop period
+    // that read the frame) never decreases.
     let (hd, rows) = read_log(&path);
-    assert_eq!(rows.len(), 10_000);
-    for (k, row) in rows.iter().enumerate() {
-        assert_eq!(row[col(&hd, "k")], k as f64);
+    assert_eq!(r.logged, Some(rows.len() as u64));
+    let (ki, ti) = (col(&hd, "k"), col(&hd, "t"));
+    assert_eq!(rows[0][ti], 0.0);
+    for (j, w) in rows.windows(2).enumerate() {
+        assert_eq!(w[1][ti], (j + 1) as f64 / 1e3, "row {}", j + 1);
+        assert!(w[1][ki] >= w[0][ki]);
     }
+    // About 10 s of rig time was read: the rig and the loop both ran for ~10 s of their own
+    // clocks (the emulator falls behind only when descheduled for > 200 periods).
+    let span = rows.last().unwrap()[ti];
+    assert!(span > 9.0 && span < 11.0, "{span}");
 }
 
 #[test]
@@ -217,21 +226,22 @@ fn a_stalled_emulator_trips_the_watchdog_and_the_command_goes_to_zero() {
     println!("{r}");
     let h = staller.join().unwrap();
     assert_eq!(r.reason, StopReason::Watchdog, "{}", r.detail);
-    // The last rows: the final row commands 0 V, and it comes exactly `watchdog_periods`
-    // periods after the last fresh frame (the rows in between reuse that frame's seq).
+    // The last rows: the final row commands 0 V, and it comes in the period exactly
+    // `watchdog_periods` after the one that read the last fresh frame (stale periods log no
+    // row: they have no new measurement).
     let (hd, rows) = read_log(&path);
-    let (vi, si) = (col(&hd, "v"), col(&hd, "seq"));
-    let last = rows.last().unwrap();
+    let (vi, si, ki) = (col(&hd, "v"), col(&hd, "seq"), col(&hd, "k"));
+    let last = &rows[rows.len() - 1];
+    let before = &rows[rows.len() - 2];
     assert_eq!(last[vi], 0.0);
-    assert_eq!(r.logged, Some(r.samples));
-    let last_seq = last[si];
-    let same = rows
-        .iter()
-        .rev()
-        .take_while(|row| row[si] == last_seq)
-        .count();
-    // The fresh frame's own row, 24 stale rows, and the stop row on the 25th stale period.
-    assert_eq!(same, 1 + 24 + 1, "rows sharing the last seq");
+    assert_eq!(r.logged, Some(rows.len() as u64));
+    assert_eq!(last[si], before[si], "the stop row repeats the last frame");
+    assert_eq!(
+        last[ki] - before[ki],
+        25.0,
+        "periods from the last frame to the stop"
+    );
+    assert_eq!(last[ki], (r.samples - 1) as f64);
     // After the stall the emulator reads the STOP frames: motor at 0 V, session freed.
     let t0 = Instant::now();
     loop {
@@ -471,4 +481,50 @@ fn arm_gain_scheduled_lqr_brings_the_arm_back_from_50_degrees() {
         "{:?}",
         tel.state
     );
+}
+
+#[test]
+fn a_safety_stop_logs_the_frames_of_its_period_then_the_stop_row() {
+    // The pendulum held 40° from the top: outside the 30° window from the first frame on, so
+    // the run stops in period 0, before the period's frames reached the normal logging step.
+    let emu = Emulator::spawn(emulator(
+        PlantKind::Cart,
+        [0.0, 40f64.to_radians(), 0.0, 0.0],
+    ))
+    .unwrap();
+    let mut l = load(CART_LQR).unwrap();
+    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    cfg.safety = l.safety;
+    tolerant(&mut cfg);
+    let path = tmp("window.csv");
+    let log = Logger::create(&path, PlantKind::Cart).unwrap();
+    let r = run(
+        &cfg,
+        l.controller.as_mut(),
+        &AtomicBool::new(false),
+        Some(log),
+    )
+    .unwrap();
+    emu.stop().unwrap();
+    assert_eq!(r.reason, StopReason::AngleWindow, "{}", r.detail);
+    assert_eq!(r.samples, 1);
+    let (hd, rows) = read_log(&path);
+    let (ti, vi, thi, ki) = (
+        col(&hd, "t"),
+        col(&hd, "v"),
+        col(&hd, "theta"),
+        col(&hd, "k"),
+    );
+    // At least the frame that tripped the window, then the stop row; one rig period apart
+    // throughout (the stop row is stamped one period after the last frame).
+    assert!(rows.len() >= 2, "{rows:?}");
+    assert_eq!(r.logged, Some(rows.len() as u64));
+    for (j, row) in rows.iter().enumerate() {
+        assert_eq!(row[ti], j as f64 / 1e3, "row {j}");
+        assert_eq!(row[ki], 0.0);
+        // The measured angle is the emulator's 40° to the pendulum encoder's resolution
+        // (2π/14400 rad ≈ 0.025°; it has fallen by far less than 1° within a few ms).
+        assert!((row[thi].to_degrees() - 40.0).abs() < 1.0, "{row:?}");
+    }
+    assert_eq!(rows.last().unwrap()[vi], 0.0);
 }
