@@ -21,8 +21,9 @@
 //!   outcomes and final states are from the general loop's.
 //! - `cartpole-step`: the Gymnasium-style environment (`pendulab_sim::Env`, CartPole-v1 settings
 //!   on this rig: one RK4 step of 20 ms per `step`, track ±0.4 m chosen here) driven by uniform
-//!   random actions in ±5 V with resets at episode ends, like a random-policy rollout.
-//!   Figure: `step` calls per second. Check: one step equals the RK4 kernel; an LQR policy
+//!   random actions in ±5 V with resets at episode ends, like a random-policy rollout, the
+//!   plant with its opt-in polynomial sine/cosine (`Trig::Polynomial`, within 2 ulp of libm).
+//!   Figure: `step` calls per second; the check has the rate with libm's sine/cosine. Check: one step equals the RK4 kernel; an LQR policy
 //!   survives the 500-step episode.
 
 use super::{BenchReport, Budget, Workload, time};
@@ -31,7 +32,7 @@ use pendulab_lti::Mat;
 use pendulab_plants::{CartEquilibrium, CartPendulum};
 use pendulab_sim::batch::{Axis, grid, run_initial_states};
 use pendulab_sim::controllers::StaticStateFeedback;
-use pendulab_sim::lanes::{LaneOptions, LibmSinCos, PolySinCos, run_feedback_lanes};
+use pendulab_sim::lanes::{LaneOptions, LibmSinCos, PolySinCos, Trig, run_feedback_lanes};
 use pendulab_sim::{
     Env, EnvConfig, Integrator, Record, RunStatus, SampledLoop, SampledOptions, StayWithin,
     rk4_step,
@@ -75,7 +76,15 @@ fn closed_loop(
     record: Record,
     integrator: Integrator,
 ) -> Result<SampledLoop<CartPendulum, StaticStateFeedback>> {
-    let plant = CartPendulum::book();
+    closed_loop_with(record, integrator, Trig::Libm)
+}
+
+fn closed_loop_with(
+    record: Record,
+    integrator: Integrator,
+    trig: Trig,
+) -> Result<SampledLoop<CartPendulum, StaticStateFeedback>> {
+    let plant = CartPendulum::book().with_trig(trig);
     let k = lqr_gain(&plant)?;
     Ok(SampledLoop::new(
         plant,
@@ -127,6 +136,28 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
             max_dev = max_dev.max((run.trajectory.x()[(k, i)] - r.trajectory.x()[(k, i)]).abs());
         }
     }
+    // The same recorded run with the plant's opt-in polynomial sine/cosine (Trig::Polynomial).
+    let mut fast = closed_loop_with(
+        Record::EverySample,
+        Integrator::Rk4 { dt: 1e-3 },
+        Trig::Polynomial,
+    )?;
+    let mut last_fast = Some(fast.run(&x0)?);
+    let t_fast = time(budget, || {
+        let previous = last_fast.take().expect("previous run");
+        last_fast = Some(
+            fast.run_recycling(black_box(&x0), &mut (), previous)
+                .expect("closed-loop run"),
+        );
+    });
+    let fast_run = last_fast.context("ran at least once")?;
+    let mut fast_dev = 0.0f64;
+    for k in 0..fast_run.trajectory.len() {
+        for i in 0..4 {
+            fast_dev =
+                fast_dev.max((fast_run.trajectory.x()[(k, i)] - run.trajectory.x()[(k, i)]).abs());
+        }
+    }
     let xf = &run.diagnostics.final_state;
     Ok(BenchReport {
         workload: "sim-rk4".into(),
@@ -146,6 +177,8 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
             "balanced": xf[1].abs() < 1e-3 && run.status == RunStatus::Completed,
             "max_abs_deviation_from_dopri45_1e-12": max_dev,
             "reference_steps": r.diagnostics.integration.accepted_steps,
+            "polynomial_trig_steps_per_s": steps as f64 / t_fast.median_s,
+            "polynomial_trig_max_abs_deviation_from_libm_run": fast_dev,
         }),
     })
 }
@@ -252,7 +285,10 @@ fn run_batch(budget: &Budget) -> Result<BenchReport> {
 }
 
 fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
-    let plant = CartPendulum::book();
+    // Headline: the environment with the plant's opt-in polynomial sine/cosine
+    // (`Trig::Polynomial`, within 2 ulp of libm); the libm plant's rate is in the check.
+    let libm_plant = CartPendulum::book();
+    let plant = libm_plant.with_trig(Trig::Polynomial);
     let mut env = Env::<_, 4>::new(plant, EnvConfig::cart_pole(0.4)?)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     env.reset(Some(1));
@@ -267,6 +303,19 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
             if s.terminated || s.truncated {
                 env.reset(None);
                 episodes += 1;
+            }
+        }
+    });
+    // The same rollout with the default plant (libm's sine/cosine).
+    let mut libm_env = Env::<_, 4>::new(libm_plant, EnvConfig::cart_pole(0.4)?)?;
+    let mut rng_libm = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    libm_env.reset(Some(1));
+    let t_libm = time(budget, || {
+        for _ in 0..CALLS {
+            let a: f64 = rng_libm.random_range(-5.0..5.0);
+            let s = libm_env.step(a).expect("step");
+            if s.terminated || s.truncated {
+                libm_env.reset(None);
             }
         }
     });
@@ -294,13 +343,14 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
         figure: CALLS as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "Env::step with a uniform random action in [-5, 5] V (ChaCha8) and Env::reset at episode ends, one core",
+            "figure_measures": "Env::step (plant with Trig::Polynomial) with a uniform random action in [-5, 5] V (ChaCha8) and Env::reset at episode ends, one core",
             "median_s_per_100k_steps": timing.median_s,
             "episodes": episodes,
             "mean_episode_length": steps_total as f64 / episodes.max(1) as f64,
             "step_equals_rk4_kernel": step_is_rk4,
             "lqr_policy_steps": survived,
             "lqr_policy_survives_500": survived == 500,
+            "libm_trig_steps_per_s": CALLS as f64 / t_libm.median_s,
         }),
     })
 }
