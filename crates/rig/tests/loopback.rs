@@ -9,7 +9,7 @@ use pendulab_rig::config::load;
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::protocol::{COMMAND_LEN, CommandFrame, SENSOR_LEN, SensorFrame, flags};
 use pendulab_rig::runtime::{RunConfig, run};
-use pendulab_rig::{Logger, StopReason};
+use pendulab_rig::{Logger, StopReason, Telemetry};
 use std::f64::consts::PI;
 use std::net::UdpSocket;
 use std::path::PathBuf;
@@ -55,6 +55,21 @@ fn emulator(plant: PlantKind, x0: [f64; 4]) -> EmulatorConfig {
 
 fn col(header: &[String], name: &str) -> usize {
     header.iter().position(|h| h == name).unwrap()
+}
+
+/// Runs the controller file `toml` against `emu` for `duration` s (tolerant watchdog, no log),
+/// stops the emulator and checks that the run completed without a safety stop.
+fn run_to_completion(emu: Emulator, plant: PlantKind, toml: &str, duration: f64) -> Telemetry {
+    let mut l = load(toml).unwrap();
+    let mut cfg = RunConfig::new(plant, emu.addr());
+    cfg.duration = Some(duration);
+    cfg.safety = l.safety;
+    tolerant(&mut cfg);
+    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
+    println!("{r}");
+    let tel = emu.stop().unwrap();
+    assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
+    tel
 }
 
 #[test]
@@ -115,18 +130,12 @@ fn cart_lqr_balances_the_emulated_rig_for_10_s_from_10_degrees() {
 #[test]
 fn cart_lq_servo_moves_the_cart_to_half_a_metre() {
     let emu = Emulator::spawn(emulator(PlantKind::Cart, [0.0; 4])).unwrap();
-    let mut l = load(
+    let tel = run_to_completion(
+        emu,
+        PlantKind::Cart,
         "plant = \"cart\"\n[controller]\nkind = \"lq-servo\"\nlqr = { q = [1.0, 5.0, 0.0, 0.0, 100.0], r = 1.0 }\nreference = [0.5]\n[safety]\ntravel_limit = 0.75\n",
-    )
-    .unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
-    cfg.duration = Some(8.0);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
-    println!("{r}");
-    let tel = emu.stop().unwrap();
-    assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
+        8.0,
+    );
     // cdip_lqr_servo_sim reaches r = 0.5 m in ~3 s; with the integrator the steady-state error
     // is zero up to the encoder and D/A limit cycle: 1 cm after 8 s.
     assert!((tel.state[0] - 0.5).abs() < 0.01, "{:?}", tel.state);
@@ -141,18 +150,12 @@ fn arm_lqr_balances_the_emulated_arm_rig_from_30_degrees_of_arm() {
         [30f64.to_radians(), 0.0, 0.0, 0.0],
     ))
     .unwrap();
-    let mut l = load(
+    let tel = run_to_completion(
+        emu,
+        PlantKind::Arm,
         "plant = \"arm\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [5.0, 10.0, 0.1, 0.1], r = 1.0 }\n",
-    )
-    .unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Arm, emu.addr());
-    cfg.duration = Some(10.0);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
-    println!("{r}");
-    let tel = emu.stop().unwrap();
-    assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
+        10.0,
+    );
     // The arm returns to 0 and the pendulum stays up (the book: the pendulum dips ≈ −4° for
     // q1 = 5); bounds of 2° at the end and 15° over the run fail for a fall or a drift.
     assert!(tel.state[0].abs() < 2f64.to_radians(), "{:?}", tel.state);
@@ -427,20 +430,14 @@ fn cart_swing_up_and_balance_from_the_hanging_rest() {
     // LQR of cdip_lqr_sim below 17°. Started 0.57° off the hanging rest (≈ 23 encoder counts,
     // so the first swing is visible to the rig's encoder).
     let emu = Emulator::spawn(emulator(PlantKind::Cart, [0.0, PI + 0.01, 0.0, 0.0])).unwrap();
-    let mut l = load(
-        "plant = \"cart\"\n[controller]\nkind = \"swing-up-balance\"\nbalance = { lqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 } }\n[safety]\ntravel_limit = 0.45\n",
-    )
-    .unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
-    cfg.duration = Some(10.0);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
-    println!("{r}");
-    let tel = emu.stop().unwrap();
     // Completed: the cart never left ±0.45 m. Upright and balanced at the end (2°), having
     // come from hanging (the largest |θ| seen is the hanging π).
-    assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
+    let tel = run_to_completion(
+        emu,
+        PlantKind::Cart,
+        "plant = \"cart\"\n[controller]\nkind = \"swing-up-balance\"\nbalance = { lqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 } }\n[safety]\ntravel_limit = 0.45\n",
+        10.0,
+    );
     assert!(
         wrap(tel.state[1]).abs() < 2f64.to_radians(),
         "{:?}",
@@ -465,15 +462,7 @@ fn arm_gain_scheduled_lqr_brings_the_arm_back_from_50_degrees() {
         "/../../docs/rig/examples/arm_gain_scheduled.toml"
     ))
     .unwrap();
-    let mut l = load(&text).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Arm, emu.addr());
-    cfg.duration = Some(6.0);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
-    println!("{r}");
-    let tel = emu.stop().unwrap();
-    assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
+    let tel = run_to_completion(emu, PlantKind::Arm, &text, 6.0);
     // Same bounds as the fixed-gain arm test: 2° at the end, the 30° window never left.
     assert!(tel.state[0].abs() < 2f64.to_radians(), "{:?}", tel.state);
     assert!(
