@@ -2,34 +2,12 @@
 //! the errors (wrong id, unwritable output directory, missing or malformed data file) that must
 //! give a message naming the problem and a non-zero exit.
 
+mod common;
+use common::*;
+
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::{Command, Output};
-
-struct Dir(PathBuf);
-
-impl Dir {
-    fn new(tag: &str) -> Self {
-        let p = std::env::temp_dir().join(format!("pendulab-book-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&p);
-        std::fs::create_dir_all(&p).unwrap();
-        Dir(p)
-    }
-    fn file(&self, name: &str, text: &str) -> String {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).unwrap();
-        p.to_string_lossy().into_owned()
-    }
-    fn path(&self, name: &str) -> String {
-        self.0.join(name).to_string_lossy().into_owned()
-    }
-}
-
-impl Drop for Dir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 fn book(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_pendulab"))
@@ -37,10 +15,6 @@ fn book(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn json_lines(o: &Output) -> Vec<Value> {
@@ -66,15 +40,6 @@ fn listed() -> Vec<(String, bool)> {
             )
         })
         .collect()
-}
-
-/// Failing run: non-zero exit and a message containing every `needle`.
-fn fails_with(o: &Output, needles: &[&str]) {
-    let err = stderr(o);
-    assert!(!o.status.success(), "expected failure, stderr: {err}");
-    for n in needles {
-        assert!(err.contains(n), "stderr lacks {n:?}: {err}");
-    }
 }
 
 #[test]

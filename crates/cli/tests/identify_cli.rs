@@ -2,35 +2,16 @@
 //! written here, and checks the JSON, the table and the errors (non-zero exit, a message
 //! naming file, column or line).
 
+mod common;
+use common::*;
+
 use serde_json::Value;
-use std::path::PathBuf;
 use std::process::{Command, Output};
 
 const AC: f64 = 6.25;
 const BC: f64 = 4.36;
 const JP: f64 = 1.59e-3;
 const MUP: f64 = 2.35e-4;
-
-struct Dir(PathBuf);
-
-impl Dir {
-    fn new(tag: &str) -> Self {
-        let p = std::env::temp_dir().join(format!("pendulab-ident-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&p).unwrap();
-        Dir(p)
-    }
-    fn file(&self, name: &str, text: &str) -> String {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).unwrap();
-        p.to_string_lossy().into_owned()
-    }
-}
-
-impl Drop for Dir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 fn rig(name: &str) -> String {
     format!("{}/../../data/rig/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -51,10 +32,6 @@ fn json(o: &Output) -> Value {
         String::from_utf8_lossy(&o.stderr)
     );
     serde_json::from_slice(&o.stdout).unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn est(v: &Value, name: &str) -> f64 {

@@ -1,53 +1,11 @@
 //! `pendulab report` end to end: the page, its figure links and the JSON results for the whole
 //! registry; the errors for an unwritable directory and bad `--data`/`--only` arguments.
 
+mod common;
+use common::*;
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-struct Dir(PathBuf);
-
-impl Dir {
-    fn new(tag: &str) -> Self {
-        let p = std::env::temp_dir().join(format!("pendulab-report-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&p);
-        std::fs::create_dir_all(&p).unwrap();
-        Dir(p)
-    }
-    fn file(&self, name: &str, text: &str) -> String {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).unwrap();
-        p.to_string_lossy().into_owned()
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for Dir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn pendulab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pendulab"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn fails_with(o: &Output, needles: &[&str]) {
-    let err = stderr(o);
-    assert!(!o.status.success(), "expected failure, stderr: {err}");
-    for n in needles {
-        assert!(err.contains(n), "stderr lacks {n:?}: {err}");
-    }
-}
 
 /// Every value of `attr="..."` in the page.
 fn attributes<'a>(page: &'a str, attr: &str) -> Vec<&'a str> {
@@ -105,7 +63,7 @@ fn report_has_every_example_and_every_figure_link_resolves() {
         .collect();
 
     let d = Dir::new("full");
-    let out = d.path("report");
+    let out = d.join("report");
     let o = pendulab(&["report", "--out", out.to_str().unwrap()]);
     let page = std::fs::read_to_string(out.join("index.html")).expect("index.html written");
     assert!(page.starts_with("<!DOCTYPE html>") && page.trim_end().ends_with("</html>"));
@@ -184,7 +142,7 @@ fn unwritable_report_directory_is_a_clear_error() {
 #[test]
 fn bad_data_and_only_arguments_are_clear_errors() {
     let d = Dir::new("args");
-    let out = d.path("r");
+    let out = d.join("r");
     let out = out.to_str().unwrap();
     let good = d.file("good.csv", "t,theta\n0,0.1\n");
     // The report takes data only as ID=FILE: with many examples a bare file is ambiguous.

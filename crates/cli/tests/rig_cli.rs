@@ -6,38 +6,16 @@
 //! Assertions are about behaviour; timing is only printed (2 shared cores under load). The
 //! identification accuracy is asserted because the log's time is the rig's, not the loop's.
 
+mod common;
+use common::*;
+
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use serde_json::Value;
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 const CART_LQR: &str = "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 }\n[safety]\nwatchdog_periods = 500\n";
-
-struct Dir(PathBuf);
-
-impl Dir {
-    fn new(tag: &str) -> Self {
-        let p = std::env::temp_dir().join(format!("pendulab-rig-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&p).unwrap();
-        Dir(p)
-    }
-    fn file(&self, name: &str, text: &str) -> String {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).unwrap();
-        p.to_string_lossy().into_owned()
-    }
-    fn path(&self, name: &str) -> String {
-        self.0.join(name).to_string_lossy().into_owned()
-    }
-}
-
-impl Drop for Dir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 fn pendulab() -> Command {
     Command::new(env!("CARGO_BIN_EXE_pendulab"))
@@ -355,5 +333,5 @@ fn bad_input_is_an_error_naming_what_and_where() {
         .unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("loss"));
-    assert!(Path::new(&d.0).exists());
+    assert!(d.join("").exists());
 }

@@ -1,0 +1,63 @@
+//! Helpers shared by the CLI's end-to-end tests: the binary, its stderr, scratch directories.
+#![allow(dead_code)] // each test file uses its own subset
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Runs the `pendulab` binary built for these tests with `args`.
+pub fn pendulab(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pendulab"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// The process's standard error as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Failing run: non-zero exit and a message containing every `needle`.
+pub fn fails_with(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert!(!o.status.success(), "expected failure, stderr: {err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr lacks {n:?}: {err}");
+    }
+}
+
+/// A fresh scratch directory, named after the test file, `tag` and the process, removed on drop.
+pub struct Dir(PathBuf);
+
+impl Dir {
+    pub fn new(tag: &str) -> Self {
+        let p = std::env::temp_dir().join(format!(
+            "pendulab-{}-{tag}-{}",
+            env!("CARGO_CRATE_NAME"),
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        Dir(p)
+    }
+    /// Writes `text` to `name` inside the directory and returns its path.
+    pub fn file(&self, name: &str, text: &str) -> String {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_string_lossy().into_owned()
+    }
+    /// The path of `name` inside the directory, as text.
+    pub fn path(&self, name: &str) -> String {
+        self.join(name).to_string_lossy().into_owned()
+    }
+    /// The path of `name` inside the directory.
+    pub fn join(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
