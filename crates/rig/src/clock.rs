@@ -61,6 +61,57 @@ pub fn try_realtime(priority: i32) -> Result<(), String> {
     }
 }
 
+/// CPU time consumed by the calling thread (`CLOCK_THREAD_CPUTIME_ID`): user and system
+/// time, not the time it waited for a CPU. Wall time minus this over an interval in which the
+/// thread never blocks is the time it was kept off the CPU (by other threads, the kernel or,
+/// on a virtual machine, the hypervisor). `None` off Unix or if the clock is unavailable.
+pub fn thread_cpu_time() -> Option<Duration> {
+    #[cfg(unix)]
+    {
+        let mut ts = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: a valid pointer to a stack value that outlives the call.
+        let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+        (rc == 0).then(|| Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32))
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
+/// CPU time the hypervisor gave to others while this machine's virtual CPUs were ready to run
+/// ("steal", the eighth number of the `cpu` line of Linux's `/proc/stat`), summed over all
+/// CPUs, in seconds since boot. The difference of two readings tells whether a stall of the
+/// loop coincided with the host taking the CPU away, which no priority inside the guest can
+/// prevent.
+///
+/// `None` off Linux, without `/proc`, or if the line cannot be parsed.
+pub fn host_steal_seconds() -> Option<f64> {
+    #[cfg(target_os = "linux")]
+    {
+        let text = std::fs::read_to_string("/proc/stat").ok()?;
+        parse_steal(&text).map(|ticks| {
+            // SAFETY: sysconf has no pointer arguments.
+            let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) };
+            ticks as f64 / if hz > 0 { hz as f64 } else { 100.0 }
+        })
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        None
+    }
+}
+
+/// The steal field (clock ticks) of the aggregate `cpu` line of a `/proc/stat` text.
+fn parse_steal(stat: &str) -> Option<u64> {
+    let line = stat.lines().find(|l| l.starts_with("cpu "))?;
+    // cpu user nice system idle iowait irq softirq steal ...
+    line.split_whitespace().nth(8)?.parse().ok()
+}
+
 /// Percentiles of a sample (nearest-rank), its mean and its extremes; empty input gives zeros.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Percentiles {
@@ -226,6 +277,36 @@ mod tests {
         // Mean of 1..=100 is 101/2.
         assert_eq!(p.mean, 50.5);
         assert_eq!(Percentiles::of(&mut []), Percentiles::default());
+    }
+
+    #[test]
+    fn thread_cpu_time_counts_work_not_sleep() {
+        let Some(c0) = thread_cpu_time() else {
+            return; // no per-thread CPU clock on this OS
+        };
+        std::thread::sleep(Duration::from_millis(30));
+        let c1 = thread_cpu_time().unwrap();
+        // Sleeping costs microseconds of CPU, not 30 ms (bound: 10 ms, generous for a
+        // loaded machine's wake-up path).
+        assert!(c1 - c0 < Duration::from_millis(10), "{:?}", c1 - c0);
+        let t = Instant::now();
+        let mut x = 0u64;
+        while t.elapsed() < Duration::from_millis(30) {
+            x = std::hint::black_box(x.wrapping_add(1));
+        }
+        let c2 = thread_cpu_time().unwrap();
+        // 30 ms of spinning is at most 30 ms of CPU (plus the clock's granularity).
+        assert!(c2 - c1 <= Duration::from_millis(31), "{:?}", c2 - c1);
+        assert!(c2 > c1);
+    }
+
+    #[test]
+    fn steal_is_the_eighth_number_of_the_cpu_line() {
+        let stat = "cpu  1522121 0 118638 217946 2932 0 1388 6586 0 0\ncpu0 1 2 3 4 5 6 7 8 9 10\n";
+        assert_eq!(parse_steal(stat), Some(6586));
+        assert_eq!(parse_steal("cpu0 1 2 3 4 5 6 7 8\n"), None);
+        assert_eq!(parse_steal("cpu  1 2 3\n"), None);
+        assert_eq!(parse_steal("cpu  1 2 3 4 5 6 7 x\n"), None);
     }
 
     #[test]

@@ -21,7 +21,7 @@
 //! reports the [`StopReason`] with the loop's statistics ([`LoopStats`]).
 
 use crate::RigError;
-use crate::clock::{Histogram, Percentiles, sleep_until};
+use crate::clock::{Histogram, Percentiles, sleep_until, thread_cpu_time};
 use crate::emulator::PlantKind;
 use crate::log::{Logger, Sample};
 use crate::protocol::{CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags};
@@ -179,6 +179,21 @@ pub struct LoopStats {
     pub round_trip: Percentiles,
     /// Periods whose command was sent after the next deadline.
     pub deadline_misses: u64,
+    /// Of [`Self::deadline_misses`], those the loop thread would have made had it kept its CPU:
+    /// the time it spent off the CPU since the deadline — a late wake-up plus the wall time of
+    /// the period's work minus the thread's CPU time for it ([`crate::clock::thread_cpu_time`])
+    /// — exceeds the amount by which the command was late. The OS or, on a virtual machine, the
+    /// hypervisor ran something else. The rest, `deadline_misses − descheduled_misses`, are
+    /// overruns: the loop's own work did not fit in the period. Without a per-thread CPU clock
+    /// only the late wake-up counts as time off the CPU.
+    pub descheduled_misses: u64,
+    /// Distinct stalls: runs of consecutive periods in which the thread was off the CPU for
+    /// more than a whole period. A stall of `d` seconds costs about `d / ts` periods, which the
+    /// loop then runs back to back.
+    pub stalls: u64,
+    /// The longest time off the CPU within one period (s), as defined for
+    /// [`Self::descheduled_misses`].
+    pub longest_off_cpu: f64,
     /// Periods without a fresh sensor frame.
     pub stale_periods: u64,
     /// Commands clamped by the voltage limit.
@@ -230,10 +245,44 @@ impl fmt::Display for RunReport {
         writeln!(f, "round trip: {}", us(&s.round_trip))?;
         writeln!(
             f,
-            "deadline misses: {}, stale periods: {}, clamped commands: {}",
-            s.deadline_misses, s.stale_periods, s.clamped
+            "deadline misses: {} ({} overruns, {} while descheduled; {} stalls longer than a period, longest {:.0} µs), stale periods: {}, clamped commands: {}",
+            s.deadline_misses,
+            s.deadline_misses - s.descheduled_misses,
+            s.descheduled_misses,
+            s.stalls,
+            s.longest_off_cpu * 1e6,
+            s.stale_periods,
+            s.clamped
         )?;
         write!(f, "rejected sensor frames: {}", s.rejects)
+    }
+}
+
+/// How one period went: whether its command missed the next deadline and why.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PeriodTiming {
+    /// Time off the CPU since the deadline: the late wake-up plus the wall time of the work
+    /// minus its CPU time.
+    off_cpu: Duration,
+    /// The command was sent after the next deadline.
+    missed: bool,
+    /// It missed, and by less than the time spent off the CPU.
+    descheduled: bool,
+}
+
+impl PeriodTiming {
+    /// From the wake-up's lateness after the deadline, the wall time of the period's work
+    /// (wake-up to command sent), the thread's CPU time for that work (if measured) and the
+    /// period.
+    fn of(late: Duration, work: Duration, cpu_work: Option<Duration>, period: Duration) -> Self {
+        let off_cpu = late + cpu_work.map_or(Duration::ZERO, |c| work.saturating_sub(c));
+        let miss_by = (late + work).saturating_sub(period);
+        let missed = miss_by > Duration::ZERO;
+        Self {
+            off_cpu,
+            missed,
+            descheduled: missed && off_cpu > miss_by,
+        }
     }
 }
 
@@ -572,6 +621,7 @@ pub fn run(
     let mut u = [0.0];
     let mut stale_run = 0u32;
     let mut prev_wake: Option<Instant> = None;
+    let mut in_stall = false;
     let mut reason = StopReason::Completed;
     let detail: String;
     let mut k: u64 = 0;
@@ -585,6 +635,7 @@ pub fn run(
         let deadline = t0 + period.mul_f64(k as f64);
         sleep_until(deadline, spin);
         let wake = Instant::now();
+        let cpu_wake = thread_cpu_time();
         lateness.record((wake - deadline).as_secs_f64());
         if let Some(p) = prev_wake {
             jitter.record(((wake - p).as_secs_f64() - config.ts).abs());
@@ -679,8 +730,23 @@ pub fn run(
         let done = Instant::now();
         sent_at[seq as usize % RING] = (seq, done, v);
         compute.record((done - wake).as_secs_f64());
-        if done > deadline + period {
+        let cpu_done = thread_cpu_time();
+        let cpu_work = cpu_wake.zip(cpu_done).map(|(a, b)| b.saturating_sub(a));
+        let p = PeriodTiming::of(
+            wake.saturating_duration_since(deadline),
+            done - wake,
+            cpu_work,
+            period,
+        );
+        stats.longest_off_cpu = stats.longest_off_cpu.max(p.off_cpu.as_secs_f64());
+        let stalled = p.off_cpu > period;
+        if stalled && !in_stall {
+            stats.stalls += 1;
+        }
+        in_stall = stalled;
+        if p.missed {
             stats.deadline_misses += 1;
+            stats.descheduled_misses += u64::from(p.descheduled);
         }
         if let Some(l) = &log {
             logger_alive &= log_frames(
@@ -769,4 +835,52 @@ pub fn run(
         last_y: y,
         scheduling,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PeriodTiming;
+    use std::time::Duration;
+
+    fn us(v: u64) -> Duration {
+        Duration::from_micros(v)
+    }
+
+    #[test]
+    fn a_period_that_fits_is_no_miss() {
+        let p = PeriodTiming::of(us(5), us(30), Some(us(30)), us(200));
+        assert!(!p.missed && !p.descheduled);
+        assert_eq!(p.off_cpu, us(5));
+    }
+
+    #[test]
+    fn work_that_used_the_cpu_all_along_is_an_overrun() {
+        // Woken on time, 250 µs of work on the CPU in a 200 µs period: the loop's own fault.
+        let p = PeriodTiming::of(us(0), us(250), Some(us(250)), us(200));
+        assert!(p.missed && !p.descheduled);
+    }
+
+    #[test]
+    fn work_interrupted_by_a_stall_is_a_descheduled_miss() {
+        // 30 µs of CPU spread over 3 ms of wall time: 2.97 ms off the CPU, missed by 2.8 ms.
+        let p = PeriodTiming::of(us(0), us(3000), Some(us(30)), us(200));
+        assert!(p.missed && p.descheduled);
+        assert_eq!(p.off_cpu, us(2970));
+    }
+
+    #[test]
+    fn a_late_wake_up_counts_as_time_off_the_cpu() {
+        // Woken 1 ms late (with or without a CPU clock): missed by 0.83 ms < 1 ms off the CPU.
+        for cpu in [Some(us(30)), None] {
+            let p = PeriodTiming::of(us(1000), us(30), cpu, us(200));
+            assert!(p.missed && p.descheduled, "{cpu:?}");
+        }
+    }
+
+    #[test]
+    fn a_short_stall_does_not_excuse_a_long_overrun() {
+        // 50 µs off the CPU cannot explain missing by 300 µs.
+        let p = PeriodTiming::of(us(50), us(450), Some(us(450)), us(200));
+        assert!(p.missed && !p.descheduled);
+    }
 }
