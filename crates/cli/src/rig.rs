@@ -114,6 +114,10 @@ pub struct RunArgs {
     /// the run goes on with ordinary scheduling and says so).
     #[arg(long)]
     pub rt_priority: Option<i32>,
+    /// Pin the loop thread to this CPU (e.g. a core isolated with `isolcpus=`; if refused the
+    /// run goes on unpinned and says so).
+    #[arg(long)]
+    pub cpu: Option<usize>,
     /// Talk to the rig over this serial port instead of UDP (`--connect` is then ignored).
     #[cfg(feature = "serial")]
     #[arg(long)]
@@ -226,6 +230,7 @@ fn run_controller(a: &RunArgs) -> Result<()> {
     cfg.safety = loaded.safety;
     cfg.differentiator_t = loaded.differentiator_t;
     cfg.realtime_priority = a.rt_priority;
+    cfg.cpu = a.cpu;
     #[cfg(feature = "serial")]
     {
         cfg.serial = a.serial.clone().map(|p| (p, a.baud));

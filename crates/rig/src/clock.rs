@@ -61,6 +61,37 @@ pub fn try_realtime(priority: i32) -> Result<(), String> {
     }
 }
 
+/// Pins the calling thread to CPU `cpu` (`sched_setaffinity`), as real-time rig PCs do with a
+/// core kept free of other work (`isolcpus=` on the kernel command line): the loop then never
+/// migrates and never shares its core's caches with a build.
+///
+/// # Errors
+/// A message with the OS error if the mask is refused (e.g. no such CPU), or off Linux.
+pub fn pin_to_cpu(cpu: usize) -> Result<(), String> {
+    #[cfg(target_os = "linux")]
+    {
+        if cpu >= libc::CPU_SETSIZE as usize {
+            return Err(format!("CPU {cpu}: beyond the affinity mask"));
+        }
+        // SAFETY: cpu_set_t is plain data; CPU_ZERO/CPU_SET write within it (index checked
+        // above); sched_setaffinity reads `size_of` bytes from a valid pointer.
+        let rc = unsafe {
+            let mut set: libc::cpu_set_t = std::mem::zeroed();
+            libc::CPU_ZERO(&mut set);
+            libc::CPU_SET(cpu, &mut set);
+            libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set)
+        };
+        if rc != 0 {
+            return Err(format!("CPU {cpu}: {}", std::io::Error::last_os_error()));
+        }
+        Ok(())
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        Err(format!("CPU {cpu}: pinning is only supported on Linux"))
+    }
+}
+
 /// CPU time consumed by the calling thread (`CLOCK_THREAD_CPUTIME_ID`): user and system
 /// time, not the time it waited for a CPU. Wall time minus this over an interval in which the
 /// thread never blocks is the time it was kept off the CPU (by other threads, the kernel or,
@@ -277,6 +308,22 @@ mod tests {
         // Mean of 1..=100 is 101/2.
         assert_eq!(p.mean, 50.5);
         assert_eq!(Percentiles::of(&mut []), Percentiles::default());
+    }
+
+    #[test]
+    fn pinning_to_a_cpu_that_does_not_exist_is_an_error() {
+        assert!(pin_to_cpu(usize::MAX).is_err());
+        #[cfg(target_os = "linux")]
+        {
+            // CPU 0 always exists; pin a scratch thread (not the test harness's) to it.
+            std::thread::spawn(|| {
+                pin_to_cpu(0).unwrap();
+                // SAFETY: no arguments.
+                assert_eq!(unsafe { libc::sched_getcpu() }, 0);
+            })
+            .join()
+            .unwrap();
+        }
     }
 
     #[test]

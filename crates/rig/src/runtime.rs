@@ -86,6 +86,9 @@ pub struct RunConfig {
     /// Run the loop thread under `SCHED_FIFO` at this priority ([`crate::clock::try_realtime`];
     /// `None`: ordinary scheduling). If the OS refuses, the run goes on and says so.
     pub realtime_priority: Option<i32>,
+    /// Pin the loop thread to this CPU ([`crate::clock::pin_to_cpu`]; `None`: wherever the OS
+    /// puts it). If the OS refuses, the run goes on and says so.
+    pub cpu: Option<usize>,
     /// Talk to the rig over this serial port `(path, baud)` instead of UDP (`connect` is then
     /// only used in messages).
     #[cfg(feature = "serial")]
@@ -104,6 +107,7 @@ impl RunConfig {
             differentiator_t: 0.02,
             spin_margin: Duration::from_micros(200),
             realtime_priority: None,
+            cpu: None,
             #[cfg(feature = "serial")]
             serial: None,
         }
@@ -534,6 +538,13 @@ pub fn run(
         Some(p) => match crate::clock::try_realtime(p) {
             Ok(()) => format!("SCHED_FIFO {}", p.clamp(1, 99)),
             Err(e) => format!("ordinary (real-time refused: {e})"),
+        },
+    };
+    let scheduling = match config.cpu {
+        None => scheduling,
+        Some(c) => match crate::clock::pin_to_cpu(c) {
+            Ok(()) => format!("{scheduling}, pinned to CPU {c}"),
+            Err(e) => format!("{scheduling}, not pinned ({e})"),
         },
     };
     let spec = config.plant.spec();
