@@ -67,6 +67,11 @@ impl StaticStateFeedback {
         Ok(self)
     }
 
+    /// `K` row-major and `y_ref` (for the fixed-size kernel, [`crate::fixed`]).
+    pub(crate) fn parts(&self) -> (&[f64], &[f64]) {
+        (&self.k, &self.y_ref)
+    }
+
     /// The library gain `K` (`u = −K y`).
     pub fn gain(&self) -> Mat {
         Mat::from_row_slice(self.nu, self.ny, &self.k)

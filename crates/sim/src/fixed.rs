@@ -1,0 +1,383 @@
+//! The fixed-size closed-loop kernel: the common sampled-data loop — a single-input plant with
+//! a compile-time state size `N`, static state feedback `u = −K (x − x_ref)` from the exact
+//! state, zero-order hold, classic RK4 substeps, optionally a saturation — compiled into one
+//! monomorphised loop on `[f64; N]`: no dynamic dispatch, no allocation and no slices of
+//! run-time length per step, recording into a preallocated column-major (structure of arrays)
+//! trajectory.
+//!
+//! [`FixedLoop`] is built from the parts of a [`SampledLoop`] ([`SampledLoop::fixed`], which
+//! refuses configurations the kernel does not cover) or directly ([`FixedLoop::new`]). Its
+//! runs are **bit-identical** to [`SampledLoop::run_with`] of the same configuration: every
+//! arithmetic operation of the general loop is performed in the same order (the sample times
+//! `t_k = t₀ + k·ts`, the substep `h = t_{k+1} − t_k`, the feedback sum from `0`, the RK4
+//! stages of [`crate::rk4_step`], the saturation of [`crate::Actuator::apply`]), provided the
+//! plant's [`FixedDynamics::derivative_fixed`] performs the operations of its
+//! [`Dynamics::derivative`] (as `pendulab_plants::CartPendulum` and `ArmPendulum` do).
+//! `tests/fixed.rs` checks the identity, records included, with and without saturation,
+//! monitor stops and substeps.
+//!
+//! ```
+//! use pendulab_lti::{Mat, StateSpace};
+//! use pendulab_sim::controllers::StaticStateFeedback;
+//! use pendulab_sim::fixed::FixedDynamics;
+//! use pendulab_sim::{Dynamics, SampledLoop, SampledOptions};
+//! # fn main() -> Result<(), pendulab_sim::SimError> {
+//! // A double integrator ẋ = [x₁, u] as a fixed-size plant.
+//! #[derive(Clone)]
+//! struct Di;
+//! impl Dynamics for Di {
+//!     fn nx(&self) -> usize { 2 }
+//!     fn nu(&self) -> usize { 1 }
+//!     fn derivative(&self, _t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
+//!         dx[0] = x[1];
+//!         dx[1] = u[0];
+//!     }
+//! }
+//! impl FixedDynamics<2> for Di {
+//!     fn derivative_fixed(&self, x: &[f64; 2], u: f64) -> [f64; 2] { [x[1], u] }
+//! }
+//! let k = StaticStateFeedback::new(Mat::from_row_slice(1, 2, &[1.0, 1.5]))?;
+//! let opts = SampledOptions { ts: 0.01, t_final: 20.0, ..Default::default() };
+//! let mut general = SampledLoop::new(Di, k, opts)?;
+//! let fast = general.fixed::<2>()?;
+//! let a = fast.run(&[1.0, 0.0])?;
+//! assert_eq!(a, general.run(&[1.0, 0.0])?); // bit for bit, trajectory included
+//! assert!(a.diagnostics.final_state[0].abs() < 1e-3);
+//! # Ok(()) }
+//! ```
+
+use crate::controller::Controller;
+use crate::controllers::StaticStateFeedback;
+use crate::dynamics::Dynamics;
+use crate::error::{Result, SimError, check_initial_state, check_len, check_state};
+use crate::integrate::{IntegrationStats, Integrator};
+use crate::monitor::{Flow, Monitor};
+use crate::sampled::{
+    Record, RunStatus, SampledDiagnostics, SampledLoop, SampledOptions, SampledRun,
+    validate_options,
+};
+use pendulab_lti::{Mat, Trajectory};
+
+/// An autonomous single-input plant `ẋ = f(x, u)` with `N` states, evaluated on arrays.
+///
+/// Contract: for the kernel to reproduce [`SampledLoop`] bit for bit, `derivative_fixed(x, u)`
+/// must return what [`Dynamics::derivative`]`(t, x, &[u], ·)` writes, for every `t` (the plant
+/// may not depend on time).
+pub trait FixedDynamics<const N: usize> {
+    /// `ẋ = f(x, u)`.
+    fn derivative_fixed(&self, x: &[f64; N], u: f64) -> [f64; N];
+}
+
+/// One classic RK4 step of `h` with `u` held, operation for operation the step of
+/// [`crate::rk4_step`] (stages `x + (h/2)·k₁`, `x + (h/2)·k₂`, `x + h·k₃`; update
+/// `x + (h/6)·(((k₁ + 2k₂) + 2k₃) + k₄)`).
+#[inline(always)]
+pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
+    plant: &P,
+    x: &mut [f64; N],
+    u: f64,
+    h: f64,
+) {
+    let half = 0.5 * h;
+    let k1 = plant.derivative_fixed(x, u);
+    let k2 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + half * k1[i]), u);
+    let k3 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + half * k2[i]), u);
+    let k4 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + h * k3[i]), u);
+    let sixth = h / 6.0;
+    for i in 0..N {
+        x[i] += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    }
+}
+
+/// The fixed-size closed loop (see the module docs): plant `P` with `N` states, static state
+/// feedback `u = −K (x − x_ref)` on the exact state, ZOH every `ts`, RK4 substeps, optional
+/// saturation of the plant input to `[lo, hi]`.
+#[derive(Debug, Clone)]
+pub struct FixedLoop<P, const N: usize> {
+    plant: P,
+    gain: [f64; N],
+    x_ref: [f64; N],
+    /// `x_ref` is all `+0.0`: `x − x_ref` is `x` bit for bit, the subtraction is skipped.
+    zero_ref: bool,
+    saturation: Option<(f64, f64)>,
+    ts: f64,
+    t0: f64,
+    samples: usize,
+    nsub: usize,
+    every: Option<usize>,
+}
+
+impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
+    /// Closes `plant` with `controller` under `options`, full-state measurement, ideal
+    /// actuator (add a saturation with [`FixedLoop::with_saturation`]).
+    ///
+    /// # Errors
+    /// The errors of [`SampledLoop::new`] for the options; [`SimError::DimensionMismatch`]
+    /// unless the controller has one command and `N` measurements;
+    /// [`SimError::InvalidArgument`] for options the kernel does not cover: an integrator
+    /// other than RK4, a computation delay (the initial input then plays no part).
+    pub fn new(
+        plant: P,
+        controller: &StaticStateFeedback,
+        options: &SampledOptions,
+    ) -> Result<Self> {
+        let timing = validate_options(options, 1)?;
+        check_len(
+            "controller commands (fixed kernel: one)",
+            controller.nu(),
+            1,
+        )?;
+        check_len("controller measurements (the state)", controller.ny(), N)?;
+        if !matches!(options.integrator, Integrator::Rk4 { .. }) {
+            return Err(unsupported("an integrator other than RK4"));
+        }
+        if timing.split.is_some() || timing.ring > 0 {
+            return Err(unsupported("a computation delay"));
+        }
+        let (k, r) = controller.parts();
+        let gain: [f64; N] = std::array::from_fn(|i| k[i]);
+        let x_ref: [f64; N] = std::array::from_fn(|i| r[i]);
+        Ok(Self {
+            plant,
+            gain,
+            x_ref,
+            zero_ref: x_ref.iter().all(|v| v.to_bits() == 0),
+            saturation: None,
+            ts: options.ts,
+            t0: options.t0,
+            samples: timing.samples,
+            nsub: timing.nsub,
+            every: match options.record {
+                Record::EverySample => Some(1),
+                Record::Every(n) => Some(n),
+                Record::Off => None,
+            },
+        })
+    }
+
+    /// Saturates the plant input to `[lo, hi]` (as [`crate::Actuator::saturation_range`]).
+    ///
+    /// # Errors
+    /// [`SimError::InvalidParameter`] unless `lo < hi`, both finite.
+    pub fn with_saturation(mut self, lo: f64, hi: f64) -> Result<Self> {
+        crate::Actuator::ideal().saturation_range(lo, hi)?;
+        self.saturation = Some((lo, hi));
+        Ok(self)
+    }
+
+    /// The plant.
+    pub fn plant(&self) -> &P {
+        &self.plant
+    }
+
+    /// Number of samples `N + 1` a complete run takes.
+    pub fn samples(&self) -> usize {
+        self.samples + 1
+    }
+
+    /// Runs from `x(t₀) = x0`.
+    ///
+    /// # Errors
+    /// As [`SampledLoop::run`].
+    pub fn run(&self, x0: &[f64]) -> Result<SampledRun> {
+        self.run_inner(x0, &mut (), None)
+    }
+
+    /// Runs from `x0` showing every sample to `monitor`, which may stop the run.
+    ///
+    /// # Errors
+    /// As [`SampledLoop::run`].
+    pub fn run_with<M: Monitor + ?Sized>(&self, x0: &[f64], monitor: &mut M) -> Result<SampledRun> {
+        self.run_inner(x0, monitor, None)
+    }
+
+    /// As [`FixedLoop::run_with`], recording into the storage of an earlier result.
+    ///
+    /// # Errors
+    /// As [`SampledLoop::run`].
+    pub fn run_recycling<M: Monitor + ?Sized>(
+        &self,
+        x0: &[f64],
+        monitor: &mut M,
+        previous: SampledRun,
+    ) -> Result<SampledRun> {
+        self.run_inner(x0, monitor, Some(previous))
+    }
+
+    fn run_inner<M: Monitor + ?Sized>(
+        &self,
+        x0: &[f64],
+        monitor: &mut M,
+        storage: Option<SampledRun>,
+    ) -> Result<SampledRun> {
+        check_initial_state(x0, N)?;
+        let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
+        let (ts, t0, n_samples, nsub) = (self.ts, self.t0, self.samples, self.nsub);
+        let cap = self.every.map_or(0, |e| n_samples / e + 1);
+        let [mut rt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
+        rt.clear();
+        rt.reserve(cap);
+        let mut rx = columns(bx, cap * N);
+        let mut ru = columns(bu, cap);
+        let mut ry = columns(by, cap * N);
+        let mut rc = columns(bc, cap);
+        let mut saturated = 0usize;
+        let mut status = RunStatus::Completed;
+        let mut last_t = t0;
+        let mut samples_run = 0usize;
+        let mut next_record = if self.every.is_some() { 0 } else { usize::MAX };
+        let every = self.every.unwrap_or(0);
+        let mut row = 0usize;
+        for k in 0..=n_samples {
+            let tk = t0 + k as f64 * ts;
+            last_t = tk;
+            samples_run += 1;
+            // u = −(0 + Σ K_i (x_i − x_ref,i)), summed in order like the general controller.
+            let mut acc = 0.0;
+            if self.zero_ref {
+                for i in 0..N {
+                    acc += self.gain[i] * x[i];
+                }
+            } else {
+                for i in 0..N {
+                    acc += self.gain[i] * (x[i] - self.x_ref[i]);
+                }
+            }
+            let ucmd = -acc;
+            if !ucmd.is_finite() {
+                return Err(SimError::NonFiniteCommand {
+                    t: tk,
+                    index: 0,
+                    value: ucmd,
+                });
+            }
+            let p = match self.saturation {
+                None => ucmd,
+                Some((lo, hi)) => {
+                    let mut v = ucmd;
+                    if v > hi {
+                        v = hi;
+                        saturated += 1;
+                    } else if v < lo {
+                        v = lo;
+                        saturated += 1;
+                    }
+                    // The actuator adds its (zero) disturbance after the saturation.
+                    v + 0.0
+                }
+            };
+            if next_record == k {
+                next_record += every;
+                rt.push(tk);
+                for i in 0..N {
+                    rx[i * cap + row] = x[i];
+                    ry[i * cap + row] = x[i];
+                }
+                ru[row] = p;
+                rc[row] = ucmd;
+                row += 1;
+            }
+            if monitor.observe(tk, &x, &x, &[p]) == Flow::Stop {
+                status = RunStatus::Stopped { t: tk };
+                break;
+            }
+            if k == n_samples {
+                break;
+            }
+            let tk1 = t0 + (k + 1) as f64 * ts;
+            if nsub == 1 {
+                rk4_fixed(&self.plant, &mut x, p, tk1 - tk);
+            } else {
+                let h = (tk1 - tk) / nsub as f64;
+                for _ in 0..nsub {
+                    rk4_fixed(&self.plant, &mut x, p, h);
+                }
+            }
+            if !x.iter().sum::<f64>().is_finite() {
+                check_state(tk1, &x)?;
+            }
+        }
+        let trajectory = Trajectory::new(
+            rt,
+            into_mat(rx, cap, row, N),
+            into_mat(ru, cap, row, 1),
+            into_mat(ry, cap, row, N),
+        )?;
+        // Every sample but the last one run is followed by one interval of `nsub` steps.
+        let steps = (samples_run - 1) * nsub;
+        Ok(SampledRun {
+            trajectory,
+            commands: into_mat(rc, cap, row, 1),
+            status,
+            diagnostics: SampledDiagnostics {
+                samples: samples_run,
+                integration: IntegrationStats {
+                    accepted_steps: steps,
+                    evaluations: 4 * steps,
+                    ..Default::default()
+                },
+                saturated_samples: saturated,
+                switch_times: Vec::new(),
+                final_time: last_t,
+                final_state: x.to_vec(),
+            },
+        })
+    }
+}
+
+impl<P: Dynamics + Clone> SampledLoop<P, StaticStateFeedback> {
+    /// The same loop as a [`FixedLoop`] (bit-identical runs, see [`crate::fixed`]).
+    ///
+    /// # Errors
+    /// [`SimError::DimensionMismatch`] if the plant does not have `N` states and one input;
+    /// [`SimError::InvalidArgument`] naming the part the kernel does not cover: a sensor
+    /// chain other than the exact state, an actuator chain with more than a saturation, an
+    /// integrator other than RK4, a computation delay.
+    pub fn fixed<const M: usize>(&self) -> Result<FixedLoop<P, M>>
+    where
+        P: FixedDynamics<M>,
+    {
+        check_len("plant states (fixed kernel size)", self.plant().nx(), M)?;
+        check_len("plant inputs (fixed kernel: one)", self.plant().nu(), 1)?;
+        if !self.sensor().is_identity() {
+            return Err(unsupported("a sensor chain other than the exact state"));
+        }
+        let Some(saturation) = self.actuator().saturation_only() else {
+            return Err(unsupported(
+                "an actuator chain with D/A, disturbance or friction",
+            ));
+        };
+        let me = FixedLoop::new(self.plant().clone(), self.controller(), self.options())?;
+        match saturation {
+            Some((lo, hi)) => me.with_saturation(lo, hi),
+            None => Ok(me),
+        }
+    }
+}
+
+fn unsupported(what: &str) -> SimError {
+    SimError::InvalidArgument(format!(
+        "the fixed-size closed-loop kernel does not cover {what}; use SampledLoop::run"
+    ))
+}
+
+/// A column-major buffer of `len` entries, reusing `data`'s allocation (entries below the final
+/// row count are all written before the matrix is formed).
+fn columns(mut data: Vec<f64>, len: usize) -> Vec<f64> {
+    if data.len() != len {
+        data.clear();
+        data.resize(len, 0.0);
+    }
+    data
+}
+
+/// The first `rows` of each of the `w` columns of a `cap`-row buffer as a matrix.
+fn into_mat(mut data: Vec<f64>, cap: usize, rows: usize, w: usize) -> Mat {
+    if rows < cap {
+        for i in 1..w {
+            data.copy_within(i * cap..i * cap + rows, i * rows);
+        }
+        data.truncate(rows * w);
+    }
+    Mat::from_vec(rows, w, data)
+}
