@@ -12,7 +12,9 @@
 //! `t_k = t₀ + k·ts`, the substep `h = t_{k+1} − t_k`, the feedback sum from `0`, the RK4
 //! stages of [`crate::rk4_step`], the saturation of [`crate::Actuator::apply`]), provided the
 //! plant's [`FixedDynamics::derivative_fixed`] performs the operations of its
-//! [`Dynamics::derivative`] (as `pendulab_plants::CartPendulum` and `ArmPendulum` do).
+//! [`Dynamics::derivative`] and it keeps the provided [`FixedDynamics::rk4_step_fixed`] (as
+//! `pendulab_plants::CartPendulum` does, except with its opt-in
+//! [`Trig::Anchored`](crate::lanes::Trig::Anchored)).
 //! `tests/fixed.rs` checks the identity, records included, with and without saturation,
 //! monitor stops and substeps.
 //!
@@ -66,6 +68,16 @@ use pendulab_lti::{Mat, Trajectory};
 pub trait FixedDynamics<const N: usize> {
     /// `ẋ = f(x, u)`.
     fn derivative_fixed(&self, x: &[f64; N], u: f64) -> [f64; N];
+
+    /// One classic RK4 step of `h` with `u` held, in place (provided: [`rk4_fixed`], the
+    /// operations of [`crate::rk4_step`]). A plant may override it with a step that shares
+    /// work between the stages (e.g. `pendulab_plants::CartPendulum` with
+    /// [`crate::lanes::Trig::Anchored`]); the kernel is then as close to the general loop as
+    /// that override documents, no longer bit-identical.
+    #[inline(always)]
+    fn rk4_step_fixed(&self, x: &mut [f64; N], u: f64, h: f64) {
+        rk4_fixed(self, x, u, h);
+    }
 }
 
 /// One classic RK4 step of `h` with `u` held, operation for operation the step of
@@ -286,11 +298,11 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
             }
             let tk1 = t0 + (k + 1) as f64 * ts;
             if nsub == 1 {
-                rk4_fixed(&self.plant, &mut x, p, tk1 - tk);
+                self.plant.rk4_step_fixed(&mut x, p, tk1 - tk);
             } else {
                 let h = (tk1 - tk) / nsub as f64;
                 for _ in 0..nsub {
-                    rk4_fixed(&self.plant, &mut x, p, h);
+                    self.plant.rk4_step_fixed(&mut x, p, h);
                 }
             }
             if !x.iter().sum::<f64>().is_finite() {

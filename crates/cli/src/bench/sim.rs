@@ -6,10 +6,13 @@
 //!
 //! - `sim-rk4`: one 10 s closed-loop run from θ₀ = 15°, controller at 1 kHz with zero-order
 //!   hold, classic RK4 at 1 ms, every sample recorded into the `Trajectory` (recycling the
-//!   previous result's storage). Figure: RK4 steps per second on one core. Check: the same
-//!   run with freshly allocated results and without recording, the run against the same loop
-//!   integrated by Dormand–Prince at `rtol = 1e-12` (the RK4 error of the timed run), and
-//!   that it balances.
+//!   previous result's storage), by the fixed-size kernel `pendulab_sim::fixed::FixedLoop`
+//!   (`SampledLoop::fixed`: the loop monomorphised on `[f64; 4]`, libm's sine/cosine).
+//!   Figure: RK4 steps per second on one core. Check: that the kernel's run equals the general
+//!   `SampledLoop` run bit for bit and the general loop's rate (recycled, freshly allocated,
+//!   unrecorded), the run against the same loop integrated by Dormand–Prince at
+//!   `rtol = 1e-12` (the RK4 error of the timed run), the kernel with the plant's polynomial
+//!   sine/cosine, and that it balances.
 //! - `sim-batch`: the 100×100 grid θ₀ ∈ [−1.2, 1.2] rad × θ̇₀ ∈ [−3, 3] rad/s, 10 s each at
 //!   1 kHz, on all cores (rayon), classifying each run as upright (`|θ| ≤ π/2` throughout) or
 //!   fallen (the run stops at the first sample past π/2). Figure: trajectory-steps actually
@@ -102,19 +105,32 @@ fn closed_loop_with(
 fn run_rk4(budget: &Budget) -> Result<BenchReport> {
     let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
     let mut lp = closed_loop(Record::EverySample, Integrator::Rk4 { dt: 1e-3 })?;
-    // Headline: the run recording every sample into the storage of the previous result
-    // (`run_recycling`), i.e. the simulation itself without the operating system's cost of
-    // handing out ~0.9 MB of fresh pages per run; that cost is in the check (`run`).
-    let mut last = Some(lp.run(&x0)?);
+    // Headline: the fixed-size kernel of the same loop, recording every sample into the
+    // storage of the previous result (`run_recycling`), i.e. the simulation itself without the
+    // operating system's cost of handing out ~0.9 MB of fresh pages per run.
+    let fixed = lp.fixed::<4>()?;
+    let mut last = Some(fixed.run(&x0)?);
     let timing = time(budget, || {
         let previous = last.take().expect("previous run");
         last = Some(
-            lp.run_recycling(black_box(&x0), &mut (), previous)
+            fixed
+                .run_recycling(black_box(&x0), &mut (), previous)
                 .expect("closed-loop run"),
         );
     });
     let run = last.context("ran at least once")?;
     let steps = run.diagnostics.integration.accepted_steps;
+    // The general loop: recycled storage (the previous headline), fresh allocation.
+    let mut last_general = Some(lp.run(&x0)?);
+    let t_general = time(budget, || {
+        let previous = last_general.take().expect("previous run");
+        last_general = Some(
+            lp.run_recycling(black_box(&x0), &mut (), previous)
+                .expect("closed-loop run"),
+        );
+    });
+    let general = last_general.context("ran at least once")?;
+    let fixed_identical = general == run;
     let mut fresh = None;
     let t_fresh = time(budget, || {
         fresh = Some(lp.run(black_box(&x0)).expect("closed-loop run"));
@@ -136,12 +152,14 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
             max_dev = max_dev.max((run.trajectory.x()[(k, i)] - r.trajectory.x()[(k, i)]).abs());
         }
     }
-    // The same recorded run with the plant's opt-in polynomial sine/cosine (Trig::Polynomial).
-    let mut fast = closed_loop_with(
+    // The same recorded run with the plant's opt-in polynomial sine/cosine (Trig::Polynomial),
+    // fixed-size kernel.
+    let mut poly_loop = closed_loop_with(
         Record::EverySample,
         Integrator::Rk4 { dt: 1e-3 },
         Trig::Polynomial,
     )?;
+    let fast = poly_loop.fixed::<4>()?;
     let mut last_fast = Some(fast.run(&x0)?);
     let t_fast = time(budget, || {
         let previous = last_fast.take().expect("previous run");
@@ -151,6 +169,7 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
         );
     });
     let fast_run = last_fast.context("ran at least once")?;
+    let fast_identical = poly_loop.run(&x0)? == fast_run;
     let mut fast_dev = 0.0f64;
     for k in 0..fast_run.trajectory.len() {
         for i in 0..4 {
@@ -164,20 +183,23 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
         figure: steps as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "SampledLoop::run_recycling: 10 000 samples (sensor, LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core",
+            "figure_measures": "FixedLoop::run_recycling (SampledLoop::fixed of the loop: fixed-size kernel, libm sin/cos): 10 000 samples (LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core",
             "steps": steps,
             "median_s_per_run": timing.median_s,
             "min_s_per_run": timing.min_s,
             "runs": timing.iterations,
-            "fresh_allocation_run_steps_per_s": steps as f64 / t_fresh.median_s,
+            "fixed_kernel_identical_to_general_loop": fixed_identical,
+            "general_loop_steps_per_s": steps as f64 / t_general.median_s,
+            "general_loop_fresh_allocation_steps_per_s": steps as f64 / t_fresh.median_s,
             "fresh_allocation_run_identical": fresh_identical,
-            "unrecorded_steps_per_s": steps as f64 / t_bare.median_s,
+            "general_loop_unrecorded_steps_per_s": steps as f64 / t_bare.median_s,
             "theta0_deg": 15.0,
             "final_state": xf,
             "balanced": xf[1].abs() < 1e-3 && run.status == RunStatus::Completed,
             "max_abs_deviation_from_dopri45_1e-12": max_dev,
             "reference_steps": r.diagnostics.integration.accepted_steps,
             "polynomial_trig_steps_per_s": steps as f64 / t_fast.median_s,
+            "polynomial_trig_identical_to_general_loop": fast_identical,
             "polynomial_trig_max_abs_deviation_from_libm_run": fast_dev,
         }),
     })
