@@ -226,13 +226,19 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
         let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
         let (ts, t0, n_samples, nsub) = (self.ts, self.t0, self.samples, self.nsub);
         let cap = self.every.map_or(0, |e| n_samples / e + 1);
-        let [mut rt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
-        rt.clear();
-        rt.reserve(cap);
-        let mut rx = columns(bx, cap * N);
-        let mut ru = columns(bu, cap);
-        let mut ry = columns(by, cap * N);
-        let mut rc = columns(bc, cap);
+        let [mut bt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
+        bt.resize(cap, 0.0);
+        let (mut rx, mut ru, mut ry, mut rc) = (
+            columns(bx, cap * N),
+            columns(bu, cap),
+            columns(by, cap * N),
+            columns(bc, cap),
+        );
+        // One slice of exactly `cap` entries per recorded signal: a row index checked once
+        // against `cap` is then in range for all of them.
+        let (rt, ru_col, rc_col) = (&mut bt[..cap], &mut ru[..cap], &mut rc[..cap]);
+        let xcols: [&mut [f64]; N] = split_columns(&mut rx, cap);
+        let ycols: [&mut [f64]; N] = split_columns(&mut ry, cap);
         let mut saturated = 0usize;
         let mut status = RunStatus::Completed;
         let mut last_t = t0;
@@ -278,15 +284,15 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
                     v + 0.0
                 }
             };
-            if next_record == k {
+            if next_record == k && row < cap {
                 next_record += every;
-                rt.push(tk);
+                rt[row] = tk;
                 for i in 0..N {
-                    rx[i * cap + row] = x[i];
-                    ry[i * cap + row] = x[i];
+                    xcols[i][row] = x[i];
+                    ycols[i][row] = x[i];
                 }
-                ru[row] = p;
-                rc[row] = ucmd;
+                ru_col[row] = p;
+                rc_col[row] = ucmd;
                 row += 1;
             }
             if monitor.observe(tk, &x, &x, &[p]) == Flow::Stop {
@@ -309,8 +315,9 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
                 check_state(tk1, &x)?;
             }
         }
+        bt.truncate(row);
         let trajectory = Trajectory::new(
-            rt,
+            bt,
             into_mat(rx, cap, row, N),
             into_mat(ru, cap, row, 1),
             into_mat(ry, cap, row, N),
@@ -381,6 +388,16 @@ fn columns(mut data: Vec<f64>, len: usize) -> Vec<f64> {
         data.resize(len, 0.0);
     }
     data
+}
+
+/// `data` (`N·cap` entries) as `N` consecutive slices of `cap` entries.
+fn split_columns<const N: usize>(data: &mut [f64], cap: usize) -> [&mut [f64]; N] {
+    let mut rest = data;
+    std::array::from_fn(|_| {
+        let (column, tail) = std::mem::take(&mut rest).split_at_mut(cap);
+        rest = tail;
+        column
+    })
 }
 
 /// The first `rows` of each of the `w` columns of a `cap`-row buffer as a matrix.
