@@ -38,7 +38,7 @@
 
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
-use pendulab_sim::lanes::{Trig, sin_cos_shifted};
+use pendulab_sim::lanes::{Trig, sin_cos_shifted, sin_cos_small};
 
 use crate::drive::Drive;
 use crate::error::{PlantError, Requirement, check, check_point};
@@ -458,9 +458,10 @@ impl Dynamics for CartPendulum {
 /// The right-hand side on arrays for the fixed-size closed-loop kernel
 /// ([`pendulab_sim::fixed`]): the operations of [`CartPendulum::derivative_array`], which the
 /// [`Dynamics`] implementation also evaluates, so the kernel reproduces `SampledLoop` bit for
-/// bit — except with [`Trig::Anchored`], whose RK4 step takes the stage sines and cosines from
-/// the step's first ones ([`pendulab_sim::lanes::sin_cos_shifted`]): within 2 ulp + 6·10⁻¹⁷ of
-/// libm's each, about 200 fewer instructions per step.
+/// bit — except with [`Trig::Anchored`], whose RK4 step evaluates the step's first sine and
+/// cosine by libm (by [`pendulab_sim::lanes::sin_cos_small`] within 1/32 rad of upright) and
+/// takes the later stages' from them ([`pendulab_sim::lanes::sin_cos_shifted`]): within
+/// 2 ulp + 6·10⁻¹⁷ of libm's each, about 250 fewer instructions per step.
 impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
     #[inline(always)]
     fn derivative_fixed(&self, x: &[f64; 4], u: f64) -> [f64; 4] {
@@ -477,7 +478,7 @@ impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
             return pendulab_sim::fixed::rk4_fixed(self, x, u, h);
         }
         let theta = x[1];
-        let (s, c) = theta.sin_cos();
+        let (s, c) = sin_cos_small(theta);
         let f = |y: &[f64; 4], (s, c): (f64, f64)| {
             let ddz = self.drive.acceleration(y[2], u);
             [y[2], y[3], ddz, self.pendulum.acceleration(s, c, y[3], ddz)]

@@ -5,7 +5,7 @@
 //! `|x − a| ≤ 1/32`) and the roundings of the correction term (magnitude ≤ 1/32, a few times
 //! 2⁻⁵³/32) plus half an ulp for the final addition (see the function's docs).
 
-use pendulab_sim::lanes::{SHIFT_LIMIT, sin_cos_shifted};
+use pendulab_sim::lanes::{SHIFT_LIMIT, sin_cos_shifted, sin_cos_small};
 use rand::{Rng, SeedableRng};
 
 /// The spacing of doubles at `v` (ulp), for finite non-zero `v`; the smallest normal spacing
@@ -65,6 +65,40 @@ fn shifted_sine_and_cosine_are_within_the_documented_bound_of_libm() {
     eprintln!("worst error / bound: {worst}");
     // The bound is not vacuous: the worst case uses a sizeable part of it.
     assert!(worst > 0.05, "worst error / bound = {worst}");
+}
+
+/// The series about the exact anchor 0 (the step-start angle of `Trig::Anchored` near the
+/// upright): the same bound against libm, which then only carries the truncation and the
+/// roundings of the series.
+#[test]
+fn small_angle_sine_and_cosine_are_within_the_documented_bound_of_libm() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let mut worst = 0.0f64;
+    let mut check = |x: f64| {
+        let (s, c) = sin_cos_small(x);
+        let (rs, rc) = x.sin_cos();
+        for (got, want) in [(s, rs), (c, rc)] {
+            let bound = 2.0 * ulp(want) + 6e-17;
+            let err = (got - want).abs();
+            assert!(err <= bound, "x = {x:e}: {got:e} vs libm {want:e}");
+            worst = worst.max(err / bound);
+        }
+    };
+    for _ in 0..1_000_000 {
+        check(rng.random_range(-SHIFT_LIMIT..=SHIFT_LIMIT));
+        check(rng.random_range(-1e-6..1e-6));
+    }
+    for x in [0.0, -0.0, 1e-300, -5e-324, SHIFT_LIMIT, -SHIFT_LIMIT] {
+        check(x);
+    }
+    // Exact where the series is: sin 0 = 0, cos 0 = 1.
+    assert_eq!(sin_cos_small(0.0), (0.0, 1.0));
+    assert!(worst > 0.01, "worst error / bound = {worst}");
+    // Beyond the range and for NaN: libm itself.
+    for x in [SHIFT_LIMIT * 1.01, -2.0, 100.0] {
+        assert_eq!(sin_cos_small(x), x.sin_cos());
+    }
+    assert!(sin_cos_small(f64::NAN).0.is_nan());
 }
 
 #[test]

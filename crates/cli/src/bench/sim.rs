@@ -27,9 +27,11 @@
 //! - `cartpole-step`: the Gymnasium-style environment (`pendulab_sim::Env`, CartPole-v1 settings
 //!   on this rig: one RK4 step of 20 ms per `step`, track ±0.4 m chosen here) driven by uniform
 //!   random actions in ±5 V with resets at episode ends, like a random-policy rollout, the
-//!   plant with its opt-in polynomial sine/cosine (`Trig::Polynomial`, within 2 ulp of libm).
-//!   Figure: `step` calls per second; the check has the rate with libm's sine/cosine. Check: one step equals the RK4 kernel; an LQR policy
-//!   survives the 500-step episode.
+//!   default plant (libm's sine/cosine). Figure: `step` calls per second, random actions
+//!   included. Check: the rate with the plant's opt-in polynomial sine/cosine
+//!   (`Trig::Polynomial`), the cost of drawing the random actions alone and the environment's
+//!   rate without it; one step equals the RK4 kernel; an LQR policy survives the 500-step
+//!   episode.
 
 use super::{BenchReport, Budget, Workload, time};
 use anyhow::{Context, Result};
@@ -306,10 +308,8 @@ fn run_batch(budget: &Budget) -> Result<BenchReport> {
 }
 
 fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
-    // Headline: the environment with the plant's opt-in polynomial sine/cosine
-    // (`Trig::Polynomial`, within 2 ulp of libm); the libm plant's rate is in the check.
-    let libm_plant = CartPendulum::book();
-    let plant = libm_plant.with_trig(Trig::Polynomial);
+    // Headline: the environment with the default plant (libm's sine/cosine).
+    let plant = CartPendulum::book();
     let mut env = Env::<_, 4>::new(plant, EnvConfig::cart_pole(0.4)?)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     env.reset(Some(1));
@@ -327,18 +327,28 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
             }
         }
     });
-    // The same rollout with the default plant (libm's sine/cosine).
-    let mut libm_env = Env::<_, 4>::new(libm_plant, EnvConfig::cart_pole(0.4)?)?;
-    let mut rng_libm = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-    libm_env.reset(Some(1));
-    let t_libm = time(budget, || {
+    // The same rollout with the plant's polynomial sine/cosine (within 2 ulp of libm).
+    let poly_plant = plant.with_trig(Trig::Polynomial);
+    let mut poly_env = Env::<_, 4>::new(poly_plant, EnvConfig::cart_pole(0.4)?)?;
+    let mut rng_poly = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    poly_env.reset(Some(1));
+    let t_poly = time(budget, || {
         for _ in 0..CALLS {
-            let a: f64 = rng_libm.random_range(-5.0..5.0);
-            let s = libm_env.step(a).expect("step");
+            let a: f64 = rng_poly.random_range(-5.0..5.0);
+            let s = poly_env.step(a).expect("step");
             if s.terminated || s.truncated {
-                libm_env.reset(None);
+                poly_env.reset(None);
             }
         }
+    });
+    // The random actions alone: what the rollout spends outside the environment.
+    let mut rng_only = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let t_rng = time(budget, || {
+        let mut acc = 0.0;
+        for _ in 0..CALLS {
+            acc += rng_only.random_range(-5.0..5.0);
+        }
+        black_box(acc);
     });
     // A step is one RK4 step of 20 ms with the clipped action held.
     let x0 = env.reset_to([0.01, 0.02, -0.03, 0.04])?;
@@ -364,14 +374,17 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
         figure: CALLS as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "Env::step (plant with Trig::Polynomial) with a uniform random action in [-5, 5] V (ChaCha8) and Env::reset at episode ends, one core",
+            "figure_measures": "Env::step (default plant, libm sin/cos) with a uniform random action in [-5, 5] V (ChaCha8) and Env::reset at episode ends, one core",
             "median_s_per_100k_steps": timing.median_s,
             "episodes": episodes,
             "mean_episode_length": steps_total as f64 / episodes.max(1) as f64,
             "step_equals_rk4_kernel": step_is_rk4,
             "lqr_policy_steps": survived,
             "lqr_policy_survives_500": survived == 500,
-            "libm_trig_steps_per_s": CALLS as f64 / t_libm.median_s,
+            "polynomial_trig_steps_per_s": CALLS as f64 / t_poly.median_s,
+            "random_actions_only_per_s": CALLS as f64 / t_rng.median_s,
+            "env_without_random_actions_steps_per_s":
+                CALLS as f64 / (timing.median_s - t_rng.median_s).max(f64::MIN_POSITIVE),
         }),
     })
 }
