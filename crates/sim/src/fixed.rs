@@ -19,7 +19,7 @@
 //! monitor stops and substeps.
 //!
 //! ```
-//! use pendulab_lti::{Mat, StateSpace};
+//! use pendulab_lti::Mat;
 //! use pendulab_sim::controllers::StaticStateFeedback;
 //! use pendulab_sim::fixed::FixedDynamics;
 //! use pendulab_sim::{Dynamics, SampledLoop, SampledOptions};
