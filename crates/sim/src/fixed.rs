@@ -1,6 +1,6 @@
 //! The fixed-size closed-loop kernel: the common sampled-data loop — a single-input plant with
-//! a compile-time state size `N`, static state feedback `u = −K (x − x_ref)` from the exact
-//! state, zero-order hold, classic RK4 substeps, optionally a saturation — compiled into one
+//! a compile-time state size `N`, static state feedback `u = −K (x − x_ref)` or the LQ
+//! integral servo from the exact state ([`FixedController`]), zero-order hold, classic RK4 substeps, optionally a saturation — compiled into one
 //! monomorphised loop on `[f64; N]`: no dynamic dispatch, no allocation and no slices of
 //! run-time length per step, recording into a preallocated column-major (structure of arrays)
 //! trajectory.
@@ -9,14 +9,14 @@
 //! refuses configurations the kernel does not cover) or directly ([`FixedLoop::new`]). Its
 //! runs are **bit-identical** to [`SampledLoop::run_with`] of the same configuration: every
 //! arithmetic operation of the general loop is performed in the same order (the sample times
-//! `t_k = t₀ + k·ts`, the substep `h = t_{k+1} − t_k`, the feedback sum from `0`, the RK4
+//! `t_k = t₀ + k·ts`, the substep `h = t_{k+1} − t_k`, the controller's update, the RK4
 //! stages of [`crate::rk4_step`], the saturation of [`crate::Actuator::apply`]), provided the
 //! plant's [`FixedDynamics::derivative_fixed`] performs the operations of its
 //! [`Dynamics::derivative`] and it keeps the provided [`FixedDynamics::rk4_step_fixed`] (as
 //! `pendulab_plants::CartPendulum` does, except with its opt-in
 //! [`Trig::Anchored`](crate::lanes::Trig::Anchored)).
 //! `tests/fixed.rs` checks the identity, records included, with and without saturation,
-//! monitor stops and substeps.
+//! monitor stops, substeps and the LQ servo.
 //!
 //! ```
 //! use pendulab_lti::Mat;
@@ -41,7 +41,7 @@
 //! let k = StaticStateFeedback::new(Mat::from_row_slice(1, 2, &[1.0, 1.5]))?;
 //! let opts = SampledOptions { ts: 0.01, t_final: 20.0, ..Default::default() };
 //! let mut general = SampledLoop::new(Di, k, opts)?;
-//! let fast = general.fixed::<2>()?;
+//! let mut fast = general.fixed::<2>()?;
 //! let a = fast.run(&[1.0, 0.0])?;
 //! assert_eq!(a, general.run(&[1.0, 0.0])?); // bit for bit, trajectory included
 //! assert!(a.diagnostics.final_state[0].abs() < 1e-3);
@@ -49,7 +49,7 @@
 //! ```
 
 use crate::controller::Controller;
-use crate::controllers::StaticStateFeedback;
+use crate::controllers::{LqIntegralServo, StaticStateFeedback};
 use crate::dynamics::Dynamics;
 use crate::error::{Result, SimError, check_initial_state, check_len, check_state};
 use crate::integrate::{IntegrationStats, Integrator};
@@ -101,16 +101,55 @@ pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
     }
 }
 
-/// The fixed-size closed loop (see the module docs): plant `P` with `N` states, static state
-/// feedback `u = −K (x − x_ref)` on the exact state, ZOH every `ts`, RK4 substeps, optional
+/// A controller the fixed-size kernel runs: one command from the exact state of `N` entries.
+///
+/// Contract: `command(t, x)` returns what [`Controller::update`]`(t, x, u)` writes into its
+/// single entry `u[0]` (and updates the internal state the same way). Implemented by
+/// [`StaticStateFeedback`] (on arrays: the gain's `N` products summed in order) and
+/// [`LqIntegralServo`] (its own `update`).
+pub trait FixedController<const N: usize>: Controller {
+    /// The command `u_k` for the state `x(t_k)` at `t_k` (s).
+    fn command(&mut self, t: f64, x: &[f64; N]) -> f64;
+}
+
+impl<const N: usize> FixedController<N> for StaticStateFeedback {
+    #[inline(always)]
+    fn command(&mut self, _t: f64, x: &[f64; N]) -> f64 {
+        let (k, r, zero_ref) = self.parts();
+        // One length check each, then no more: `u = −(0 + Σ K_i (x_i − x_ref,i))` in the
+        // order of `Controller::update` (`x − 0` is `x` bit for bit, so a zero reference is
+        // skipped).
+        let (k, r) = (&k[..N], &r[..N]);
+        let mut acc = 0.0;
+        if zero_ref {
+            for i in 0..N {
+                acc += k[i] * x[i];
+            }
+        } else {
+            for i in 0..N {
+                acc += k[i] * (x[i] - r[i]);
+            }
+        }
+        -acc
+    }
+}
+
+impl<const N: usize> FixedController<N> for LqIntegralServo {
+    #[inline(always)]
+    fn command(&mut self, t: f64, x: &[f64; N]) -> f64 {
+        let mut u = [0.0];
+        self.update(t, x, &mut u);
+        u[0]
+    }
+}
+
+/// The fixed-size closed loop (see the module docs): plant `P` with `N` states, a
+/// [`FixedController`] `C` on the exact state, ZOH every `ts`, RK4 substeps, optional
 /// saturation of the plant input to `[lo, hi]`.
 #[derive(Debug, Clone)]
-pub struct FixedLoop<P, const N: usize> {
+pub struct FixedLoop<P, C, const N: usize> {
     plant: P,
-    gain: [f64; N],
-    x_ref: [f64; N],
-    /// `x_ref` is all `+0.0`: `x − x_ref` is `x` bit for bit, the subtraction is skipped.
-    zero_ref: bool,
+    controller: C,
     saturation: Option<(f64, f64)>,
     ts: f64,
     t0: f64,
@@ -119,20 +158,17 @@ pub struct FixedLoop<P, const N: usize> {
     every: Option<usize>,
 }
 
-impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
+impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C, N> {
     /// Closes `plant` with `controller` under `options`, full-state measurement, ideal
     /// actuator (add a saturation with [`FixedLoop::with_saturation`]).
     ///
     /// # Errors
     /// The errors of [`SampledLoop::new`] for the options; [`SimError::DimensionMismatch`]
     /// unless the controller has one command and `N` measurements;
+    /// [`SimError::SampleTimeMismatch`] if the controller was designed for another `ts`;
     /// [`SimError::InvalidArgument`] for options the kernel does not cover: an integrator
     /// other than RK4, a computation delay (the initial input then plays no part).
-    pub fn new(
-        plant: P,
-        controller: &StaticStateFeedback,
-        options: &SampledOptions,
-    ) -> Result<Self> {
+    pub fn new(plant: P, controller: C, options: &SampledOptions) -> Result<Self> {
         let timing = validate_options(options, 1)?;
         check_len(
             "controller commands (fixed kernel: one)",
@@ -146,14 +182,17 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
         if timing.split.is_some() || timing.ring > 0 {
             return Err(unsupported("a computation delay"));
         }
-        let (k, r) = controller.parts();
-        let gain: [f64; N] = std::array::from_fn(|i| k[i]);
-        let x_ref: [f64; N] = std::array::from_fn(|i| r[i]);
+        if let Some(tc) = controller.sample_time()
+            && (tc - options.ts).abs() > 1e-12 * options.ts
+        {
+            return Err(SimError::SampleTimeMismatch {
+                controller: tc,
+                sampled: options.ts,
+            });
+        }
         Ok(Self {
             plant,
-            gain,
-            x_ref,
-            zero_ref: x_ref.iter().all(|v| v.to_bits() == 0),
+            controller,
             saturation: None,
             ts: options.ts,
             t0: options.t0,
@@ -182,16 +221,21 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
         &self.plant
     }
 
+    /// The controller.
+    pub fn controller(&self) -> &C {
+        &self.controller
+    }
+
     /// Number of samples `N + 1` a complete run takes.
     pub fn samples(&self) -> usize {
         self.samples + 1
     }
 
-    /// Runs from `x(t₀) = x0`.
+    /// Runs from `x(t₀) = x0` (controller reset first).
     ///
     /// # Errors
     /// As [`SampledLoop::run`].
-    pub fn run(&self, x0: &[f64]) -> Result<SampledRun> {
+    pub fn run(&mut self, x0: &[f64]) -> Result<SampledRun> {
         self.run_inner(x0, &mut (), None)
     }
 
@@ -199,7 +243,11 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
     ///
     /// # Errors
     /// As [`SampledLoop::run`].
-    pub fn run_with<M: Monitor + ?Sized>(&self, x0: &[f64], monitor: &mut M) -> Result<SampledRun> {
+    pub fn run_with<M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+    ) -> Result<SampledRun> {
         self.run_inner(x0, monitor, None)
     }
 
@@ -208,7 +256,7 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
     /// # Errors
     /// As [`SampledLoop::run`].
     pub fn run_recycling<M: Monitor + ?Sized>(
-        &self,
+        &mut self,
         x0: &[f64],
         monitor: &mut M,
         previous: SampledRun,
@@ -217,12 +265,13 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
     }
 
     fn run_inner<M: Monitor + ?Sized>(
-        &self,
+        &mut self,
         x0: &[f64],
         monitor: &mut M,
         storage: Option<SampledRun>,
     ) -> Result<SampledRun> {
         check_initial_state(x0, N)?;
+        self.controller.reset();
         let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
         let (ts, t0, n_samples, nsub) = (self.ts, self.t0, self.samples, self.nsub);
         let cap = self.every.map_or(0, |e| n_samples / e + 1);
@@ -250,18 +299,7 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
             let tk = t0 + k as f64 * ts;
             last_t = tk;
             samples_run += 1;
-            // u = −(0 + Σ K_i (x_i − x_ref,i)), summed in order like the general controller.
-            let mut acc = 0.0;
-            if self.zero_ref {
-                for i in 0..N {
-                    acc += self.gain[i] * x[i];
-                }
-            } else {
-                for i in 0..N {
-                    acc += self.gain[i] * (x[i] - self.x_ref[i]);
-                }
-            }
-            let ucmd = -acc;
+            let ucmd = self.controller.command(tk, &x);
             if !ucmd.is_finite() {
                 return Err(SimError::NonFiniteCommand {
                     t: tk,
@@ -336,7 +374,7 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
                     ..Default::default()
                 },
                 saturated_samples: saturated,
-                switch_times: Vec::new(),
+                switch_times: self.controller.switch_times().to_vec(),
                 final_time: last_t,
                 final_state: x.to_vec(),
             },
@@ -344,7 +382,7 @@ impl<P: FixedDynamics<N>, const N: usize> FixedLoop<P, N> {
     }
 }
 
-impl<P: Dynamics + Clone> SampledLoop<P, StaticStateFeedback> {
+impl<P: Dynamics + Clone, C: Controller + Clone> SampledLoop<P, C> {
     /// The same loop as a [`FixedLoop`] (bit-identical runs, see [`crate::fixed`]).
     ///
     /// # Errors
@@ -352,9 +390,10 @@ impl<P: Dynamics + Clone> SampledLoop<P, StaticStateFeedback> {
     /// [`SimError::InvalidArgument`] naming the part the kernel does not cover: a sensor
     /// chain other than the exact state, an actuator chain with more than a saturation, an
     /// integrator other than RK4, a computation delay.
-    pub fn fixed<const M: usize>(&self) -> Result<FixedLoop<P, M>>
+    pub fn fixed<const M: usize>(&self) -> Result<FixedLoop<P, C, M>>
     where
         P: FixedDynamics<M>,
+        C: FixedController<M>,
     {
         check_len("plant states (fixed kernel size)", self.plant().nx(), M)?;
         check_len("plant inputs (fixed kernel: one)", self.plant().nu(), 1)?;
@@ -366,7 +405,11 @@ impl<P: Dynamics + Clone> SampledLoop<P, StaticStateFeedback> {
                 "an actuator chain with D/A, disturbance or friction",
             ));
         };
-        let me = FixedLoop::new(self.plant().clone(), self.controller(), self.options())?;
+        let me = FixedLoop::new(
+            self.plant().clone(),
+            self.controller().clone(),
+            self.options(),
+        )?;
         match saturation {
             Some((lo, hi)) => me.with_saturation(lo, hi),
             None => Ok(me),

@@ -8,11 +8,12 @@ mod common;
 
 use common::CartPendulum;
 use pendulab_lti::Mat;
-use pendulab_sim::controllers::StaticStateFeedback;
+use pendulab_lti::StateSpace;
+use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
 use pendulab_sim::fixed::FixedDynamics;
 use pendulab_sim::{
     Actuator, Delay, Dynamics, Integrator, Record, RunStatus, SampledLoop, SampledOptions,
-    SensorChain, SimError, StayWithin,
+    SensorChain, Signal, SimError, StayWithin,
 };
 
 /// The test plant on arrays: its own `Dynamics::derivative` (the contract of `FixedDynamics`).
@@ -50,7 +51,7 @@ fn lqr_run_is_bit_identical_to_the_general_loop_for_every_recording_mode() {
             ..Default::default()
         };
         let mut g = general(lqr(), opts);
-        let f = g.fixed::<4>().unwrap();
+        let mut f = g.fixed::<4>().unwrap();
         let a = f.run(&x0).unwrap();
         let b = g.run(&x0).unwrap();
         assert_eq!(a, b, "{record:?}");
@@ -85,7 +86,7 @@ fn saturated_substepped_shifted_loop_is_bit_identical() {
     let mut g = general(k, opts)
         .with_actuator(Actuator::ideal().saturation(1.5).unwrap())
         .unwrap();
-    let f = g.fixed::<4>().unwrap();
+    let mut f = g.fixed::<4>().unwrap();
     let x0 = [0.0, 0.2, 0.1, -0.3];
     let a = f.run(&x0).unwrap();
     let b = g.run(&x0).unwrap();
@@ -106,7 +107,7 @@ fn monitor_stop_is_bit_identical() {
     // A weak gain loses the pendulum: the run stops at the first sample past 0.5 rad.
     let k = StaticStateFeedback::new(Mat::from_row_slice(1, 4, &[-0.1, -2.0, 0.0, 0.0])).unwrap();
     let mut g = general(k, SampledOptions::default());
-    let f = g.fixed::<4>().unwrap();
+    let mut f = g.fixed::<4>().unwrap();
     let x0 = [0.0, 0.2, 0.0, 0.0];
     let mut m1 = StayWithin::new(1, 0.5);
     let mut m2 = StayWithin::new(1, 0.5);
@@ -119,6 +120,71 @@ fn monitor_stop_is_bit_identical() {
         a.diagnostics.integration.accepted_steps,
         a.diagnostics.samples - 1
     );
+}
+
+/// The LQ integral servo (internal state, a reference signal, its own sample time) on the
+/// nonlinear plant: a cart step of 0.1 m at t = 1 s, with each integration rule.
+#[test]
+fn lq_servo_run_is_bit_identical() {
+    let ts = 0.01;
+    let lin = CartPendulum::default().linear();
+    let cz = StateSpace::continuous(
+        lin.a().clone(),
+        lin.b().clone(),
+        Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
+        Mat::zeros(1, 1),
+    )
+    .unwrap();
+    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[
+        1.0, 10.0, 0.0, 0.0, 50.0,
+    ]));
+    let design = pendulab_lti::design::lq_servo(&cz, &q, &Mat::identity(1, 1)).unwrap();
+    for rule in [
+        IntegrationRule::ForwardEuler,
+        IntegrationRule::BackwardEuler,
+        IntegrationRule::Trapezoidal,
+    ] {
+        let servo = LqIntegralServo::from_design(
+            &design,
+            cz.c(),
+            vec![Signal::step(1.0, 0.1).unwrap()],
+            ts,
+            rule,
+        )
+        .unwrap();
+        let opts = SampledOptions {
+            ts,
+            t_final: 15.0,
+            integrator: Integrator::Rk4 { dt: ts / 5.0 },
+            ..Default::default()
+        };
+        let mut g = SampledLoop::new(CartPendulum::default(), servo, opts).unwrap();
+        let mut f = g.fixed::<4>().unwrap();
+        let x0 = [0.0, 0.05, 0.0, 0.0];
+        let a = f.run(&x0).unwrap();
+        assert_eq!(a, g.run(&x0).unwrap(), "{rule:?}");
+        // A second run starts from a reset servo (same result), and the cart has followed
+        // the step.
+        assert_eq!(f.run(&x0).unwrap(), a);
+        assert!((a.diagnostics.final_state[0] - 0.1).abs() < 1e-3);
+    }
+    // A servo designed for another sample time is refused as by the general loop.
+    let servo = LqIntegralServo::from_design(
+        &design,
+        cz.c(),
+        vec![Signal::constant(0.0).unwrap()],
+        0.02,
+        IntegrationRule::ForwardEuler,
+    )
+    .unwrap();
+    assert!(matches!(
+        pendulab_sim::fixed::FixedLoop::<_, _, 4>::new(
+            CartPendulum::default(),
+            servo,
+            &SampledOptions::default()
+        ),
+        Err(SimError::SampleTimeMismatch { .. })
+    ));
 }
 
 #[test]
@@ -154,7 +220,7 @@ fn configurations_the_kernel_does_not_cover_are_refused_with_a_reason() {
         .unwrap();
     assert!(refused(encoders.fixed::<4>()).contains("sensor"));
     // Bad initial states are refused as by the general loop.
-    let f = general(lqr(), SampledOptions::default())
+    let mut f = general(lqr(), SampledOptions::default())
         .fixed::<4>()
         .unwrap();
     assert!(matches!(

@@ -112,7 +112,7 @@ fn time_fixed(
     lp: &SampledLoop<CartPendulum, StaticStateFeedback>,
     x0: &[f64; 4],
 ) -> Result<(pendulab_sim::SampledRun, super::Timing)> {
-    let fixed = lp.fixed::<4>()?;
+    let mut fixed = lp.fixed::<4>()?;
     let mut last = Some(fixed.run(x0)?);
     let timing = time(budget, || {
         let previous = last.take().expect("previous run");
