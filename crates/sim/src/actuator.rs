@@ -223,6 +223,13 @@ impl Actuator {
             && !matches!(self.friction, Some(Friction::DeadZone { .. }))
     }
 
+    /// `Some(saturation)` if the chain is at most a saturation `[lo, hi]` (no D/A,
+    /// disturbance or friction), `None` otherwise.
+    pub(crate) fn saturation_only(&self) -> Option<Option<(f64, f64)>> {
+        (self.dac.is_none() && self.disturbance.is_none() && self.friction.is_none())
+            .then_some(self.saturation)
+    }
+
     /// The plant input for command `u` at sample time `t`; returns whether any entry was
     /// clipped by the saturation.
     #[inline]

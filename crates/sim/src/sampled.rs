@@ -144,13 +144,13 @@ pub struct SampledRun {
 
 /// Validated timing of a loop.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Timing {
-    samples: usize,
+pub(crate) struct Timing {
+    pub(crate) samples: usize,
     /// RK4 substeps per full interval (0 for Dopri).
-    nsub: usize,
+    pub(crate) nsub: usize,
     /// Delay split: (δ, substeps before, substeps after) for `Delay::Time`.
-    split: Option<(f64, usize, usize)>,
-    ring: usize,
+    pub(crate) split: Option<(f64, usize, usize)>,
+    pub(crate) ring: usize,
 }
 
 /// A continuous plant in closed loop with a discrete controller (see the module docs).
@@ -380,7 +380,7 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
     }
 }
 
-fn validate_options(o: &SampledOptions, nu: usize) -> Result<Timing> {
+pub(crate) fn validate_options(o: &SampledOptions, nu: usize) -> Result<Timing> {
     let ts = o.ts;
     if !(ts.is_finite() && ts > 0.0) {
         return Err(SimError::InvalidSampleTime(ts));
@@ -702,7 +702,7 @@ where
 
 impl SampledRun {
     /// The allocations of the trajectory and commands, emptied, for reuse.
-    fn into_storage(self) -> [Vec<f64>; 5] {
+    pub(crate) fn into_storage(self) -> [Vec<f64>; 5] {
         let (t, x, u, y) = self.trajectory.into_parts();
         [
             t,

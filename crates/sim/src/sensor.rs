@@ -545,6 +545,11 @@ impl SensorChain {
         }
     }
 
+    /// `true` once prepared as `y = x` exactly (every state, in order, unquantised, no noise).
+    pub(crate) fn is_identity(&self) -> bool {
+        self.identity
+    }
+
     /// The measurement `y_k` of the state `x(t_k)` (call once per sample, in time order, after
     /// [`SensorChain::prepare`]).
     #[inline(always)]

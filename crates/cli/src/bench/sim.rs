@@ -6,10 +6,15 @@
 //!
 //! - `sim-rk4`: one 10 s closed-loop run from θ₀ = 15°, controller at 1 kHz with zero-order
 //!   hold, classic RK4 at 1 ms, every sample recorded into the `Trajectory` (recycling the
-//!   previous result's storage). Figure: RK4 steps per second on one core. Check: the same
-//!   run with freshly allocated results and without recording, the run against the same loop
-//!   integrated by Dormand–Prince at `rtol = 1e-12` (the RK4 error of the timed run), and
-//!   that it balances.
+//!   previous result's storage), by the fixed-size kernel `pendulab_sim::fixed::FixedLoop`
+//!   (`SampledLoop::fixed`: the loop monomorphised on `[f64; 4]`) with the plant's opt-in
+//!   `Trig::Anchored` (libm's sine/cosine once per RK4 step, the three later stages' from it
+//!   by the addition theorem, each within 2 ulp + 6·10⁻¹⁷ of libm). Figure: RK4 steps per
+//!   second on one core. Check: the headline's largest deviation from the general
+//!   `SampledLoop` run with libm; the fixed-size kernel with libm (bit-identical to the
+//!   general loop) and with the polynomial sine/cosine; the general loop's rate (recycled,
+//!   freshly allocated, unrecorded); the run against the same loop integrated by
+//!   Dormand–Prince at `rtol = 1e-12` (the RK4 error of the timed run); that it balances.
 //! - `sim-batch`: the 100×100 grid θ₀ ∈ [−1.2, 1.2] rad × θ̇₀ ∈ [−3, 3] rad/s, 10 s each at
 //!   1 kHz, on all cores (rayon), classifying each run as upright (`|θ| ≤ π/2` throughout) or
 //!   fallen (the run stops at the first sample past π/2). Figure: trajectory-steps actually
@@ -22,9 +27,11 @@
 //! - `cartpole-step`: the Gymnasium-style environment (`pendulab_sim::Env`, CartPole-v1 settings
 //!   on this rig: one RK4 step of 20 ms per `step`, track ±0.4 m chosen here) driven by uniform
 //!   random actions in ±5 V with resets at episode ends, like a random-policy rollout, the
-//!   plant with its opt-in polynomial sine/cosine (`Trig::Polynomial`, within 2 ulp of libm).
-//!   Figure: `step` calls per second; the check has the rate with libm's sine/cosine. Check: one step equals the RK4 kernel; an LQR policy
-//!   survives the 500-step episode.
+//!   default plant (libm's sine/cosine). Figure: `step` calls per second, random actions
+//!   included. Check: the rate with the plant's opt-in polynomial sine/cosine
+//!   (`Trig::Polynomial`), the cost of drawing the random actions alone and the environment's
+//!   rate without it; one step equals the RK4 kernel; an LQR policy survives the 500-step
+//!   episode.
 
 use super::{BenchReport, Budget, Workload, time};
 use anyhow::{Context, Result};
@@ -99,86 +106,102 @@ fn closed_loop_with(
     )?)
 }
 
-fn run_rk4(budget: &Budget) -> Result<BenchReport> {
-    let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
-    let mut lp = closed_loop(Record::EverySample, Integrator::Rk4 { dt: 1e-3 })?;
-    // Headline: the run recording every sample into the storage of the previous result
-    // (`run_recycling`), i.e. the simulation itself without the operating system's cost of
-    // handing out ~0.9 MB of fresh pages per run; that cost is in the check (`run`).
-    let mut last = Some(lp.run(&x0)?);
+/// A recorded fixed-size kernel run of the sim-rk4 loop, timed with recycled storage.
+fn time_fixed(
+    budget: &Budget,
+    lp: &SampledLoop<CartPendulum, StaticStateFeedback>,
+    x0: &[f64; 4],
+) -> Result<(pendulab_sim::SampledRun, super::Timing)> {
+    let mut fixed = lp.fixed::<4>()?;
+    let mut last = Some(fixed.run(x0)?);
     let timing = time(budget, || {
         let previous = last.take().expect("previous run");
         last = Some(
+            fixed
+                .run_recycling(black_box(x0), &mut (), previous)
+                .expect("closed-loop run"),
+        );
+    });
+    Ok((last.context("ran at least once")?, timing))
+}
+
+/// The largest absolute difference of two runs' recorded states.
+fn max_state_deviation(a: &pendulab_sim::SampledRun, b: &pendulab_sim::SampledRun) -> f64 {
+    let (xa, xb) = (a.trajectory.x(), b.trajectory.x());
+    if xa.shape() != xb.shape() {
+        return f64::INFINITY;
+    }
+    (xa - xb).abs().max()
+}
+
+fn run_rk4(budget: &Budget) -> Result<BenchReport> {
+    let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
+    let rk4 = Integrator::Rk4 { dt: 1e-3 };
+    // Headline: the fixed-size kernel with the anchored stage sines, recording every sample
+    // into the storage of the previous result (`run_recycling`), i.e. the simulation itself
+    // without the operating system's cost of handing out ~0.9 MB of fresh pages per run.
+    let anchored = closed_loop_with(Record::EverySample, rk4, Trig::Anchored)?;
+    let (run, timing) = time_fixed(budget, &anchored, &x0)?;
+    let steps = run.diagnostics.integration.accepted_steps;
+    // The general loop with libm: recycled storage, fresh allocation, no recording.
+    let mut lp = closed_loop(Record::EverySample, rk4)?;
+    let mut last_general = Some(lp.run(&x0)?);
+    let t_general = time(budget, || {
+        let previous = last_general.take().expect("previous run");
+        last_general = Some(
             lp.run_recycling(black_box(&x0), &mut (), previous)
                 .expect("closed-loop run"),
         );
     });
-    let run = last.context("ran at least once")?;
-    let steps = run.diagnostics.integration.accepted_steps;
+    let general = last_general.context("ran at least once")?;
+    let anchored_dev = max_state_deviation(&run, &general);
     let mut fresh = None;
     let t_fresh = time(budget, || {
         fresh = Some(lp.run(black_box(&x0)).expect("closed-loop run"));
     });
-    let fresh_identical = fresh
-        .as_ref()
-        .is_some_and(|f| f.trajectory == run.trajectory);
-    // The same loop without recording (only the final state is kept).
-    let mut bare = closed_loop(Record::Off, Integrator::Rk4 { dt: 1e-3 })?;
+    let fresh_identical = fresh.as_ref() == Some(&general);
+    let mut bare = closed_loop(Record::Off, rk4)?;
     let t_bare = time(budget, || {
         black_box(bare.run(black_box(&x0)).expect("run"));
     });
+    // The fixed-size kernel with libm: bit-identical to the general loop.
+    let (libm_run, t_libm) = time_fixed(budget, &lp, &x0)?;
+    let libm_identical = libm_run == general;
+    // ... and with the polynomial sine/cosine (bit-identical to the general loop with it).
+    let mut poly_loop = closed_loop_with(Record::EverySample, rk4, Trig::Polynomial)?;
+    let (poly_run, t_poly) = time_fixed(budget, &poly_loop, &x0)?;
+    let poly_identical = poly_loop.run(&x0)? == poly_run;
+    let poly_dev = max_state_deviation(&poly_run, &general);
     // Reference: the same sampled-data loop, plant integrated by Dormand–Prince at 1e-12.
     let mut reference = closed_loop(Record::EverySample, Integrator::dopri45(1e-12, 1e-14))?;
     let r = reference.run(&x0)?;
-    let mut max_dev = 0.0f64;
-    for k in 0..run.trajectory.len() {
-        for i in 0..4 {
-            max_dev = max_dev.max((run.trajectory.x()[(k, i)] - r.trajectory.x()[(k, i)]).abs());
-        }
-    }
-    // The same recorded run with the plant's opt-in polynomial sine/cosine (Trig::Polynomial).
-    let mut fast = closed_loop_with(
-        Record::EverySample,
-        Integrator::Rk4 { dt: 1e-3 },
-        Trig::Polynomial,
-    )?;
-    let mut last_fast = Some(fast.run(&x0)?);
-    let t_fast = time(budget, || {
-        let previous = last_fast.take().expect("previous run");
-        last_fast = Some(
-            fast.run_recycling(black_box(&x0), &mut (), previous)
-                .expect("closed-loop run"),
-        );
-    });
-    let fast_run = last_fast.context("ran at least once")?;
-    let mut fast_dev = 0.0f64;
-    for k in 0..fast_run.trajectory.len() {
-        for i in 0..4 {
-            fast_dev =
-                fast_dev.max((fast_run.trajectory.x()[(k, i)] - run.trajectory.x()[(k, i)]).abs());
-        }
-    }
+    let max_dev = max_state_deviation(&run, &r);
     let xf = &run.diagnostics.final_state;
     Ok(BenchReport {
         workload: "sim-rk4".into(),
         figure: steps as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "SampledLoop::run_recycling: 10 000 samples (sensor, LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core",
+            "figure_measures": "FixedLoop::run_recycling (SampledLoop::fixed: fixed-size kernel; plant with Trig::Anchored, libm sin/cos once per RK4 step): 10 000 samples (LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core",
             "steps": steps,
             "median_s_per_run": timing.median_s,
             "min_s_per_run": timing.min_s,
             "runs": timing.iterations,
-            "fresh_allocation_run_steps_per_s": steps as f64 / t_fresh.median_s,
+            "max_abs_deviation_from_general_loop_libm": anchored_dev,
+            "fixed_kernel_libm_steps_per_s": steps as f64 / t_libm.median_s,
+            "fixed_kernel_libm_identical_to_general_loop": libm_identical,
+            "fixed_kernel_polynomial_trig_steps_per_s": steps as f64 / t_poly.median_s,
+            "fixed_kernel_polynomial_trig_identical_to_general_loop_with_it": poly_identical,
+            "polynomial_trig_max_abs_deviation_from_libm_run": poly_dev,
+            "general_loop_steps_per_s": steps as f64 / t_general.median_s,
+            "general_loop_fresh_allocation_steps_per_s": steps as f64 / t_fresh.median_s,
             "fresh_allocation_run_identical": fresh_identical,
-            "unrecorded_steps_per_s": steps as f64 / t_bare.median_s,
+            "general_loop_unrecorded_steps_per_s": steps as f64 / t_bare.median_s,
             "theta0_deg": 15.0,
             "final_state": xf,
             "balanced": xf[1].abs() < 1e-3 && run.status == RunStatus::Completed,
             "max_abs_deviation_from_dopri45_1e-12": max_dev,
             "reference_steps": r.diagnostics.integration.accepted_steps,
-            "polynomial_trig_steps_per_s": steps as f64 / t_fast.median_s,
-            "polynomial_trig_max_abs_deviation_from_libm_run": fast_dev,
         }),
     })
 }
@@ -285,10 +308,8 @@ fn run_batch(budget: &Budget) -> Result<BenchReport> {
 }
 
 fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
-    // Headline: the environment with the plant's opt-in polynomial sine/cosine
-    // (`Trig::Polynomial`, within 2 ulp of libm); the libm plant's rate is in the check.
-    let libm_plant = CartPendulum::book();
-    let plant = libm_plant.with_trig(Trig::Polynomial);
+    // Headline: the environment with the default plant (libm's sine/cosine).
+    let plant = CartPendulum::book();
     let mut env = Env::<_, 4>::new(plant, EnvConfig::cart_pole(0.4)?)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     env.reset(Some(1));
@@ -306,18 +327,28 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
             }
         }
     });
-    // The same rollout with the default plant (libm's sine/cosine).
-    let mut libm_env = Env::<_, 4>::new(libm_plant, EnvConfig::cart_pole(0.4)?)?;
-    let mut rng_libm = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-    libm_env.reset(Some(1));
-    let t_libm = time(budget, || {
+    // The same rollout with the plant's polynomial sine/cosine (within 2 ulp of libm).
+    let poly_plant = plant.with_trig(Trig::Polynomial);
+    let mut poly_env = Env::<_, 4>::new(poly_plant, EnvConfig::cart_pole(0.4)?)?;
+    let mut rng_poly = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    poly_env.reset(Some(1));
+    let t_poly = time(budget, || {
         for _ in 0..CALLS {
-            let a: f64 = rng_libm.random_range(-5.0..5.0);
-            let s = libm_env.step(a).expect("step");
+            let a: f64 = rng_poly.random_range(-5.0..5.0);
+            let s = poly_env.step(a).expect("step");
             if s.terminated || s.truncated {
-                libm_env.reset(None);
+                poly_env.reset(None);
             }
         }
+    });
+    // The random actions alone: what the rollout spends outside the environment.
+    let mut rng_only = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let t_rng = time(budget, || {
+        let mut acc = 0.0;
+        for _ in 0..CALLS {
+            acc += rng_only.random_range(-5.0..5.0);
+        }
+        black_box(acc);
     });
     // A step is one RK4 step of 20 ms with the clipped action held.
     let x0 = env.reset_to([0.01, 0.02, -0.03, 0.04])?;
@@ -343,14 +374,17 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
         figure: CALLS as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "Env::step (plant with Trig::Polynomial) with a uniform random action in [-5, 5] V (ChaCha8) and Env::reset at episode ends, one core",
+            "figure_measures": "Env::step (default plant, libm sin/cos) with a uniform random action in [-5, 5] V (ChaCha8) and Env::reset at episode ends, one core",
             "median_s_per_100k_steps": timing.median_s,
             "episodes": episodes,
             "mean_episode_length": steps_total as f64 / episodes.max(1) as f64,
             "step_equals_rk4_kernel": step_is_rk4,
             "lqr_policy_steps": survived,
             "lqr_policy_survives_500": survived == 500,
-            "libm_trig_steps_per_s": CALLS as f64 / t_libm.median_s,
+            "polynomial_trig_steps_per_s": CALLS as f64 / t_poly.median_s,
+            "random_actions_only_per_s": CALLS as f64 / t_rng.median_s,
+            "env_without_random_actions_steps_per_s":
+                CALLS as f64 / (timing.median_s - t_rng.median_s).max(f64::MIN_POSITIVE),
         }),
     })
 }

@@ -18,6 +18,8 @@ use pendulab_lti::design::{LqServo, StateFeedback};
 pub struct StaticStateFeedback {
     k: Vec<f64>,
     y_ref: Vec<f64>,
+    /// `y_ref` is all `+0.0` (`y − y_ref` is then `y` bit for bit).
+    zero_ref: bool,
     nu: usize,
     ny: usize,
 }
@@ -32,6 +34,7 @@ impl StaticStateFeedback {
         Ok(Self {
             k: row_major("K", &k)?,
             y_ref: vec![0.0; ny],
+            zero_ref: true,
             nu,
             ny,
         })
@@ -64,7 +67,15 @@ impl StaticStateFeedback {
             crate::error::check_finite(&format!("feedback reference {i}"), v)?;
         }
         self.y_ref.copy_from_slice(y_ref);
+        self.zero_ref = y_ref.iter().all(|v| v.to_bits() == 0);
         Ok(self)
+    }
+
+    /// `K` row-major, `y_ref` and whether `y_ref` is all `+0.0` (for the fixed-size kernel,
+    /// [`crate::fixed`]).
+    #[inline(always)]
+    pub(crate) fn parts(&self) -> (&[f64], &[f64], bool) {
+        (&self.k, &self.y_ref, self.zero_ref)
     }
 
     /// The library gain `K` (`u = −K y`).

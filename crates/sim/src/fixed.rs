@@ -1,0 +1,455 @@
+//! The fixed-size closed-loop kernel: the common sampled-data loop — a single-input plant with
+//! a compile-time state size `N`, static state feedback `u = −K (x − x_ref)` or the LQ
+//! integral servo from the exact state ([`FixedController`]), zero-order hold, classic RK4 substeps, optionally a saturation — compiled into one
+//! monomorphised loop on `[f64; N]`: no dynamic dispatch, no allocation and no slices of
+//! run-time length per step, recording into a preallocated column-major (structure of arrays)
+//! trajectory.
+//!
+//! [`FixedLoop`] is built from the parts of a [`SampledLoop`] ([`SampledLoop::fixed`], which
+//! refuses configurations the kernel does not cover) or directly ([`FixedLoop::new`]). Its
+//! runs are **bit-identical** to [`SampledLoop::run_with`] of the same configuration: every
+//! arithmetic operation of the general loop is performed in the same order (the sample times
+//! `t_k = t₀ + k·ts`, the substep `h = t_{k+1} − t_k`, the controller's update, the RK4
+//! stages of [`crate::rk4_step`], the saturation of [`crate::Actuator::apply`]), provided the
+//! plant's [`FixedDynamics::derivative_fixed`] performs the operations of its
+//! [`Dynamics::derivative`] and it keeps the provided [`FixedDynamics::rk4_step_fixed`] (as
+//! `pendulab_plants::CartPendulum` does, except with its opt-in
+//! [`Trig::Anchored`](crate::lanes::Trig::Anchored)).
+//! `tests/fixed.rs` checks the identity, records included, with and without saturation,
+//! monitor stops, substeps and the LQ servo.
+//!
+//! ```
+//! use pendulab_lti::Mat;
+//! use pendulab_sim::controllers::StaticStateFeedback;
+//! use pendulab_sim::fixed::FixedDynamics;
+//! use pendulab_sim::{Dynamics, SampledLoop, SampledOptions};
+//! # fn main() -> Result<(), pendulab_sim::SimError> {
+//! // A double integrator ẋ = [x₁, u] as a fixed-size plant.
+//! #[derive(Clone)]
+//! struct Di;
+//! impl Dynamics for Di {
+//!     fn nx(&self) -> usize { 2 }
+//!     fn nu(&self) -> usize { 1 }
+//!     fn derivative(&self, _t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
+//!         dx[0] = x[1];
+//!         dx[1] = u[0];
+//!     }
+//! }
+//! impl FixedDynamics<2> for Di {
+//!     fn derivative_fixed(&self, x: &[f64; 2], u: f64) -> [f64; 2] { [x[1], u] }
+//! }
+//! let k = StaticStateFeedback::new(Mat::from_row_slice(1, 2, &[1.0, 1.5]))?;
+//! let opts = SampledOptions { ts: 0.01, t_final: 20.0, ..Default::default() };
+//! let mut general = SampledLoop::new(Di, k, opts)?;
+//! let mut fast = general.fixed::<2>()?;
+//! let a = fast.run(&[1.0, 0.0])?;
+//! assert_eq!(a, general.run(&[1.0, 0.0])?); // bit for bit, trajectory included
+//! assert!(a.diagnostics.final_state[0].abs() < 1e-3);
+//! # Ok(()) }
+//! ```
+
+use crate::controller::Controller;
+use crate::controllers::{LqIntegralServo, StaticStateFeedback};
+use crate::dynamics::Dynamics;
+use crate::error::{Result, SimError, check_initial_state, check_len, check_state};
+use crate::integrate::{IntegrationStats, Integrator};
+use crate::monitor::{Flow, Monitor};
+use crate::sampled::{
+    Record, RunStatus, SampledDiagnostics, SampledLoop, SampledOptions, SampledRun,
+    validate_options,
+};
+use pendulab_lti::{Mat, Trajectory};
+
+/// An autonomous single-input plant `ẋ = f(x, u)` with `N` states, evaluated on arrays.
+///
+/// Contract: for the kernel to reproduce [`SampledLoop`] bit for bit, `derivative_fixed(x, u)`
+/// must return what [`Dynamics::derivative`]`(t, x, &[u], ·)` writes, for every `t` (the plant
+/// may not depend on time).
+pub trait FixedDynamics<const N: usize> {
+    /// `ẋ = f(x, u)`.
+    fn derivative_fixed(&self, x: &[f64; N], u: f64) -> [f64; N];
+
+    /// One classic RK4 step of `h` with `u` held, in place (provided: [`rk4_fixed`], the
+    /// operations of [`crate::rk4_step`]). A plant may override it with a step that shares
+    /// work between the stages (e.g. `pendulab_plants::CartPendulum` with
+    /// [`crate::lanes::Trig::Anchored`]); the kernel is then as close to the general loop as
+    /// that override documents, no longer bit-identical.
+    #[inline(always)]
+    fn rk4_step_fixed(&self, x: &mut [f64; N], u: f64, h: f64) {
+        rk4_fixed(self, x, u, h);
+    }
+}
+
+/// One classic RK4 step of `h` with `u` held, operation for operation the step of
+/// [`crate::rk4_step`] (stages `x + (h/2)·k₁`, `x + (h/2)·k₂`, `x + h·k₃`; update
+/// `x + (h/6)·(((k₁ + 2k₂) + 2k₃) + k₄)`).
+#[inline(always)]
+pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
+    plant: &P,
+    x: &mut [f64; N],
+    u: f64,
+    h: f64,
+) {
+    let half = 0.5 * h;
+    let k1 = plant.derivative_fixed(x, u);
+    let k2 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + half * k1[i]), u);
+    let k3 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + half * k2[i]), u);
+    let k4 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + h * k3[i]), u);
+    let sixth = h / 6.0;
+    for i in 0..N {
+        x[i] += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    }
+}
+
+/// A controller the fixed-size kernel runs: one command from the exact state of `N` entries.
+///
+/// Contract: `command(t, x)` returns what [`Controller::update`]`(t, x, u)` writes into its
+/// single entry `u[0]` (and updates the internal state the same way). Implemented by
+/// [`StaticStateFeedback`] (on arrays: the gain's `N` products summed in order) and
+/// [`LqIntegralServo`] (its own `update`).
+pub trait FixedController<const N: usize>: Controller {
+    /// The command `u_k` for the state `x(t_k)` at `t_k` (s).
+    fn command(&mut self, t: f64, x: &[f64; N]) -> f64;
+}
+
+impl<const N: usize> FixedController<N> for StaticStateFeedback {
+    #[inline(always)]
+    fn command(&mut self, _t: f64, x: &[f64; N]) -> f64 {
+        let (k, r, zero_ref) = self.parts();
+        // One length check each, then no more: `u = −(0 + Σ K_i (x_i − x_ref,i))` in the
+        // order of `Controller::update` (`x − 0` is `x` bit for bit, so a zero reference is
+        // skipped).
+        let (k, r) = (&k[..N], &r[..N]);
+        let mut acc = 0.0;
+        if zero_ref {
+            for i in 0..N {
+                acc += k[i] * x[i];
+            }
+        } else {
+            for i in 0..N {
+                acc += k[i] * (x[i] - r[i]);
+            }
+        }
+        -acc
+    }
+}
+
+impl<const N: usize> FixedController<N> for LqIntegralServo {
+    #[inline(always)]
+    fn command(&mut self, t: f64, x: &[f64; N]) -> f64 {
+        let mut u = [0.0];
+        self.update(t, x, &mut u);
+        u[0]
+    }
+}
+
+/// The fixed-size closed loop (see the module docs): plant `P` with `N` states, a
+/// [`FixedController`] `C` on the exact state, ZOH every `ts`, RK4 substeps, optional
+/// saturation of the plant input to `[lo, hi]`.
+#[derive(Debug, Clone)]
+pub struct FixedLoop<P, C, const N: usize> {
+    plant: P,
+    controller: C,
+    saturation: Option<(f64, f64)>,
+    ts: f64,
+    t0: f64,
+    samples: usize,
+    nsub: usize,
+    every: Option<usize>,
+}
+
+impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C, N> {
+    /// Closes `plant` with `controller` under `options`, full-state measurement, ideal
+    /// actuator (add a saturation with [`FixedLoop::with_saturation`]).
+    ///
+    /// # Errors
+    /// The errors of [`SampledLoop::new`] for the options; [`SimError::DimensionMismatch`]
+    /// unless the controller has one command and `N` measurements;
+    /// [`SimError::SampleTimeMismatch`] if the controller was designed for another `ts`;
+    /// [`SimError::InvalidArgument`] for options the kernel does not cover: an integrator
+    /// other than RK4, a computation delay (the initial input then plays no part).
+    pub fn new(plant: P, controller: C, options: &SampledOptions) -> Result<Self> {
+        let timing = validate_options(options, 1)?;
+        check_len(
+            "controller commands (fixed kernel: one)",
+            controller.nu(),
+            1,
+        )?;
+        check_len("controller measurements (the state)", controller.ny(), N)?;
+        if !matches!(options.integrator, Integrator::Rk4 { .. }) {
+            return Err(unsupported("an integrator other than RK4"));
+        }
+        if timing.split.is_some() || timing.ring > 0 {
+            return Err(unsupported("a computation delay"));
+        }
+        if let Some(tc) = controller.sample_time()
+            && (tc - options.ts).abs() > 1e-12 * options.ts
+        {
+            return Err(SimError::SampleTimeMismatch {
+                controller: tc,
+                sampled: options.ts,
+            });
+        }
+        Ok(Self {
+            plant,
+            controller,
+            saturation: None,
+            ts: options.ts,
+            t0: options.t0,
+            samples: timing.samples,
+            nsub: timing.nsub,
+            every: match options.record {
+                Record::EverySample => Some(1),
+                Record::Every(n) => Some(n),
+                Record::Off => None,
+            },
+        })
+    }
+
+    /// Saturates the plant input to `[lo, hi]` (as [`crate::Actuator::saturation_range`]).
+    ///
+    /// # Errors
+    /// [`SimError::InvalidParameter`] unless `lo < hi`, both finite.
+    pub fn with_saturation(mut self, lo: f64, hi: f64) -> Result<Self> {
+        crate::Actuator::ideal().saturation_range(lo, hi)?;
+        self.saturation = Some((lo, hi));
+        Ok(self)
+    }
+
+    /// The plant.
+    pub fn plant(&self) -> &P {
+        &self.plant
+    }
+
+    /// The controller.
+    pub fn controller(&self) -> &C {
+        &self.controller
+    }
+
+    /// Number of samples `N + 1` a complete run takes.
+    pub fn samples(&self) -> usize {
+        self.samples + 1
+    }
+
+    /// Runs from `x(t₀) = x0` (controller reset first).
+    ///
+    /// # Errors
+    /// As [`SampledLoop::run`].
+    pub fn run(&mut self, x0: &[f64]) -> Result<SampledRun> {
+        self.run_inner(x0, &mut (), None)
+    }
+
+    /// Runs from `x0` showing every sample to `monitor`, which may stop the run.
+    ///
+    /// # Errors
+    /// As [`SampledLoop::run`].
+    pub fn run_with<M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+    ) -> Result<SampledRun> {
+        self.run_inner(x0, monitor, None)
+    }
+
+    /// As [`FixedLoop::run_with`], recording into the storage of an earlier result.
+    ///
+    /// # Errors
+    /// As [`SampledLoop::run`].
+    pub fn run_recycling<M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+        previous: SampledRun,
+    ) -> Result<SampledRun> {
+        self.run_inner(x0, monitor, Some(previous))
+    }
+
+    fn run_inner<M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+        storage: Option<SampledRun>,
+    ) -> Result<SampledRun> {
+        check_initial_state(x0, N)?;
+        self.controller.reset();
+        let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
+        let (ts, t0, n_samples, nsub) = (self.ts, self.t0, self.samples, self.nsub);
+        let cap = self.every.map_or(0, |e| n_samples / e + 1);
+        let [mut bt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
+        bt.resize(cap, 0.0);
+        let (mut rx, mut ru, mut ry, mut rc) = (
+            columns(bx, cap * N),
+            columns(bu, cap),
+            columns(by, cap * N),
+            columns(bc, cap),
+        );
+        // One slice of exactly `cap` entries per recorded signal: a row index checked once
+        // against `cap` is then in range for all of them.
+        let (rt, ru_col, rc_col) = (&mut bt[..cap], &mut ru[..cap], &mut rc[..cap]);
+        let xcols: [&mut [f64]; N] = split_columns(&mut rx, cap);
+        let ycols: [&mut [f64]; N] = split_columns(&mut ry, cap);
+        let mut saturated = 0usize;
+        let mut status = RunStatus::Completed;
+        let mut last_t = t0;
+        let mut samples_run = 0usize;
+        let mut next_record = if self.every.is_some() { 0 } else { usize::MAX };
+        let every = self.every.unwrap_or(0);
+        let mut row = 0usize;
+        for k in 0..=n_samples {
+            let tk = t0 + k as f64 * ts;
+            last_t = tk;
+            samples_run += 1;
+            let ucmd = self.controller.command(tk, &x);
+            if !ucmd.is_finite() {
+                return Err(SimError::NonFiniteCommand {
+                    t: tk,
+                    index: 0,
+                    value: ucmd,
+                });
+            }
+            let p = match self.saturation {
+                None => ucmd,
+                Some((lo, hi)) => {
+                    let mut v = ucmd;
+                    if v > hi {
+                        v = hi;
+                        saturated += 1;
+                    } else if v < lo {
+                        v = lo;
+                        saturated += 1;
+                    }
+                    // The actuator adds its (zero) disturbance after the saturation.
+                    v + 0.0
+                }
+            };
+            if next_record == k && row < cap {
+                next_record += every;
+                rt[row] = tk;
+                for i in 0..N {
+                    xcols[i][row] = x[i];
+                    ycols[i][row] = x[i];
+                }
+                ru_col[row] = p;
+                rc_col[row] = ucmd;
+                row += 1;
+            }
+            if monitor.observe(tk, &x, &x, &[p]) == Flow::Stop {
+                status = RunStatus::Stopped { t: tk };
+                break;
+            }
+            if k == n_samples {
+                break;
+            }
+            let tk1 = t0 + (k + 1) as f64 * ts;
+            if nsub == 1 {
+                self.plant.rk4_step_fixed(&mut x, p, tk1 - tk);
+            } else {
+                let h = (tk1 - tk) / nsub as f64;
+                for _ in 0..nsub {
+                    self.plant.rk4_step_fixed(&mut x, p, h);
+                }
+            }
+            if !x.iter().sum::<f64>().is_finite() {
+                check_state(tk1, &x)?;
+            }
+        }
+        bt.truncate(row);
+        let trajectory = Trajectory::new(
+            bt,
+            into_mat(rx, cap, row, N),
+            into_mat(ru, cap, row, 1),
+            into_mat(ry, cap, row, N),
+        )?;
+        // Every sample but the last one run is followed by one interval of `nsub` steps.
+        let steps = (samples_run - 1) * nsub;
+        Ok(SampledRun {
+            trajectory,
+            commands: into_mat(rc, cap, row, 1),
+            status,
+            diagnostics: SampledDiagnostics {
+                samples: samples_run,
+                integration: IntegrationStats {
+                    accepted_steps: steps,
+                    evaluations: 4 * steps,
+                    ..Default::default()
+                },
+                saturated_samples: saturated,
+                switch_times: self.controller.switch_times().to_vec(),
+                final_time: last_t,
+                final_state: x.to_vec(),
+            },
+        })
+    }
+}
+
+impl<P: Dynamics + Clone, C: Controller + Clone> SampledLoop<P, C> {
+    /// The same loop as a [`FixedLoop`] (bit-identical runs, see [`crate::fixed`]).
+    ///
+    /// # Errors
+    /// [`SimError::DimensionMismatch`] if the plant does not have `N` states and one input;
+    /// [`SimError::InvalidArgument`] naming the part the kernel does not cover: a sensor
+    /// chain other than the exact state, an actuator chain with more than a saturation, an
+    /// integrator other than RK4, a computation delay.
+    pub fn fixed<const M: usize>(&self) -> Result<FixedLoop<P, C, M>>
+    where
+        P: FixedDynamics<M>,
+        C: FixedController<M>,
+    {
+        check_len("plant states (fixed kernel size)", self.plant().nx(), M)?;
+        check_len("plant inputs (fixed kernel: one)", self.plant().nu(), 1)?;
+        if !self.sensor().is_identity() {
+            return Err(unsupported("a sensor chain other than the exact state"));
+        }
+        let Some(saturation) = self.actuator().saturation_only() else {
+            return Err(unsupported(
+                "an actuator chain with D/A, disturbance or friction",
+            ));
+        };
+        let me = FixedLoop::new(
+            self.plant().clone(),
+            self.controller().clone(),
+            self.options(),
+        )?;
+        match saturation {
+            Some((lo, hi)) => me.with_saturation(lo, hi),
+            None => Ok(me),
+        }
+    }
+}
+
+fn unsupported(what: &str) -> SimError {
+    SimError::InvalidArgument(format!(
+        "the fixed-size closed-loop kernel does not cover {what}; use SampledLoop::run"
+    ))
+}
+
+/// A column-major buffer of `len` entries, reusing `data`'s allocation (entries below the final
+/// row count are all written before the matrix is formed).
+fn columns(mut data: Vec<f64>, len: usize) -> Vec<f64> {
+    if data.len() != len {
+        data.clear();
+        data.resize(len, 0.0);
+    }
+    data
+}
+
+/// `data` (`N·cap` entries) as `N` consecutive slices of `cap` entries.
+fn split_columns<const N: usize>(data: &mut [f64], cap: usize) -> [&mut [f64]; N] {
+    let mut rest = data;
+    std::array::from_fn(|_| {
+        let (column, tail) = std::mem::take(&mut rest).split_at_mut(cap);
+        rest = tail;
+        column
+    })
+}
+
+/// The first `rows` of each of the `w` columns of a `cap`-row buffer as a matrix.
+fn into_mat(mut data: Vec<f64>, cap: usize, rows: usize, w: usize) -> Mat {
+    if rows < cap {
+        for i in 1..w {
+            data.copy_within(i * cap..i * cap + rows, i * rows);
+        }
+        data.truncate(rows * w);
+    }
+    Mat::from_vec(rows, w, data)
+}

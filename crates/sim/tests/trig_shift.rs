@@ -1,0 +1,122 @@
+//! `lanes::sin_cos_shifted` (sine and cosine of `x` from those of a nearby anchor `a`, the
+//! stage sines of `Trig::Anchored`) against libm's `f64::sin_cos` of `x` itself, the
+//! independent reference. The documented bound is 2 ulp + 6·10⁻¹⁷: libm's own error on the
+//! anchor's sine and cosine (< 1 ulp each), the truncated series (< 3·10⁻¹⁷ for
+//! `|x − a| ≤ 1/32`) and the roundings of the correction term (magnitude ≤ 1/32, a few times
+//! 2⁻⁵³/32) plus half an ulp for the final addition (see the function's docs).
+
+use pendulab_sim::lanes::{SHIFT_LIMIT, sin_cos_shifted, sin_cos_small};
+use rand::{Rng, SeedableRng};
+
+/// The spacing of doubles at `v` (ulp), for finite non-zero `v`; the smallest normal spacing
+/// at zero.
+fn ulp(v: f64) -> f64 {
+    let a = v.abs();
+    if a == 0.0 {
+        return f64::MIN_POSITIVE;
+    }
+    f64::from_bits(a.to_bits() + 1) - a
+}
+
+fn check(x: f64, a: f64, worst: &mut f64) {
+    let (s, c) = a.sin_cos();
+    let (sx, cx) = sin_cos_shifted(x, a, s, c);
+    let (rs, rc) = x.sin_cos();
+    for (got, want, what) in [(sx, rs, "sin"), (cx, rc, "cos")] {
+        let bound = 2.0 * ulp(want) + 6e-17;
+        let err = (got - want).abs();
+        assert!(
+            err <= bound,
+            "{what}({x:e}) from anchor {a:e}: {got:e} vs libm {want:e}, error {err:e} > {bound:e}"
+        );
+        *worst = worst.max(err / bound);
+    }
+}
+
+#[test]
+fn shifted_sine_and_cosine_are_within_the_documented_bound_of_libm() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2026);
+    let mut worst = 0.0f64;
+    for _ in 0..2_000_000 {
+        // Anchors over several periods (and small ones, where sin is tiny), shifts up to the
+        // limit (and tiny ones); x = a + d rounded, as a stage angle is formed.
+        let a: f64 = match rng.random_range(0..3) {
+            0 => rng.random_range(-20.0..20.0),
+            1 => rng.random_range(-1e-3..1e-3),
+            _ => rng.random_range(-4.0..4.0) * std::f64::consts::FRAC_PI_2,
+        };
+        let d: f64 = if rng.random_bool(0.5) {
+            rng.random_range(-SHIFT_LIMIT..=SHIFT_LIMIT)
+        } else {
+            rng.random_range(-1e-4..1e-4)
+        };
+        check(a + d, a, &mut worst);
+    }
+    // Near the zeros of sine and cosine (where the result is tiny and the absolute term rules),
+    // and at the multiples of π/4.
+    for k in -40..=40 {
+        let z = k as f64 * std::f64::consts::FRAC_PI_4;
+        for j in -50..=50 {
+            let d = j as f64 * (SHIFT_LIMIT / 50.0);
+            check(z, z - d, &mut worst);
+            check(z + d, z, &mut worst);
+        }
+    }
+    eprintln!("worst error / bound: {worst}");
+    // The bound is not vacuous: the worst case uses a sizeable part of it.
+    assert!(worst > 0.05, "worst error / bound = {worst}");
+}
+
+/// The series about the exact anchor 0 (the step-start angle of `Trig::Anchored` near the
+/// upright): the same bound against libm, which then only carries the truncation and the
+/// roundings of the series.
+#[test]
+fn small_angle_sine_and_cosine_are_within_the_documented_bound_of_libm() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let mut worst = 0.0f64;
+    let mut check = |x: f64| {
+        let (s, c) = sin_cos_small(x);
+        let (rs, rc) = x.sin_cos();
+        for (got, want) in [(s, rs), (c, rc)] {
+            let bound = 2.0 * ulp(want) + 6e-17;
+            let err = (got - want).abs();
+            assert!(err <= bound, "x = {x:e}: {got:e} vs libm {want:e}");
+            worst = worst.max(err / bound);
+        }
+    };
+    for _ in 0..1_000_000 {
+        check(rng.random_range(-SHIFT_LIMIT..=SHIFT_LIMIT));
+        check(rng.random_range(-1e-6..1e-6));
+    }
+    for x in [0.0, -0.0, 1e-300, -5e-324, SHIFT_LIMIT, -SHIFT_LIMIT] {
+        check(x);
+    }
+    // Exact where the series is: sin 0 = 0, cos 0 = 1.
+    assert_eq!(sin_cos_small(0.0), (0.0, 1.0));
+    assert!(worst > 0.01, "worst error / bound = {worst}");
+    // Beyond the range and for NaN: libm itself.
+    for x in [SHIFT_LIMIT * 1.01, -2.0, 100.0] {
+        assert_eq!(sin_cos_small(x), x.sin_cos());
+    }
+    assert!(sin_cos_small(f64::NAN).0.is_nan());
+}
+
+#[test]
+fn beyond_the_limit_and_for_non_finite_input_it_is_libm() {
+    let a = 0.7f64;
+    let (s, c) = a.sin_cos();
+    for x in [a + 2.0 * SHIFT_LIMIT, a - 0.5, 12.0, -3.0] {
+        let got = sin_cos_shifted(x, a, s, c);
+        let want = x.sin_cos();
+        assert_eq!(
+            (got.0.to_bits(), got.1.to_bits()),
+            (want.0.to_bits(), want.1.to_bits())
+        );
+    }
+    let (sn, cn) = sin_cos_shifted(f64::NAN, a, s, c);
+    assert!(sn.is_nan() && cn.is_nan());
+    let (si, ci) = sin_cos_shifted(f64::INFINITY, a, s, c);
+    assert!(si.is_nan() && ci.is_nan());
+    // A zero shift returns the anchor's values.
+    assert_eq!(sin_cos_shifted(a, a, s, c), (s, c));
+}
