@@ -864,11 +864,15 @@ fn blk_right(d: &mut Blk, v: &[f64; 3], tau: f64, c0: usize, nr: usize) {
 
 /// Applies `H = I − τ v vᵀ` from the left to rows `r0..r0+3`, columns `cols` of `t`.
 fn mat_left(t: &mut Mat, v: &[f64; 3], tau: f64, r0: usize, cols: std::ops::Range<usize>) {
+    let n = t.nrows();
+    let d = t.as_mut_slice();
+    let (t0, t1, t2) = (tau * v[0], tau * v[1], tau * v[2]);
     for j in cols {
-        let s = v[0] * t[(r0, j)] + v[1] * t[(r0 + 1, j)] + v[2] * t[(r0 + 2, j)];
-        for (p, vp) in v.iter().enumerate() {
-            t[(r0 + p, j)] -= tau * s * vp;
-        }
+        let c = &mut d[j * n + r0..j * n + r0 + 3];
+        let s = v[0] * c[0] + v[1] * c[1] + v[2] * c[2];
+        c[0] -= s * t0;
+        c[1] -= s * t1;
+        c[2] -= s * t2;
     }
 }
 
