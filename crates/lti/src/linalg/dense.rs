@@ -76,6 +76,23 @@ pub(crate) fn rot_cols(
 /// overwrites `x` with `v` such that `(I − τ [1; v][1; v]ᵀ) [alpha; x] = [beta; 0]`.
 /// Returns `(beta, tau)`; `tau = 0` (identity) when `x = 0`.
 pub(crate) fn larfg(alpha: f64, x: &mut [f64]) -> (f64, f64) {
+    // Fast path: with the largest magnitude of (alpha, x) in [1e-150, 1e150] no square
+    // overflows, nor their sum for fewer than 2²⁰ entries (≤ 2²⁰·1e300 < 1e307); squares that
+    // underflow are negligible against the largest one; and |beta| ≥ 1e-150 needs no
+    // rescaling — so beta = ∓‖(alpha, x)‖ with a single square root.
+    let xmax = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if xmax == 0.0 {
+        return (alpha, 0.0);
+    }
+    let big = xmax.max(alpha.abs());
+    if xmax.is_finite() && (1e-150..=1e150).contains(&big) && x.len() < 1 << 20 {
+        let ss = alpha * alpha + x.iter().map(|v| v * v).sum::<f64>();
+        let beta = -ss.sqrt().copysign(alpha);
+        let tau = (beta - alpha) / beta;
+        let scal = 1.0 / (alpha - beta);
+        x.iter_mut().for_each(|v| *v *= scal);
+        return (beta, tau);
+    }
     let mut xnorm = norm2(x);
     if xnorm == 0.0 {
         return (alpha, 0.0);
@@ -491,6 +508,15 @@ mod tests {
         // |beta| = ‖[3, 4, 12]‖ = 13 exactly; rounding only.
         assert!((beta.abs() - 13.0).abs() < 1e-14);
         assert!((h[0] - beta).abs() < 1e-14 && h[1].abs() < 1e-14 && h[2].abs() < 1e-14);
+        // The same vector scaled to 1e-200 and 1e200 (outside the single-square-root range):
+        // the rescaled path must give the scaled beta and the same reflector.
+        for scale in [1e-200, 1e200] {
+            let mut y = [4.0 * scale, 12.0 * scale];
+            let (b2, t2) = larfg(3.0 * scale, &mut y);
+            assert!((b2 / scale - beta).abs() < 1e-14, "beta at scale {scale:e}");
+            assert!((t2 - tau).abs() < 1e-14, "tau at scale {scale:e}");
+            assert!((y[0] - x[0]).abs() < 1e-14 && (y[1] - x[1]).abs() < 1e-14);
+        }
     }
 }
 
