@@ -6,7 +6,8 @@
 //!
 //! Algorithms (all re-implemented here):
 //! - Householder reduction to upper Hessenberg form and accumulation of the reflectors
-//!   (LAPACK `dgehd2`/`dorghr`);
+//!   (LAPACK `dgehd2`/`dorghr`; blocked with matrix–matrix trailing updates for larger
+//!   matrices, `dgehrd`/`dlahr2` and compact-WY `dlarft`/`dlarfb`);
 //! - Francis' implicit double-shift QR iteration with the Ahues–Tisseur deflation criterion and
 //!   exceptional shifts (LAPACK `dlahqr`), 2×2 blocks standardised by `dlanv2`;
 //! - reordering by **direct swapping** of adjacent 1×1/2×2 blocks (Bai & Demmel, "On swapping
