@@ -1,8 +1,9 @@
 //! The continuous algebraic Riccati equation.
 
 use super::{
-    Domain, Finisher, Reduced, RiccatiMethod, RiccatiOptions, RiccatiSolution, empty_solution,
-    reduce, scale_factor, solution_from_subspace, solve_with_fallback, validate,
+    ClosedLoopSchur, Computed, Domain, Finisher, Reduced, RiccatiMethod, RiccatiOptions,
+    RiccatiSolution, empty_solution, reduce, scale_factor, solution_and_factor_from_subspace,
+    solve_with_fallback, validate,
 };
 use crate::error::{LtiError, Result};
 use crate::linalg::dense::Lu;
@@ -84,7 +85,7 @@ pub fn care(
     };
     solve_with_fallback(&fin, &candidates, options, |m| match m {
         RiccatiMethod::Schur | RiccatiMethod::Auto => care_schur(&red, options.scaling),
-        RiccatiMethod::Doubling => care_doubling(&red, options.scaling),
+        RiccatiMethod::Doubling => care_doubling(&red, options.scaling).map(Into::into),
     })
 }
 
@@ -99,8 +100,9 @@ pub(crate) fn hamiltonian(red: &Reduced, s: f64) -> Mat {
     h
 }
 
-/// Laub's ordered-Schur method on the Hamiltonian (unrefined solution).
-pub(crate) fn care_schur(red: &Reduced, scaling: bool) -> Result<Mat> {
+/// Laub's ordered-Schur method on the Hamiltonian (unrefined solution, with the Schur data of
+/// its closed loop for the refinement).
+pub(crate) fn care_schur(red: &Reduced, scaling: bool) -> Result<Computed> {
     let n = red.a.nrows();
     let s = scale_factor(red, scaling);
     let h = hamiltonian(red, s);
@@ -129,7 +131,12 @@ pub(crate) fn care_schur(red: &Reduced, scaling: bool) -> Result<Mat> {
     let z = sch.z();
     let u1 = z.view((0, 0), (n, n)).into_owned();
     let u2 = z.view((n, 0), (n, n)).into_owned();
-    Ok(solution_from_subspace(&u1, &u2)? * s)
+    let (x, lu) = solution_and_factor_from_subspace(&u1, &u2)?;
+    let t11 = sch.t().view((0, 0), (n, n)).into_owned();
+    Ok(Computed {
+        x: x * s,
+        hint: Some(ClosedLoopSchur { u1, lu, t11 }),
+    })
 }
 
 /// Structure-preserving doubling for the CARE (unrefined solution).

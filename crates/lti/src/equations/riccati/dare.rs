@@ -75,8 +75,10 @@ pub fn dare(
         m => vec![m],
     };
     solve_with_fallback(&fin, &candidates, options, |m| match m {
-        RiccatiMethod::Doubling | RiccatiMethod::Auto => dare_doubling(&red, options.scaling),
-        RiccatiMethod::Schur => dare_schur(&red, options.scaling),
+        RiccatiMethod::Doubling | RiccatiMethod::Auto => {
+            dare_doubling(&red, options.scaling).map(Into::into)
+        }
+        RiccatiMethod::Schur => dare_schur(&red, options.scaling).map(Into::into),
     })
 }
 
@@ -142,8 +144,10 @@ fn dare_singular_r(
         m => vec![m],
     };
     let y = solve_with_fallback(&shifted, &candidates, &inner, |m| match m {
-        RiccatiMethod::Doubling | RiccatiMethod::Auto => dare_doubling(&red, options.scaling),
-        RiccatiMethod::Schur => dare_schur(&red, options.scaling),
+        RiccatiMethod::Doubling | RiccatiMethod::Auto => {
+            dare_doubling(&red, options.scaling).map(Into::into)
+        }
+        RiccatiMethod::Schur => dare_schur(&red, options.scaling).map(Into::into),
     })?;
     let x = &y.x + Mat::identity(nx, nx) * rho;
     let fin = Finisher {
