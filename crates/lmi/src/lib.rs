@@ -61,6 +61,7 @@ pub mod solution;
 pub mod sos;
 pub mod synthesis;
 
+pub use backend::{ConicProblem, capture_conic_problems};
 pub use error::{LmiError, Result};
 pub use expr::{Expr, Monomial};
 pub use problem::{ConstraintId, Multiplier, Origin, Problem, Relation, Sense, SosId};
