@@ -115,6 +115,7 @@ pub(crate) struct Settings {
     pub(crate) infeasibility: f64,
     pub(crate) scale_rows: bool,
     pub(crate) chordal_decomposition: bool,
+    pub(crate) refinement_steps: u32,
 }
 
 /// Outcome of the solver, in this crate's terms.
@@ -191,6 +192,14 @@ fn capture_settings(s: &Settings) -> Vec<(&'static str, f64)> {
         (
             "chordal_decomposition_enable",
             f64::from(u8::from(s.chordal_decomposition)),
+        ),
+        (
+            "iterative_refinement_enable",
+            f64::from(u8::from(s.refinement_steps > 0)),
+        ),
+        (
+            "iterative_refinement_max_iter",
+            f64::from(s.refinement_steps),
         ),
     ];
     if s.time_limit.is_finite() {
@@ -367,6 +376,8 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         .tol_infeas_abs(settings.infeasibility)
         .tol_infeas_rel(settings.infeasibility)
         .chordal_decomposition_enable(settings.chordal_decomposition)
+        .iterative_refinement_enable(settings.refinement_steps > 0)
+        .iterative_refinement_max_iter(settings.refinement_steps)
         .build()
         .map_err(|e| LmiError::Solver(format!("settings: {e}")))?;
     let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, clarabel_settings)

@@ -83,6 +83,8 @@ fn resolve(c: &ConicProblem) -> (String, u32, f64) {
             "tol_infeas_rel" => s.tol_infeas_rel(v),
             "chordal_decomposition_enable" => s.chordal_decomposition_enable(v != 0.0),
             "time_limit" => s.time_limit(v),
+            "iterative_refinement_enable" => s.iterative_refinement_enable(v != 0.0),
+            "iterative_refinement_max_iter" => s.iterative_refinement_max_iter(v as u32),
             other => panic!("unexpected setting {other}"),
         };
     }
