@@ -469,6 +469,20 @@ pub(crate) fn syevr_values<T: Real>(
     Some(found)
 }
 
+/// `√(x² + y²)`: the plain formula where it neither overflows nor underflows (the common
+/// case, several times cheaper than the C library's `hypot`), `hypot` otherwise.
+#[inline]
+fn fast_hypot<T: Real>(x: T, y: T) -> T {
+    let s = x * x + y * y;
+    // Below MIN_POSITIVE/ε (≈ 1e-292 in f64) the squares lose precision to gradual
+    // underflow; an overflow shows as a non-finite sum.
+    if s.is_finite() && s >= T::MIN_POSITIVE / T::default_epsilon() {
+        s.sqrt()
+    } else {
+        x.hypot(y)
+    }
+}
+
 /// Eigenvalues of the symmetric tridiagonal matrix with diagonal `d` and off-diagonal
 /// `e[..n−1]` (`e[n−1]` is scratch), overwriting `d` (unordered): implicit symmetric QR
 /// steps with the Wilkinson shift (Golub & Van Loan, Alg. 8.3.2) on the trailing unreduced
@@ -506,7 +520,7 @@ fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> boo
         // Wilkinson shift: the eigenvalue of the trailing 2 × 2 closer to d[hi].
         let b = e[hi - 1];
         let delta = (d[hi - 1] - d[hi]) / two;
-        let r = delta.hypot(b);
+        let r = fast_hypot(delta, b);
         let mu = if delta >= T::zero() {
             d[hi] - b * b / (delta + r)
         } else {
@@ -516,7 +530,7 @@ fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> boo
         let mut z = e[lo];
         for k in lo..hi {
             // Givens rotation G = [c s; −s c] with G [x; z] = [r; 0].
-            let r = x.hypot(z);
+            let r = fast_hypot(x, z);
             let (c, s) = if r == T::zero() {
                 (T::one(), T::zero())
             } else {
