@@ -16,8 +16,8 @@ mod common;
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SupportedConeT};
-use pendulab_lmi::synthesis::{GainScheduleSpec, LpvPlant, LqWeights, gain_scheduled_lq};
 use pendulab_lmi::synthesis::lq_state_feedback;
+use pendulab_lmi::synthesis::{GainScheduleSpec, LpvPlant, LqWeights, gain_scheduled_lq};
 use pendulab_lmi::{ConicProblem, SolveOptions, capture_conic_problems};
 use serde_json::json;
 
@@ -106,7 +106,13 @@ fn captured_problem_is_the_problem_solved() {
     let rows: usize = c
         .cones
         .iter()
-        .map(|&(k, d)| if k == "psd_triangle" { d * (d + 1) / 2 } else { d })
+        .map(|&(k, d)| {
+            if k == "psd_triangle" {
+                d * (d + 1) / 2
+            } else {
+                d
+            }
+        })
         .sum();
     assert_eq!(rows, c.m, "cones cover every row of A");
     let (status, iterations, obj) = resolve(c);
