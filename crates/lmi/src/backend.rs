@@ -70,12 +70,11 @@ pub struct ConicProblem {
     /// The cones in row order: `("zero" | "nonneg" | "psd_triangle", dimension)`, the
     /// dimension of a PSD triangle cone being the matrix side.
     pub cones: Vec<(&'static str, usize)>,
-    /// Clarabel settings that differ from its defaults, as `(name, value)` in Clarabel's
-    /// own setting names (`max_iter`, `tol_gap_abs`, …); `time_limit` is omitted when
-    /// infinite.
+    /// The Clarabel settings this crate sets (all others are at Clarabel's defaults), as
+    /// `(name, value)` in Clarabel's own setting names (`max_iter`, `tol_gap_abs`, …;
+    /// booleans as 0/1); `time_limit` is omitted when infinite.
     pub settings: Vec<(&'static str, f64)>,
-    /// What Clarabel returned: status (its `Debug` name), iterations, `solve_time` (s),
-    /// `obj_val` (in the solver's scaling), `r_prim`, `r_dual`.
+    /// Clarabel's status (its `Debug` name, e.g. `Solved`).
     pub status: String,
     /// Iterations Clarabel took.
     pub iterations: u32,
@@ -98,8 +97,18 @@ thread_local! {
 /// Outside this function nothing is recorded (one thread-local flag is read per solve).
 /// Nested calls record into the innermost one.
 pub fn capture_conic_problems<R>(f: impl FnOnce() -> R) -> (R, Vec<ConicProblem>) {
-    let outer = CAPTURE.with(|c| c.replace(Some(Vec::new())));
+    /// Restores the enclosing capture state even if `f` unwinds.
+    struct Restore(Option<Option<Vec<ConicProblem>>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            if let Some(outer) = self.0.take() {
+                CAPTURE.with(|c| c.replace(outer));
+            }
+        }
+    }
+    let mut restore = Restore(Some(CAPTURE.with(|c| c.replace(Some(Vec::new())))));
     let r = f();
+    let outer = restore.0.take().unwrap_or_default();
     let got = CAPTURE.with(|c| c.replace(outer)).unwrap_or_default();
     (r, got)
 }
