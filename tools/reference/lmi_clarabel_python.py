@@ -89,6 +89,7 @@ def solve(prob, repeats, clarabel_refinement=False, method="qdldl"):
     for _ in range(repeats):
         t0 = time.perf_counter()
         settings = settings_of(prob["settings"])
+        settings.chordal_decomposition_merge_method = prob.get("merge_method", "clique_graph")
         # pendulab builds Clarabel without `faer-sparse`: QDLDL is its only direct solver.
         # The wheel's default "auto" picks faer's supernodal LDLᵀ for dense-fill KKT systems.
         settings.direct_solve_method = method

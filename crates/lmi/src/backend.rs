@@ -70,10 +70,12 @@ pub struct ConicProblem {
     /// The cones in row order: `("zero" | "nonneg" | "psd_triangle", dimension)`, the
     /// dimension of a PSD triangle cone being the matrix side.
     pub cones: Vec<(&'static str, usize)>,
-    /// The Clarabel settings this crate sets (all others are at Clarabel's defaults), as
-    /// `(name, value)` in Clarabel's own setting names (`max_iter`, `tol_gap_abs`, …;
-    /// booleans as 0/1); `time_limit` is omitted when infinite.
+    /// The numeric Clarabel settings this crate sets (all others are at Clarabel's
+    /// defaults), as `(name, value)` in Clarabel's own setting names (`max_iter`,
+    /// `tol_gap_abs`, …; booleans as 0/1); `time_limit` is omitted when infinite.
     pub settings: Vec<(&'static str, f64)>,
+    /// Clarabel's `chordal_decomposition_merge_method` (`"none"` or `"clique_graph"`).
+    pub merge_method: &'static str,
     /// Clarabel's status (its `Debug` name, e.g. `Solved`).
     pub status: String,
     /// Iterations Clarabel took.
@@ -124,6 +126,7 @@ pub(crate) struct Settings {
     pub(crate) infeasibility: f64,
     pub(crate) scale_rows: bool,
     pub(crate) chordal_decomposition: bool,
+    pub(crate) merge_cliques: bool,
     pub(crate) refinement_steps: u32,
 }
 
@@ -215,6 +218,15 @@ fn capture_settings(s: &Settings) -> Vec<(&'static str, f64)> {
         v.push(("time_limit", s.time_limit));
     }
     v
+}
+
+/// Clarabel's `chordal_decomposition_merge_method` for [`Settings::merge_cliques`].
+fn merge_method(s: &Settings) -> &'static str {
+    if s.merge_cliques {
+        "clique_graph"
+    } else {
+        "none"
+    }
 }
 
 /// Index of `(i, j)`, `i ≤ j`, in Clarabel's svec order.
@@ -385,6 +397,7 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         .tol_infeas_abs(settings.infeasibility)
         .tol_infeas_rel(settings.infeasibility)
         .chordal_decomposition_enable(settings.chordal_decomposition)
+        .chordal_decomposition_merge_method(merge_method(settings).into())
         .iterative_refinement_enable(settings.refinement_steps > 0)
         .iterative_refinement_max_iter(settings.refinement_steps)
         .build()
@@ -434,6 +447,7 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
                     })
                     .collect(),
                 settings: capture_settings(settings),
+                merge_method: merge_method(settings),
                 status: format!("{:?}", sol.status),
                 iterations: sol.iterations,
                 solve_time: sol.solve_time,

@@ -50,6 +50,13 @@ pub struct SolveOptions {
     pub scale_rows: bool,
     /// Let Clarabel decompose sparse PSD cones along their chordal sparsity. Default true.
     pub chordal_decomposition: bool,
+    /// With `chordal_decomposition`, let Clarabel merge the cliques of the decomposition
+    /// (its `chordal_decomposition_merge_method = "clique_graph"`) instead of keeping one
+    /// PSD cone per maximal clique (`"none"`). Default false: on the textbook's LMI LQ servo
+    /// the unmerged cliques took 12 instead of 13 interior-point iterations and about 12 %
+    /// less solve time to the same residuals, and the gain-scheduling SOS program solved in
+    /// comparable time either way.
+    pub merge_cliques: bool,
     /// Most iterative-refinement steps Clarabel takes after each solve with its LDLᵀ factor
     /// of the KKT matrix (its `iterative_refinement_max_iter`; 0 turns refinement off).
     /// Default 1: one step of refinement in working precision already makes the solve
@@ -80,6 +87,7 @@ impl Default for SolveOptions {
             tolerances: Tolerances::default(),
             scale_rows: false,
             chordal_decomposition: true,
+            merge_cliques: false,
             refinement_steps: 1,
             check_tolerance: 1e-7,
             sos_tolerance: 1e-6,
@@ -443,6 +451,7 @@ pub(crate) fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solutio
             infeasibility: t.infeasibility,
             scale_rows: options.scale_rows,
             chordal_decomposition: options.chordal_decomposition,
+            merge_cliques: options.merge_cliques,
             refinement_steps: options.refinement_steps,
         },
     )?;

@@ -73,6 +73,7 @@ fn resolve(c: &ConicProblem) -> (String, u32, f64) {
         .collect();
     let mut s = DefaultSettingsBuilder::default();
     s.verbose(false);
+    s.chordal_decomposition_merge_method(c.merge_method.to_string());
     for &(name, v) in &c.settings {
         match name {
             "max_iter" => s.max_iter(v as u32),
@@ -136,6 +137,7 @@ fn to_json(c: &ConicProblem) -> serde_json::Value {
         "q": c.q,
         "cones": c.cones.iter().map(|&(k, d)| json!([k, d])).collect::<Vec<_>>(),
         "settings": c.settings.iter().map(|&(k, v)| (k.to_string(), json!(v))).collect::<serde_json::Map<_, _>>(),
+        "merge_method": c.merge_method,
         "rust": {
             "status": c.status,
             "iterations": c.iterations,
