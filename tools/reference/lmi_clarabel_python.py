@@ -19,23 +19,26 @@ only direct solver of pendulab's build), as the wheel would otherwise pick faer'
 supernodal LDLᵀ on these dense-fill systems; that figure is printed too, for information.
 
 Figures recorded with clarabel 0.11.1 (PyPI wheel), NumPy 2.4.6, SciPy 1.17.1, Python
-3.11.7, on the 2-core shared development machine under other builds (load average 2.5–3),
+3.11.7, on the 2-core shared development machine under other builds (load average 2.6–3.2),
 2026-11-27; pendulab-lmi settings: Clarabel defaults except at most one iterative-refinement
-step (`SolveOptions::refinement_steps = 1`); Clarabel `solve_time`, min / median:
+step (`SolveOptions::refinement_steps = 1`) and unmerged chordal cliques
+(`SolveOptions::merge_cliques = false`); Clarabel `solve_time`, min / median:
 
     problem (n vars, m rows)                  python qdldl      python qdldl,     python faer
                                               same settings     default refine.   (info only)
-    lmi-servo (20, 81), 13 it                 3.40 / 5.41 ms    4.55 / 6.26 ms    3.39 / 4.29 ms
-    sos γ minimisation (1081, 1671)           1524 / 1621 ms    1538 / 1625 ms    794 / 837 ms
-                                              (25 it)           (23 it)           (28 it)
-    sos re-solve γ ≤ 1.06 γ* (1081, 1672)     1065 / 1126 ms    998 / 1078 ms     448 / 541 ms
+    lmi-servo (20, 81)                        3.42 / 3.90 ms    4.06 / 5.37 ms    3.19 / 5.17 ms
+                                              (12 it)           (12 it)           (12 it)
+    sos γ minimisation (1081, 1671)           1507 / 1526 ms    1490 / 1580 ms    537 / 570 ms
+                                              (27 it)           (28 it)           (22 it)
+    sos re-solve γ ≤ 1.06 γ* (1081, 1672)     889 / 1010 ms     859 / 871 ms      516 / 545 ms
                                               (17 it)           (17 it)           (17 it)
 
-Same machine and hour, `pendulab bench <workload> --json` (build + solve + rechecks, median;
-Rust Clarabel with QDLDL on crates/lapack): lmi-servo 3.30 ms (13 it); sos-gain-schedule
-2129 ms for both solves (22 + 17 it). Iteration counts of the degenerate γ minimisation
-differ between the two builds (22–28) because their dense kernels round differently; it
-ends `AlmostSolved` in every build and setting tried.
+Same machine and hour, `pendulab bench <workload> --json` (whole design: build, Clarabel
+setup and solve with QDLDL on crates/lapack, rechecks): lmi-servo min 2.89 ms, median
+3.26–4.32 ms (12 it); sos-gain-schedule median 2157–2416 ms for both solves (24 + 17 it;
+Clarabel solve_time 1384–1516 + 874–1024 ms). Iteration counts of the degenerate γ
+minimisation differ between builds and settings (22–28) because their dense kernels round
+differently; it ends `AlmostSolved` in every build and setting tried.
 """
 
 import argparse

@@ -64,9 +64,11 @@ pub struct SolveOptions {
     /// stability for Gaussian elimination", Math. Comp. 35, 1980; Higham, *Accuracy and
     /// Stability of Numerical Algorithms*, 2nd ed., ch. 12). On the textbook's LMI LQ servo
     /// and gain-scheduling SOS programs Clarabel's default of up to 10 steps took 7–45 %
-    /// more solve time than one step, for iteration counts within ±1 and final residuals of
-    /// the same order (the conic data exported by `crates/lmi/tests/conic_export.rs`, solved
-    /// with both settings). The stopping tolerances are unaffected.
+    /// more solve time than one step in this build, for iteration counts within ±1 and final
+    /// residuals of the same order (the conic data exported by
+    /// `crates/lmi/tests/conic_export.rs`, solved with both settings; the Python build showed
+    /// 0–35 %, see `tools/reference/lmi_clarabel_python.py`). The stopping tolerances are
+    /// unaffected.
     pub refinement_steps: u32,
     /// Relative tolerance of the recheck: a constraint counts as satisfied when its
     /// violation is at most `check_tolerance` times the magnitude of the numbers summed to
