@@ -131,13 +131,34 @@ pub(crate) fn gemm<T: Real>(
         }
         match (ta, tb) {
             (Trans::No, _) => {
-                // C(:, j) += Σ_l α op(B)(l, j) A(:, l): contiguous column updates.
-                for l in 0..k {
-                    let blj = match tb {
-                        Trans::No => b[l + j * ldb],
-                        Trans::Yes => b[j + l * ldb],
-                    };
-                    let t = alpha * blj;
+                // C(:, j) += Σ_l α op(B)(l, j) A(:, l): contiguous column updates, four
+                // columns of A per pass over C(:, j) (a quarter of the loads and stores of C
+                // for the small matrices of Clarabel's PSD cones).
+                let bl = |l: usize| match tb {
+                    Trans::No => b[l + j * ldb],
+                    Trans::Yes => b[j + l * ldb],
+                };
+                let mut l = 0;
+                while l + 4 <= k {
+                    let (t0, t1, t2, t3) = (
+                        alpha * bl(l),
+                        alpha * bl(l + 1),
+                        alpha * bl(l + 2),
+                        alpha * bl(l + 3),
+                    );
+                    let a0 = &a[l * lda..l * lda + m];
+                    let a1 = &a[(l + 1) * lda..(l + 1) * lda + m];
+                    let a2 = &a[(l + 2) * lda..(l + 2) * lda + m];
+                    let a3 = &a[(l + 3) * lda..(l + 3) * lda + m];
+                    for ((((cij, &x0), &x1), &x2), &x3) in
+                        cj.iter_mut().zip(a0).zip(a1).zip(a2).zip(a3)
+                    {
+                        *cij += t0 * x0 + t1 * x1 + t2 * x2 + t3 * x3;
+                    }
+                    l += 4;
+                }
+                for l in l..k {
+                    let t = alpha * bl(l);
                     if t != T::zero() {
                         let al = &a[l * lda..l * lda + m];
                         cj.iter_mut()
@@ -151,10 +172,7 @@ pub(crate) fn gemm<T: Real>(
                 for (i, cij) in cj.iter_mut().enumerate() {
                     let ai = &a[i * lda..i * lda + k];
                     let s = match tb {
-                        Trans::No => {
-                            let bj = &b[j * ldb..j * ldb + k];
-                            ai.iter().zip(bj).fold(T::zero(), |s, (p, q)| s + *p * *q)
-                        }
+                        Trans::No => dot(ai, &b[j * ldb..j * ldb + k]),
                         Trans::Yes => ai
                             .iter()
                             .enumerate()
@@ -165,6 +183,21 @@ pub(crate) fn gemm<T: Real>(
             }
         }
     }
+}
+
+/// `xᵀy` for equal-length slices, with four independent partial sums.
+fn dot<T: Real>(x: &[T], y: &[T]) -> T {
+    let (xc, yc) = (x.chunks_exact(4), y.chunks_exact(4));
+    let (xr, yr) = (xc.remainder(), yc.remainder());
+    let mut acc = [T::zero(); 4];
+    for (p, q) in xc.zip(yc) {
+        acc[0] += p[0] * q[0];
+        acc[1] += p[1] * q[1];
+        acc[2] += p[2] * q[2];
+        acc[3] += p[3] * q[3];
+    }
+    let tail = xr.iter().zip(yr).fold(T::zero(), |s, (p, q)| s + *p * *q);
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 /// `y ← α op(A) x + β y`, `A` is `m × n` (xGEMV).

@@ -476,6 +476,7 @@ unsafe fn syevr_impl<T: Real>(
             if !query && (liwork as i64) < liwmin as i64 {
                 return Err(20);
             }
+            let work_ptr = work;
             let work = slice_mut(work, 1, 17)?;
             let iwork = slice_mut(iwork, 1, 19)?;
             report_size(work, lwmin);
@@ -486,6 +487,18 @@ unsafe fn syevr_impl<T: Real>(
             let m = slice_mut(m, 1, 12)?;
             m[0] = 0;
             if n == 0 {
+                return Ok(0);
+            }
+            if !wantz {
+                // Eigenvalues only (Clarabel's step length): the allocation-free path, on the
+                // caller's A (whose triangle LAPACK also destroys) and WORK (≥ 26N ≥ 3N).
+                let a = slice_mut(a, matrix_len(n, n, lda), 5)?;
+                let work = slice_mut(work_ptr, lwork as usize, 17)?;
+                let w = slice_mut(w, n, 13)?;
+                let Some(found) = lapack::syevr_values(sel, ul, n, (a, lda), w, work) else {
+                    return Ok(1);
+                };
+                m[0] = found as c_int;
                 return Ok(0);
             }
             let a = slice(a, matrix_len(n, n, lda), 5)?;

@@ -343,3 +343,212 @@ pub(crate) fn gesv<T: Real>(
     }
     0
 }
+
+/// Eigenvalues only of the symmetric matrix given by its `uplo` triangle (xSYEVR with
+/// `JOBZ = 'N'`), without allocating: the selected eigenvalues go ascending into `w` and
+/// their number is returned; `None` if the input is not finite or the iteration did not
+/// converge (LAPACK's `INFO > 0`). As in LAPACK, the `uplo` triangle of `a` is destroyed
+/// (it holds the Householder reduction); the other triangle is neither read nor written.
+/// `work` needs `3n` entries.
+///
+/// Algorithm: Householder reduction to tridiagonal form on the stored triangle (Golub & Van
+/// Loan, *Matrix Computations*, 4th ed., Alg. 8.3.1, the rank-2 update `A ← A − v wᵀ − w vᵀ`
+/// of LAPACK's `xSYTD2`), then implicit symmetric QR steps with the Wilkinson shift on the
+/// tridiagonal matrix (Alg. 8.3.2), deflating where `|e_i| ≤ ε (|d_i| + |d_{i+1}|)`. Both
+/// stages are backward stable: the eigenvalues are exact for a matrix within `O(ε)‖A‖`.
+pub(crate) fn syevr_values<T: Real>(
+    range: EigRange<T>,
+    uplo: Uplo,
+    n: usize,
+    (a, lda): (&mut [T], usize),
+    w: &mut [T],
+    work: &mut [T],
+) -> Option<usize> {
+    // Element (i, j), i ≥ j, of the symmetric matrix in the stored triangle.
+    let at = |i: usize, j: usize| match uplo {
+        Uplo::Lower => i + j * lda,
+        Uplo::Upper => j + i * lda,
+    };
+    for j in 0..n {
+        for i in j..n {
+            if !a[at(i, j)].is_finite() {
+                return None;
+            }
+        }
+    }
+    let (d, rest) = work[..3 * n].split_at_mut(n);
+    let (e, v) = rest.split_at_mut(n);
+    let half: T = nalgebra::convert(0.5);
+    // Householder tridiagonalisation: step k annihilates A(k+2.., k).
+    for k in 0..n.saturating_sub(2) {
+        let m = n - k - 1;
+        let x0 = a[at(k + 1, k)];
+        let scale = (k + 1..n).fold(T::zero(), |s, i| s.max(a[at(i, k)].abs()));
+        let tail = (k + 2..n).fold(T::zero(), |s, i| {
+            let t = a[at(i, k)] / scale;
+            s + t * t
+        });
+        if scale == T::zero() || tail == T::zero() {
+            e[k] = x0;
+            continue;
+        }
+        let xs = x0 / scale;
+        let norm = (xs * xs + tail).sqrt() * scale;
+        // H x = σ e₁ with H = I − β v vᵀ, v = x − σ e₁, vᵀv = 2σ(σ − x₀).
+        let sigma = if x0 > T::zero() { -norm } else { norm };
+        v[0] = x0 - sigma;
+        for i in 1..m {
+            v[i] = a[at(k + 1 + i, k)];
+        }
+        let beta = T::one() / (sigma * (sigma - x0));
+        // p = β B v for the trailing block B = A(k+1.., k+1..) (stored triangle only).
+        let p = &mut d[..m];
+        p.iter_mut().for_each(|x| *x = T::zero());
+        for j in 0..m {
+            let bjj = a[at(k + 1 + j, k + 1 + j)];
+            let mut s = bjj * v[j];
+            for i in j + 1..m {
+                let bij = a[at(k + 1 + i, k + 1 + j)];
+                s += bij * v[i];
+                p[i] += bij * v[j];
+            }
+            p[j] += s;
+        }
+        let mut pv = T::zero();
+        for i in 0..m {
+            p[i] *= beta;
+            pv += p[i] * v[i];
+        }
+        // w = p − (β pᵀv / 2) v, B ← B − v wᵀ − w vᵀ.
+        let kk = half * beta * pv;
+        for i in 0..m {
+            p[i] -= kk * v[i];
+        }
+        for j in 0..m {
+            for i in j..m {
+                let idx = at(k + 1 + i, k + 1 + j);
+                a[idx] -= v[i] * p[j] + p[i] * v[j];
+            }
+        }
+        e[k] = sigma;
+    }
+    for k in 0..n {
+        d[k] = a[at(k, k)];
+    }
+    if n >= 2 {
+        e[n - 2] = a[at(n - 1, n - 2)];
+    }
+    if n > 0 {
+        e[n - 1] = T::zero();
+    }
+    if !tridiagonal_eigenvalues(&mut d[..n], &mut e[..n], iteration_cap(n)) {
+        return None;
+    }
+    // Insertion sort (n is small; no allocation).
+    for i in 1..n {
+        let x = d[i];
+        let mut j = i;
+        while j > 0 && d[j - 1] > x {
+            d[j] = d[j - 1];
+            j -= 1;
+        }
+        d[j] = x;
+    }
+    let mut found = 0;
+    for (i, &x) in d[..n].iter().enumerate() {
+        let keep = match range {
+            EigRange::All => true,
+            EigRange::Values(vl, vu) => x > vl && x <= vu,
+            EigRange::Indices(il, iu) => i + 1 >= il && i < iu,
+        };
+        if keep {
+            w[found] = x;
+            found += 1;
+        }
+    }
+    Some(found)
+}
+
+/// `√(x² + y²)`: the plain formula where it neither overflows nor underflows (the common
+/// case, several times cheaper than the C library's `hypot`), `hypot` otherwise.
+#[inline]
+fn fast_hypot<T: Real>(x: T, y: T) -> T {
+    let s = x * x + y * y;
+    // Below MIN_POSITIVE/ε (≈ 1e-292 in f64) the squares lose precision to gradual
+    // underflow; an overflow shows as a non-finite sum.
+    if s.is_finite() && s >= T::MIN_POSITIVE / T::default_epsilon() {
+        s.sqrt()
+    } else {
+        x.hypot(y)
+    }
+}
+
+/// Eigenvalues of the symmetric tridiagonal matrix with diagonal `d` and off-diagonal
+/// `e[..n−1]` (`e[n−1]` is scratch), overwriting `d` (unordered): implicit symmetric QR
+/// steps with the Wilkinson shift (Golub & Van Loan, Alg. 8.3.2) on the trailing unreduced
+/// block, the bulge chased by Givens rotations. False if `cap` sweeps did not suffice.
+fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> bool {
+    let n = d.len();
+    if n < 2 {
+        return true;
+    }
+    let eps = T::default_epsilon();
+    let two: T = nalgebra::convert(2.0);
+    let mut hi = n - 1;
+    let mut sweeps = 0;
+    loop {
+        // Deflate negligible off-diagonals; find the trailing unreduced block lo..=hi.
+        for i in 0..hi {
+            if e[i].abs() <= eps * (d[i].abs() + d[i + 1].abs()) {
+                e[i] = T::zero();
+            }
+        }
+        while hi > 0 && e[hi - 1] == T::zero() {
+            hi -= 1;
+        }
+        if hi == 0 {
+            return true;
+        }
+        let mut lo = hi - 1;
+        while lo > 0 && e[lo - 1] != T::zero() {
+            lo -= 1;
+        }
+        sweeps += 1;
+        if sweeps > cap {
+            return false;
+        }
+        // Wilkinson shift: the eigenvalue of the trailing 2 × 2 closer to d[hi].
+        let b = e[hi - 1];
+        let delta = (d[hi - 1] - d[hi]) / two;
+        let r = fast_hypot(delta, b);
+        let mu = if delta >= T::zero() {
+            d[hi] - b * b / (delta + r)
+        } else {
+            d[hi] - b * b / (delta - r)
+        };
+        let mut x = d[lo] - mu;
+        let mut z = e[lo];
+        for k in lo..hi {
+            // Givens rotation G = [c s; −s c] with G [x; z] = [r; 0].
+            let r = fast_hypot(x, z);
+            let (c, s) = if r == T::zero() {
+                (T::one(), T::zero())
+            } else {
+                (x / r, z / r)
+            };
+            if k > lo {
+                e[k - 1] = r;
+            }
+            let (dk, ek, dk1) = (d[k], e[k], d[k + 1]);
+            let cs = c * s;
+            d[k] = c * c * dk + two * cs * ek + s * s * dk1;
+            d[k + 1] = s * s * dk - two * cs * ek + c * c * dk1;
+            e[k] = cs * (dk1 - dk) + (c * c - s * s) * ek;
+            if k + 1 < hi {
+                x = e[k];
+                z = s * e[k + 1];
+                e[k + 1] *= c;
+            }
+        }
+    }
+}

@@ -57,6 +57,13 @@ pub mod ffi;
 mod lapack;
 
 /// The two floating-point types the routines exist for (`f64` → `d…`, `f32` → `s…`).
-pub(crate) trait Real: nalgebra::RealField + Copy {}
-impl Real for f64 {}
-impl Real for f32 {}
+pub(crate) trait Real: nalgebra::RealField + Copy {
+    /// The smallest positive normal number.
+    const MIN_POSITIVE: Self;
+}
+impl Real for f64 {
+    const MIN_POSITIVE: Self = f64::MIN_POSITIVE;
+}
+impl Real for f32 {
+    const MIN_POSITIVE: Self = f32::MIN_POSITIVE;
+}

@@ -41,9 +41,79 @@ use clarabel::solver::{
 };
 use pendulab_lapack as _;
 use pendulab_lti::Mat;
+use std::cell::RefCell;
 use std::f64::consts::SQRT_2;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
+
+/// The exact conic problem handed to Clarabel by one solve, with the settings used and what
+/// Clarabel returned: `minimise qᵀx  s.t.  A x + s = b,  s ∈ K` (`P = 0` throughout this
+/// crate). A debugging and reference aid, recorded only inside [`capture_conic_problems`]:
+/// it lets the same data be solved by another build of Clarabel (e.g. its Python package)
+/// to separate the cost of the formulation from the cost of the linear algebra.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConicProblem {
+    /// Rows of `A` (length of `b`).
+    pub m: usize,
+    /// Columns of `A` (variables).
+    pub n: usize,
+    /// `A` in compressed sparse column form: column pointers (`n + 1`).
+    pub a_colptr: Vec<usize>,
+    /// `A`: row index of each nonzero.
+    pub a_rowval: Vec<usize>,
+    /// `A`: value of each nonzero.
+    pub a_nzval: Vec<f64>,
+    /// Right-hand side `b` (`m`).
+    pub b: Vec<f64>,
+    /// Linear objective `q` (`n`).
+    pub q: Vec<f64>,
+    /// The cones in row order: `("zero" | "nonneg" | "psd_triangle", dimension)`, the
+    /// dimension of a PSD triangle cone being the matrix side.
+    pub cones: Vec<(&'static str, usize)>,
+    /// The numeric Clarabel settings this crate sets (all others are at Clarabel's
+    /// defaults), as `(name, value)` in Clarabel's own setting names (`max_iter`,
+    /// `tol_gap_abs`, …; booleans as 0/1); `time_limit` is omitted when infinite.
+    pub settings: Vec<(&'static str, f64)>,
+    /// Clarabel's `chordal_decomposition_merge_method` (`"none"` or `"clique_graph"`).
+    pub merge_method: &'static str,
+    /// Clarabel's status (its `Debug` name, e.g. `Solved`).
+    pub status: String,
+    /// Iterations Clarabel took.
+    pub iterations: u32,
+    /// Clarabel's own `solve_time` in seconds.
+    pub solve_time: f64,
+    /// Objective value in the solver's scaling.
+    pub obj_val: f64,
+    /// Final primal residual.
+    pub r_prim: f64,
+    /// Final dual residual.
+    pub r_dual: f64,
+}
+
+thread_local! {
+    static CAPTURE: RefCell<Option<Vec<ConicProblem>>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` and returns, next to its result, the conic problem of every Clarabel solve
+/// this crate made on the current thread while `f` ran, in order (see [`ConicProblem`]).
+/// Outside this function nothing is recorded (one thread-local flag is read per solve).
+/// Nested calls record into the innermost one.
+pub fn capture_conic_problems<R>(f: impl FnOnce() -> R) -> (R, Vec<ConicProblem>) {
+    /// Restores the enclosing capture state even if `f` unwinds.
+    struct Restore(Option<Option<Vec<ConicProblem>>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            if let Some(outer) = self.0.take() {
+                CAPTURE.with(|c| c.replace(outer));
+            }
+        }
+    }
+    let mut restore = Restore(Some(CAPTURE.with(|c| c.replace(Some(Vec::new())))));
+    let r = f();
+    let outer = restore.0.take().unwrap_or_default();
+    let got = CAPTURE.with(|c| c.replace(outer)).unwrap_or_default();
+    (r, got)
+}
 
 /// Solver settings handed through from [`crate::SolveOptions`].
 #[derive(Debug, Clone, Copy)]
@@ -56,6 +126,8 @@ pub(crate) struct Settings {
     pub(crate) infeasibility: f64,
     pub(crate) scale_rows: bool,
     pub(crate) chordal_decomposition: bool,
+    pub(crate) merge_cliques: bool,
+    pub(crate) refinement_steps: u32,
 }
 
 /// Outcome of the solver, in this crate's terms.
@@ -118,6 +190,43 @@ struct Block {
     scale: f64,
     /// `(i, j)` of each row (for zero / nonnegative blocks).
     entries: Vec<(usize, usize)>,
+}
+
+/// The Clarabel settings [`solve`] sets, by Clarabel's names (for [`ConicProblem`]).
+fn capture_settings(s: &Settings) -> Vec<(&'static str, f64)> {
+    let mut v = vec![
+        ("max_iter", f64::from(s.max_iterations)),
+        ("tol_gap_abs", s.gap_abs),
+        ("tol_gap_rel", s.gap_rel),
+        ("tol_feas", s.feasibility),
+        ("tol_infeas_abs", s.infeasibility),
+        ("tol_infeas_rel", s.infeasibility),
+        (
+            "chordal_decomposition_enable",
+            f64::from(u8::from(s.chordal_decomposition)),
+        ),
+        (
+            "iterative_refinement_enable",
+            f64::from(u8::from(s.refinement_steps > 0)),
+        ),
+        (
+            "iterative_refinement_max_iter",
+            f64::from(s.refinement_steps),
+        ),
+    ];
+    if s.time_limit.is_finite() {
+        v.push(("time_limit", s.time_limit));
+    }
+    v
+}
+
+/// Clarabel's `chordal_decomposition_merge_method` for [`Settings::merge_cliques`].
+fn merge_method(s: &Settings) -> &'static str {
+    if s.merge_cliques {
+        "clique_graph"
+    } else {
+        "none"
+    }
 }
 
 /// Index of `(i, j)`, `i ≤ j`, in Clarabel's svec order.
@@ -288,6 +397,9 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         .tol_infeas_abs(settings.infeasibility)
         .tol_infeas_rel(settings.infeasibility)
         .chordal_decomposition_enable(settings.chordal_decomposition)
+        .chordal_decomposition_merge_method(merge_method(settings).into())
+        .iterative_refinement_enable(settings.refinement_steps > 0)
+        .iterative_refinement_max_iter(settings.refinement_steps)
         .build()
         .map_err(|e| LmiError::Solver(format!("settings: {e}")))?;
     let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, clarabel_settings)
@@ -315,6 +427,36 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         }
     };
     let sol = &solver.solution;
+    CAPTURE.with(|c| {
+        if let Some(list) = c.borrow_mut().as_mut() {
+            list.push(ConicProblem {
+                m,
+                n,
+                a_colptr: a.colptr.clone(),
+                a_rowval: a.rowval.clone(),
+                a_nzval: a.nzval.clone(),
+                b: b.clone(),
+                q: q.clone(),
+                cones: cones
+                    .iter()
+                    .map(|k| match k {
+                        SupportedConeT::ZeroConeT(d) => ("zero", *d),
+                        SupportedConeT::NonnegativeConeT(d) => ("nonneg", *d),
+                        SupportedConeT::PSDTriangleConeT(d) => ("psd_triangle", *d),
+                        _ => ("other", 0),
+                    })
+                    .collect(),
+                settings: capture_settings(settings),
+                merge_method: merge_method(settings),
+                status: format!("{:?}", sol.status),
+                iterations: sol.iterations,
+                solve_time: sol.solve_time,
+                obj_val: sol.obj_val,
+                r_prim: sol.r_prim,
+                r_dual: sol.r_dual,
+            });
+        }
+    });
 
     // Duals back to matrices in the constraints' (unscaled) normalised form.
     let duals = problem

@@ -47,6 +47,10 @@
 //! # Ok::<(), pendulab_lmi::LmiError>(())
 //! ```
 //!
+//! [`capture_conic_problems`] records the exact conic data ([`ConicProblem`]) each solve hands
+//! Clarabel, e.g. to solve the same problem with another build of Clarabel
+//! (`tools/reference/lmi_clarabel_python.py`).
+//!
 //! Exactly one file (`backend.rs`) knows Clarabel's data layout (the `svec` of the PSD
 //! triangle cone: upper triangle column by column, off-diagonals × √2).
 
@@ -61,6 +65,7 @@ pub mod solution;
 pub mod sos;
 pub mod synthesis;
 
+pub use backend::{ConicProblem, capture_conic_problems};
 pub use error::{LmiError, Result};
 pub use expr::{Expr, Monomial};
 pub use problem::{ConstraintId, Multiplier, Origin, Problem, Relation, Sense, SosId};

@@ -25,7 +25,7 @@ pub struct AlphaStability {
 /// Feasible iff every eigenvalue of `A` has `Re λ < −α` (then `V = xᵀPx` decays at least
 /// like `e^{−2αt}`, and `‖x(t)‖ ≤ c e^{−αt}‖x(0)‖`). `margin` is `ε` (e.g. 1e-6); the
 /// problem is homogeneous in `P`, so `ε` only fixes the scale. An infeasible test comes back
-/// with [`Status::Infeasible`] and its certificate, not as an error.
+/// with [`Status::Infeasible`](crate::Status::Infeasible) and its certificate, not as an error.
 ///
 /// # Errors
 /// [`LmiError::NotSquare`] / [`LmiError::NonFinite`] for `A`, [`LmiError::InvalidArgument`]
