@@ -14,9 +14,9 @@ builds of the same version) and what the Rust build returned.
 For each solve it prints Clarabel's own `solve_time` (median and minimum of `--repeats`
 solves), iterations, status, objective and final residuals of the Python build next to the
 Rust build's. The Python wheel ships its own BLAS/LAPACK; the Rust build runs on
-crates/lapack. The KKT factorisation is forced to QDLDL (Clarabel's own Rust code, the
-only direct solver of pendulab's build), as the wheel would otherwise pick faer's
-supernodal LDLᵀ on these dense-fill systems; that figure is printed too, for information.
+crates/lapack. Each problem is solved with both KKT factorisations, QDLDL (Clarabel's
+simplicial LDLᵀ) and faer's supernodal LDLᵀ; pendulab's `KktSolver::Auto` uses QDLDL below
+a KKT dimension of 500 (the servo: 101) and faer from there on (the SOS program: 2 752).
 
 Figures recorded with clarabel 0.11.1 (PyPI wheel), NumPy 2.4.6, SciPy 1.17.1, Python
 3.11.7, on the 2-core shared development machine under other builds (load average 2.6–3.2),
@@ -39,6 +39,18 @@ setup and solve with QDLDL on crates/lapack, rechecks): lmi-servo min 2.89 ms, m
 Clarabel solve_time 1384–1516 + 874–1024 ms). Iteration counts of the degenerate γ
 minimisation differ between builds and settings (22–28) because their dense kernels round
 differently; it ends `AlmostSolved` in every build and setting tried.
+
+Quiet machine (load average ≈ 1), 2026-11-27, pendulab with `KktSolver::Auto` (QDLDL for the
+servo, faer for the SOS program), Clarabel `solve_time` median:
+
+    problem                          python qdldl    python faer     rust (export run)
+    lmi-servo                        4.93 ms         5.33 ms         3.32 ms (qdldl)
+    sos γ minimisation               1514 ms (27 it) 896 ms (22 it)  774 ms (faer, 25 it)
+    sos re-solve γ ≤ 1.06 γ*         1003 ms (17 it) 645 ms (17 it)  559 ms (faer, 17 it)
+
+and `pendulab bench sos-gain-schedule` 1465 ms median for the whole design (both solves);
+`tools/reference/lmi_perf_cvxpy.py` in the same minutes: cvxpy's single γ minimisation 4240 ms
+total median (Clarabel auto/faer, 34 it), 6074 ms with QDLDL.
 """
 
 import argparse
@@ -93,8 +105,7 @@ def solve(prob, repeats, clarabel_refinement=False, method="qdldl"):
         t0 = time.perf_counter()
         settings = settings_of(prob["settings"])
         settings.chordal_decomposition_merge_method = prob.get("merge_method", "clique_graph")
-        # pendulab builds Clarabel without `faer-sparse`: QDLDL is its only direct solver.
-        # The wheel's default "auto" picks faer's supernodal LDLᵀ for dense-fill KKT systems.
+        # Forced either way (the wheel's "auto" would pick faer on dense-fill KKT systems).
         settings.direct_solve_method = method
         if clarabel_refinement:
             # Clarabel's own defaults for iterative refinement (up to 10 steps).
@@ -127,7 +138,7 @@ def main():
             for label, default_ir, method in [
                 ("python, same settings (qdldl)", False, "qdldl"),
                 ("python, Clarabel's default refinement (qdldl)", True, "qdldl"),
-                ("python, same settings, faer (not available to pendulab)", False, "faer"),
+                ("python, same settings, faer", False, "faer"),
             ]:
                 sol, times, wall = solve(prob, repeats, default_ir, method)
                 print(

@@ -128,6 +128,7 @@ pub(crate) struct Settings {
     pub(crate) chordal_decomposition: bool,
     pub(crate) merge_cliques: bool,
     pub(crate) refinement_steps: u32,
+    pub(crate) kkt_solver: crate::KktSolver,
 }
 
 /// Outcome of the solver, in this crate's terms.
@@ -400,6 +401,7 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         .chordal_decomposition_merge_method(merge_method(settings).into())
         .iterative_refinement_enable(settings.refinement_steps > 0)
         .iterative_refinement_max_iter(settings.refinement_steps)
+        .direct_solve_method(settings.kkt_solver.method(q.len() + b.len()).into())
         .build()
         .map_err(|e| LmiError::Solver(format!("settings: {e}")))?;
     let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, clarabel_settings)

@@ -70,5 +70,6 @@ pub use error::{LmiError, Result};
 pub use expr::{Expr, Monomial};
 pub use problem::{ConstraintId, Multiplier, Origin, Problem, Relation, Sense, SosId};
 pub use solution::{
-    Certificate, ConstraintCheck, Dims, Solution, SolveOptions, SosCheck, Status, Tolerances,
+    Certificate, ConstraintCheck, Dims, KktSolver, Solution, SolveOptions, SosCheck, Status,
+    Tolerances,
 };

@@ -329,3 +329,33 @@ fn max_decay_rate_equals_the_spectral_abscissa() {
     assert!((d.alpha - 1.125).abs() < 1e-3, "{}", d.alpha);
     assert!(d.alpha < 1.125);
 }
+
+/// The two KKT factorisations Clarabel offers (QDLDL's simplicial and faer's supernodal
+/// LDLᵀ) are independent implementations of the same step: forced one way and the other on
+/// the p2c122 servo LMI, both reach the Riccati gain and the same optimum.
+#[test]
+fn kkt_factorisations_agree_on_the_servo_lmi() {
+    use pendulab_lmi::KktSolver;
+    let (a, b) = common::arm(common::A1, common::B1, 0.0);
+    let (at, bt) = common::augment(&a, &b);
+    let (q, r) = common::servo_weights();
+    let k_lq = row(&fixture()["p2c122_lq"]["K_riccati"]);
+    let mut traces = Vec::new();
+    for kkt_solver in [KktSolver::Qdldl, KktSolver::Faer] {
+        let opts = SolveOptions {
+            kkt_solver,
+            ..SolveOptions::default()
+        };
+        let d = lq_state_feedback(&at, &bt, &q, &r, &opts).unwrap();
+        assert!(d.solution.all_checks_pass(), "{kkt_solver:?}");
+        let fb = d.feedback.expect("solved");
+        // As in p2c122_lmi_lq_gain_agrees_with_the_riccati_gain.
+        assert!(rel(&fb.gain, &k_lq) < 1e-3, "{kkt_solver:?}");
+        traces.push(fb.x.trace());
+    }
+    // Both stop at relative gap 1e-8 on the same objective (tr X ≈ 3.9e3).
+    assert!(
+        (traces[0] - traces[1]).abs() < 1e-6 * traces[0],
+        "{traces:?}"
+    );
+}
