@@ -7,7 +7,7 @@ crates/lmi/tests/conic_export.rs (one file per benchmark workload: `lmi_servo.js
 settings pendulab sets (all others at Clarabel's defaults, which are the same in both
 builds of the same version) and what the Rust build returned.
 
-    PENDULAB_CONIC_DIR=target/conic cargo test --release -p pendulab-lmi \
+    PENDULAB_CONIC_DIR=$PWD/target/conic cargo test --release -p pendulab-lmi \
         --test conic_export -- --ignored
     python3 tools/reference/lmi_clarabel_python.py target/conic
 

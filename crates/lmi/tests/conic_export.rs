@@ -8,7 +8,7 @@
 //! Python build of Clarabel:
 //!
 //! ```text
-//! PENDULAB_CONIC_DIR=target/conic cargo test --release -p pendulab-lmi \
+//! PENDULAB_CONIC_DIR=$PWD/target/conic cargo test --release -p pendulab-lmi \
 //!     --test conic_export -- --ignored
 //! ```
 
