@@ -415,19 +415,7 @@ pub(crate) fn dot(x: &[f64], y: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-
-    /// Deterministic pseudo-random matrix (SplitMix64), entries uniform in `[−1, 1)`.
-    fn test_matrix(r: usize, c: usize, seed: u64) -> crate::linalg::Mat {
-        let mut s = seed;
-        crate::linalg::Mat::from_fn(r, c, |_, _| {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0
-        })
-    }
+    use crate::linalg::testing::splitmix_matrix as test_matrix;
 
     #[test]
     fn blocked_transpose_solve_matches_column_by_column() {

@@ -1290,18 +1290,14 @@ pub(crate) fn reorder_quasi_triangular<F: FnMut(Complex64) -> bool>(
 mod tests {
     use super::*;
 
-    /// Deterministic pseudo-random matrix (SplitMix64), entries uniform in `[−1, 1)`, column
-    /// `j` scaled by `grade^j` (a graded matrix for `grade < 1`).
+    /// [`crate::linalg::testing::splitmix_matrix`] (`n × n`) with column `j` scaled by
+    /// `grade^j` (a graded matrix for `grade < 1`).
     fn test_matrix(n: usize, seed: u64, grade: f64) -> Mat {
-        let mut s = seed;
-        Mat::from_fn(n, n, |_, j| {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            ((z >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0) * grade.powi(j as i32)
-        })
+        let mut a = crate::linalg::testing::splitmix_matrix(n, n, seed);
+        for (j, mut col) in a.column_iter_mut().enumerate() {
+            col *= grade.powi(j as i32);
+        }
+        a
     }
 
     /// Runs the reduction, blocked or not, and checks the defining properties: `H` upper
