@@ -16,8 +16,8 @@ mod common;
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SupportedConeT};
+use pendulab_lmi::synthesis::gain_scheduled_lq;
 use pendulab_lmi::synthesis::lq_state_feedback;
-use pendulab_lmi::synthesis::{GainScheduleSpec, LpvPlant, LqWeights, gain_scheduled_lq};
 use pendulab_lmi::{ConicProblem, SolveOptions, capture_conic_problems};
 use serde_json::json;
 
@@ -32,19 +32,7 @@ fn servo_problems() -> Vec<ConicProblem> {
 }
 
 fn gain_schedule_problems() -> Vec<ConicProblem> {
-    let (q, r) = common::servo_weights();
-    let (a0, a1, b0, b1) = common::lpv_servo();
-    let rho_bar = 1.0 - 65f64.to_radians().cos();
-    let spec = GainScheduleSpec {
-        rho_range: (0.0, rho_bar),
-        rho0_range: (0.0, rho_bar),
-        rho_dot_bound: 0.75,
-        lq: LqWeights { q, r },
-        margin: 1e-6,
-        gamma_relax: 0.06,
-        balance: true,
-    };
-    let plant = LpvPlant { a0, a1, b0, b1 };
+    let (spec, plant) = common::book_gain_schedule();
     let (gs, got) =
         capture_conic_problems(|| gain_scheduled_lq(&plant, &spec, &SolveOptions::default()));
     assert!(gs.unwrap().schedule.is_some());

@@ -4,7 +4,7 @@
 
 mod common;
 
-use pendulab_lmi::synthesis::{GainScheduleSpec, LpvPlant, LqWeights, gain_scheduled_lq};
+use pendulab_lmi::synthesis::{GainScheduleSpec, LpvPlant, gain_scheduled_lq};
 use pendulab_lmi::{Expr, Problem, SolveOptions, Status};
 use pendulab_lti::Mat;
 
@@ -156,19 +156,7 @@ fn servo_design() -> (
     GainScheduleSpec,
     LpvPlant,
 ) {
-    let (q, r) = common::servo_weights();
-    let (a0, a1, b0, b1) = common::lpv_servo();
-    let rho_bar = 1.0 - 65f64.to_radians().cos();
-    let spec = GainScheduleSpec {
-        rho_range: (0.0, rho_bar),
-        rho0_range: (0.0, rho_bar),
-        rho_dot_bound: 0.75,
-        lq: LqWeights { q, r },
-        margin: 1e-6,
-        gamma_relax: 0.06,
-        balance: true,
-    };
-    let plant = LpvPlant { a0, a1, b0, b1 };
+    let (spec, plant) = common::book_gain_schedule();
     let gs = gain_scheduled_lq(&plant, &spec, &SolveOptions::default()).unwrap();
     (gs, spec, plant)
 }

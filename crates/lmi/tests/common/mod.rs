@@ -77,3 +77,25 @@ pub fn servo_weights() -> (Mat, Mat) {
         Mat::from_element(1, 1, 1.0),
     )
 }
+
+/// The book's p2c15_ex7 gain-scheduling problem: the LPV servo, ρ = 1 − cos θ₁ ∈ [0, 1 − cos 65°]
+/// (and the same for ρ(0)), |ρ̇| ≤ 0.75, the servo weights, margin 1e-6, re-solve at
+/// γ ≤ 1.06 γ*, balanced.
+pub fn book_gain_schedule() -> (
+    pendulab_lmi::synthesis::GainScheduleSpec,
+    pendulab_lmi::synthesis::LpvPlant,
+) {
+    let (q, r) = servo_weights();
+    let (a0, a1, b0, b1) = lpv_servo();
+    let rho_bar = 1.0 - 65f64.to_radians().cos();
+    let spec = pendulab_lmi::synthesis::GainScheduleSpec {
+        rho_range: (0.0, rho_bar),
+        rho0_range: (0.0, rho_bar),
+        rho_dot_bound: 0.75,
+        lq: pendulab_lmi::synthesis::LqWeights { q, r },
+        margin: 1e-6,
+        gamma_relax: 0.06,
+        balance: true,
+    };
+    (spec, pendulab_lmi::synthesis::LpvPlant { a0, a1, b0, b1 })
+}
