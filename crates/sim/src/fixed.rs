@@ -1,9 +1,9 @@
 //! The fixed-size closed-loop kernel: the common sampled-data loop — a single-input plant with
 //! a compile-time state size `N`, static state feedback `u = −K (x − x_ref)` or the LQ
-//! integral servo from the exact state ([`FixedController`]), zero-order hold, classic RK4 substeps, optionally a saturation — compiled into one
-//! monomorphised loop on `[f64; N]`: no dynamic dispatch, no allocation and no slices of
-//! run-time length per step, recording into a preallocated column-major (structure of arrays)
-//! trajectory.
+//! integral servo from the exact state ([`FixedController`]), zero-order hold, classic RK4
+//! substeps, optionally a saturation — compiled into one monomorphised loop on `[f64; N]`: no
+//! dynamic dispatch, no allocation and no slices of run-time length per step, recording into a
+//! preallocated column-major (structure of arrays) trajectory.
 //!
 //! [`FixedLoop`] is built from the parts of a [`SampledLoop`] ([`SampledLoop::fixed`], which
 //! refuses configurations the kernel does not cover) or directly ([`FixedLoop::new`]). Its
