@@ -8,7 +8,7 @@
 //!    implementation does (BLAS: an invalid argument makes the call a no-op, where reference
 //!    BLAS would call `XERBLA`; LAPACK: `INFO = −i` for the first invalid argument `i`),
 //! 2. builds slices of exactly the length the Fortran contract implies for each array,
-//! 3. calls the safe kernel in [`crate::blas`] / [`crate::lapack`],
+//! 3. calls the safe kernel in the crate's private `blas` / `lapack` modules,
 //!
 //! all inside `catch_unwind`, because a panic unwinding out of an `extern "C"` function aborts
 //! the process. A caught panic (which would be a bug in this crate) is reported as

@@ -8,7 +8,7 @@
 //!
 //! | equation | function | MATLAB |
 //! |---|---|---|
-//! | `A X + X B = C` | [`sylvester`] | `sylvester(A,B,C)` |
+//! | `A X + X B = C` | [`sylvester()`] | `sylvester(A,B,C)` |
 //! | `A X + X Aᵀ + Q = 0` | [`lyap`] | `lyap(A,Q)` |
 //! | `A X Aᵀ − X + Q = 0` | [`dlyap`] | `dlyap(A,Q)` |
 //! | `AᵀX + XA − (XB+N)R⁻¹(BᵀX+Nᵀ) + Q = 0` | [`care`] | `care`/`icare` |
