@@ -156,17 +156,7 @@ fn servo_loop_matches_the_exact_augmented_recursion_and_tracks() {
     // w_{k+1} = w_k + ts (r − z_k), u_k = −K₁ x_k − K₂ w_k with Φ, Γ from c2d.
     let ts = 0.01;
     let plant = CartPendulum::default().linear();
-    let cz = StateSpace::continuous(
-        plant.a().clone(),
-        plant.b().clone(),
-        Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
-        Mat::zeros(1, 1),
-    )
-    .unwrap();
-    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[
-        1.0, 10.0, 0.0, 0.0, 50.0,
-    ]));
-    let design = pendulab_lti::design::lq_servo(&cz, &q, &Mat::identity(1, 1)).unwrap();
+    let (cz, design) = common::cart_lq_servo(&CartPendulum::default());
     let r = 0.1;
     let servo = LqIntegralServo::from_design(
         &design,

@@ -8,7 +8,6 @@ mod common;
 
 use common::CartPendulum;
 use pendulab_lti::Mat;
-use pendulab_lti::StateSpace;
 use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
 use pendulab_sim::fixed::FixedDynamics;
 use pendulab_sim::{
@@ -127,18 +126,7 @@ fn monitor_stop_is_bit_identical() {
 #[test]
 fn lq_servo_run_is_bit_identical() {
     let ts = 0.01;
-    let lin = CartPendulum::default().linear();
-    let cz = StateSpace::continuous(
-        lin.a().clone(),
-        lin.b().clone(),
-        Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
-        Mat::zeros(1, 1),
-    )
-    .unwrap();
-    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[
-        1.0, 10.0, 0.0, 0.0, 50.0,
-    ]));
-    let design = pendulab_lti::design::lq_servo(&cz, &q, &Mat::identity(1, 1)).unwrap();
+    let (cz, design) = common::cart_lq_servo(&CartPendulum::default());
     for rule in [
         IntegrationRule::ForwardEuler,
         IntegrationRule::BackwardEuler,

@@ -134,3 +134,24 @@ pub fn mul(m: &Mat, v: &[f64]) -> Vec<f64> {
         .map(|i| (0..m.ncols()).map(|j| m[(i, j)] * v[j]).sum())
         .collect()
 }
+
+/// The continuous LQ integral servo of the linearised cart with the cart position measured,
+/// `Q = diag(1, 10, 0, 0, 50)` on `[x; w]`, `R = 1`, designed by pendulab-lti (the tests use
+/// it as a controller to run, not as a reference value). Also returns the measured model.
+pub fn cart_lq_servo(
+    plant: &CartPendulum,
+) -> (StateSpace<Continuous>, pendulab_lti::design::LqServo) {
+    let lin = plant.linear();
+    let cz = StateSpace::continuous(
+        lin.a().clone(),
+        lin.b().clone(),
+        Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
+        Mat::zeros(1, 1),
+    )
+    .unwrap();
+    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[
+        1.0, 10.0, 0.0, 0.0, 50.0,
+    ]));
+    let design = pendulab_lti::design::lq_servo(&cz, &q, &Mat::identity(1, 1)).unwrap();
+    (cz, design)
+}
