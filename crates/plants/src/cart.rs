@@ -561,6 +561,17 @@ mod tests {
         assert!(worst > 0.0);
     }
 
+    /// The LQR gain of the book's `cdip_lqr_sim` design (Q = diag(10, 10, 0, 0), R = 1) on
+    /// `plant` linearised upright: a stabilising feedback for the kernel tests.
+    fn cdip_lqr_gain(plant: &CartPendulum) -> Mat {
+        let sys = plant.linearize(CartEquilibrium::upright()).unwrap();
+        let mut q = Mat::zeros(4, 4);
+        (q[(0, 0)], q[(1, 1)]) = (10.0, 10.0);
+        pendulab_lti::design::lqr(&sys, &q, &Mat::identity(1, 1), None)
+            .unwrap()
+            .gain
+    }
+
     /// The fixed-size kernel reproduces the general sampled-data loop bit for bit with this
     /// plant (the reference is `SampledLoop::run`, which evaluates `Dynamics::derivative`),
     /// with either sine/cosine, under a stabilising feedback (the LQR gain of the book's
@@ -571,12 +582,7 @@ mod tests {
         use pendulab_sim::{SampledLoop, SampledOptions};
         for trig in [Trig::Libm, Trig::Polynomial] {
             let plant = CartPendulum::book().with_trig(trig);
-            let sys = plant.linearize(CartEquilibrium::upright()).unwrap();
-            let mut q = Mat::zeros(4, 4);
-            (q[(0, 0)], q[(1, 1)]) = (10.0, 10.0);
-            let k = pendulab_lti::design::lqr(&sys, &q, &Mat::identity(1, 1), None)
-                .unwrap()
-                .gain;
+            let k = cdip_lqr_gain(&plant);
             let opts = SampledOptions::default();
             let mut g =
                 SampledLoop::new(plant, StaticStateFeedback::new(k).unwrap(), opts).unwrap();
@@ -599,12 +605,7 @@ mod tests {
         use pendulab_sim::controllers::StaticStateFeedback;
         use pendulab_sim::{SampledLoop, SampledOptions};
         let plant = CartPendulum::book().with_trig(Trig::Anchored);
-        let sys = plant.linearize(CartEquilibrium::upright()).unwrap();
-        let mut q = Mat::zeros(4, 4);
-        (q[(0, 0)], q[(1, 1)]) = (10.0, 10.0);
-        let k = pendulab_lti::design::lqr(&sys, &q, &Mat::identity(1, 1), None)
-            .unwrap()
-            .gain;
+        let k = cdip_lqr_gain(&plant);
         let feedback = StaticStateFeedback::new(k).unwrap();
         let opts = SampledOptions::default();
         let g = SampledLoop::new(plant, feedback.clone(), opts.clone()).unwrap();
