@@ -182,6 +182,22 @@ pub struct Dims {
     pub nonzeros: usize,
 }
 
+impl Dims {
+    /// Rows of the KKT system Clarabel factors: variables plus constraint rows (a PSD cone of
+    /// side `k` contributes its `k(k+1)/2` svec rows). Chooses [`crate::KktSolver::Auto`]'s
+    /// factorisation.
+    pub fn kkt_dimension(&self) -> usize {
+        self.variables
+            + self.equalities
+            + self.inequalities
+            + self
+                .psd_sizes
+                .iter()
+                .map(|k| k * (k + 1) / 2)
+                .sum::<usize>()
+    }
+}
+
 /// Row layout of one constraint block.
 struct Block {
     cone: Cone,
@@ -401,7 +417,7 @@ pub(crate) fn solve(problem: &Problem, settings: &Settings) -> Result<RawSolutio
         .chordal_decomposition_merge_method(merge_method(settings).into())
         .iterative_refinement_enable(settings.refinement_steps > 0)
         .iterative_refinement_max_iter(settings.refinement_steps)
-        .direct_solve_method(settings.kkt_solver.method(q.len() + b.len()).into())
+        .direct_solve_method(settings.kkt_solver.method(dims.kkt_dimension()).into())
         .build()
         .map_err(|e| LmiError::Solver(format!("settings: {e}")))?;
     let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, clarabel_settings)

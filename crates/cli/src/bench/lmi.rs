@@ -109,22 +109,13 @@ fn lmi_servo(budget: &Budget) -> Result<BenchReport> {
             "clarabel_solve_ms": design.solution.solver_seconds * 1e3,
             "setup_ms": design.solution.setup_seconds * 1e3,
             "refinement_steps": opts.refinement_steps,
-            "kkt_factorisation": opts.kkt_solver.method(kkt_dimension(&design.solution.dims)),
+            "kkt_factorisation": opts.kkt_solver.method(design.solution.dims.kkt_dimension()),
             "same_problem_in_python_clarabel": "tools/reference/lmi_clarabel_python.py (data exported by crates/lmi/tests/conic_export.rs)",
             "closed_loop_max_real_pole": fb.closed_loop_poles[0].iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max),
             "process_cpu_ms_per_design": cpu.map(|c| c * 1e3),
             "timing": timing,
         }),
     })
-}
-
-/// Rows of the KKT system Clarabel factors: variables plus constraint rows (a PSD cone of
-/// side `k` has `k(k+1)/2` rows).
-fn kkt_dimension(d: &pendulab_lmi::Dims) -> usize {
-    d.variables
-        + d.equalities
-        + d.inequalities
-        + d.psd_sizes.iter().map(|k| k * (k + 1) / 2).sum::<usize>()
 }
 
 fn sos_gain_schedule(budget: &Budget) -> Result<BenchReport> {
@@ -174,7 +165,7 @@ fn sos_gain_schedule(budget: &Budget) -> Result<BenchReport> {
             "setup_ms_total": (opt.setup_seconds + refined.map_or(0.0, |s| s.setup_seconds)) * 1e3,
             "total_over_solver_time": timing.median_s / solver_s,
             "refinement_steps": opts.refinement_steps,
-            "kkt_factorisation": opts.kkt_solver.method(kkt_dimension(&opt.dims)),
+            "kkt_factorisation": opts.kkt_solver.method(opt.dims.kkt_dimension()),
             "same_problem_in_python_clarabel": "tools/reference/lmi_clarabel_python.py (data exported by crates/lmi/tests/conic_export.rs)",
             "dims": {
                 "variables": opt.dims.variables,
