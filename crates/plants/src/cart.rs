@@ -38,7 +38,7 @@
 
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
-use pendulab_sim::lanes::{Trig, sin_cos_shifted, sin_cos_small};
+use pendulab_sim::lanes::{Trig, sin_cos_offset, sin_cos_small};
 
 use crate::drive::Drive;
 use crate::error::{PlantError, Requirement, check, check_point};
@@ -296,7 +296,8 @@ impl CartPendulum {
     /// libm-based references. [`Trig::Anchored`] changes only the RK4 step of the
     /// fixed-size closed-loop kernel (`pendulab_sim::fixed`, e.g. `SampledLoop::fixed`): the
     /// step's later stages take their sines from the first stage's (about 250 fewer
-    /// instructions per step, each within 2 ulp + 6·10⁻¹⁷ of libm); every other evaluation
+    /// instructions per step, each within 2 ulp + 6·10⁻¹⁷ of libm) and the pendulum's
+    /// constants are divided by `J` beforehand; every other evaluation
     /// of this plant uses libm. Jacobians, linearisations, energy and geometry always use
     /// libm.
     pub fn with_trig(mut self, trig: Trig) -> Self {
@@ -464,8 +465,9 @@ impl Dynamics for CartPendulum {
 /// [`Dynamics`] implementation also evaluates, so the kernel reproduces `SampledLoop` bit for
 /// bit — except with [`Trig::Anchored`], whose RK4 step evaluates the step's first sine and
 /// cosine by libm (by [`pendulab_sim::lanes::sin_cos_small`] within 1/32 rad of upright) and
-/// takes the later stages' from them ([`pendulab_sim::lanes::sin_cos_shifted`]): within
-/// 2 ulp + 6·10⁻¹⁷ of libm's each, about 250 fewer instructions per step.
+/// takes the later stages' from them for the stages' offsets
+/// ([`pendulab_sim::lanes::sin_cos_offset`]): within 2 ulp + 6·10⁻¹⁷ of libm's each, about
+/// 250 fewer instructions per step, and a shorter dependency chain (see `anchored_step`).
 impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
     #[inline(always)]
     fn derivative_fixed(&self, x: &[f64; 4], u: f64) -> [f64; 4] {
@@ -475,7 +477,8 @@ impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
         [x[2], x[3], ddz, self.pendulum.acceleration(s, c, x[3], ddz)]
     }
 
-    /// The operations of [`pendulab_sim::fixed::rk4_fixed`], the sines and cosines aside.
+    /// The operations of [`pendulab_sim::fixed::rk4_fixed`], the sines and cosines aside —
+    /// and with [`Trig::Anchored`] the pendulum's constants divided by `J` beforehand.
     #[inline(always)]
     fn rk4_step_fixed(&self, x: &mut [f64; 4], u: f64, h: f64) {
         if self.trig != Trig::Anchored {
@@ -483,23 +486,48 @@ impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
         }
         let theta = x[1];
         let (s, c) = sin_cos_small(theta);
-        let f = |y: &[f64; 4], (s, c): (f64, f64)| {
-            let ddz = self.drive.acceleration(y[2], u);
-            [y[2], y[3], ddz, self.pendulum.acceleration(s, c, y[3], ddz)]
+        *x = self.anchored_step(x, u, h, (s, c), |d| sin_cos_offset(theta, d, s, c));
+    }
+}
+
+impl CartPendulum {
+    /// One RK4 step of [`Trig::Anchored`] (the operations of
+    /// [`pendulab_sim::fixed::rk4_fixed`] with the pendulum's constants divided by `J`
+    /// beforehand and the last stage's term added last), given `(s, c)`, the sine and cosine
+    /// of the step's first angle `θ` (libm, or [`sin_cos_small`] near zero); `shift(d)`
+    /// returns those of a stage angle `θ + d` ([`sin_cos_offset`]) for the offsets
+    /// themselves, `d = (h/2)·θ̇₁, (h/2)·θ̇₂, h·θ̇₃` — never recovered from a rounded angle,
+    /// which keeps the round trip `(θ + d) − θ` off the step's dependency chain.
+    #[inline(always)]
+    fn anchored_step(
+        &self,
+        x: &[f64; 4],
+        u: f64,
+        h: f64,
+        (s, c): (f64, f64),
+        shift: impl Fn(f64) -> (f64, f64),
+    ) -> [f64; 4] {
+        let f = |dz: f64, dth: f64, (s, c): (f64, f64)| {
+            let ddz = self.drive.acceleration(dz, u);
+            (ddz, self.pendulum.acceleration_prescaled(s, c, dth, ddz))
         };
-        let shifted = |y: &[f64; 4]| sin_cos_shifted(y[1], theta, s, c);
         let half = 0.5 * h;
-        let k1 = f(x, (s, c));
-        let x2: [f64; 4] = std::array::from_fn(|i| x[i] + half * k1[i]);
-        let k2 = f(&x2, shifted(&x2));
-        let x3: [f64; 4] = std::array::from_fn(|i| x[i] + half * k2[i]);
-        let k3 = f(&x3, shifted(&x3));
-        let x4: [f64; 4] = std::array::from_fn(|i| x[i] + h * k3[i]);
-        let k4 = f(&x4, shifted(&x4));
+        let (dz1, dth1) = (x[2], x[3]);
+        let (a1, b1) = f(dz1, dth1, (s, c));
+        let (dz2, dth2) = (x[2] + half * a1, x[3] + half * b1);
+        let (a2, b2) = f(dz2, dth2, shift(half * dth1));
+        let (dz3, dth3) = (x[2] + half * a2, x[3] + half * b2);
+        let (a3, b3) = f(dz3, dth3, shift(half * dth2));
+        let (dz4, dth4) = (x[2] + h * a3, x[3] + h * b3);
+        let (a4, b4) = f(dz4, dth4, shift(h * dth3));
         let sixth = h / 6.0;
-        for i in 0..4 {
-            x[i] += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
+        // The last stage's term added last and on its own (one operation less after it).
+        [
+            (x[0] + sixth * (dz1 + 2.0 * dz2 + 2.0 * dz3)) + sixth * dz4,
+            (x[1] + sixth * (dth1 + 2.0 * dth2 + 2.0 * dth3)) + sixth * dth4,
+            (x[2] + sixth * (a1 + 2.0 * a2 + 2.0 * a3)) + sixth * a4,
+            (x[3] + sixth * (b1 + 2.0 * b2 + 2.0 * b3)) + sixth * b4,
+        ]
     }
 }
 
@@ -594,9 +622,12 @@ mod tests {
     }
 
     /// With `Trig::Anchored` the kernel's RK4 step takes the stage sines from the step's
-    /// first one; the general loop (which evaluates the plain right-hand side, libm for this
+    /// first one (for the exact stage offsets) and divides the pendulum's constants by J
+    /// beforehand; the general loop (which evaluates the plain right-hand side, libm for this
     /// variant) is the reference. Each stage's sine/cosine is within 2 ulp + 6·10⁻¹⁷ of
-    /// libm's, which moves θ̈ by at most (m_p g l_p + m_p l_p |z̈|)/J · 5·10⁻¹⁶ ≈ 4·10⁻¹⁴ here
+    /// libm's at the stage angle (plus half an ulp of the angle for the unrounded offset),
+    /// and the prescaled constants change θ̈ by a few roundings, which together move θ̈ by at
+    /// most (m_p g l_p + m_p l_p |z̈|)/J · 5·10⁻¹⁶ ≈ 4·10⁻¹⁴ here
     /// (|z̈| < 50 m/s²) and the state by h times that per step: 10⁴ steps of 1 ms add up to
     /// at most 4·10⁻¹³ without any help from the loop's damping; 1e-13 is asserted on the
     /// ~0.26 rad swing (the stable loop keeps the sum near one step's worth).

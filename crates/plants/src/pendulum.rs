@@ -57,6 +57,10 @@ pub(crate) struct PivotPendulum {
     pub mgl: f64,
     /// `μ_p` \[N m s/rad\].
     pub mu: f64,
+    /// `m_p g l_p / J`, `μ_p / J`, `m_p l_p / J` (for [`PivotPendulum::acceleration_prescaled`]).
+    pub mgl_j: f64,
+    pub mu_j: f64,
+    pub ml_j: f64,
 }
 
 impl PivotPendulum {
@@ -71,6 +75,9 @@ impl PivotPendulum {
             ml,
             mgl,
             mu: p.mu,
+            mgl_j: mgl / j,
+            mu_j: p.mu / j,
+            ml_j: ml / j,
         })
     }
 
@@ -78,6 +85,15 @@ impl PivotPendulum {
     #[inline(always)]
     pub fn acceleration(&self, sin: f64, cos: f64, dtheta: f64, ddz: f64) -> f64 {
         (self.mgl * sin - self.mu * dtheta - self.ml * cos * ddz) * self.inv_j
+    }
+
+    /// `θ̈` as [`PivotPendulum::acceleration`], with the constants divided by `J` beforehand:
+    /// `(m g l/J)·sin θ − (μ/J)·θ̇ − (m l/J)·cos θ·z̈` — one multiplication less after the
+    /// sine on the dependency chain of an integration step; it differs from `acceleration`
+    /// by a few roundings (relative ~1e-16).
+    #[inline(always)]
+    pub fn acceleration_prescaled(&self, sin: f64, cos: f64, dtheta: f64, ddz: f64) -> f64 {
+        (self.mgl_j * sin - self.mu_j * dtheta) - self.ml_j * cos * ddz
     }
 
     /// `(∂θ̈/∂θ, ∂θ̈/∂θ̇, ∂θ̈/∂z̈)` at `(θ, θ̇, z̈)`.
@@ -94,5 +110,44 @@ impl PivotPendulum {
     #[inline]
     pub fn energy(&self, theta: f64, dtheta: f64) -> f64 {
         0.5 * self.j * dtheta * dtheta + self.mgl * (1.0 + theta.cos())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The prescaled form against the plain one over random arguments: both evaluate the
+    /// same expression with at most five roundings each (and the constants' own divisions),
+    /// so they agree to 8ε times the sum of the terms' magnitudes.
+    #[test]
+    fn prescaled_acceleration_agrees_with_the_plain_one_to_rounding() {
+        let params = PendulumParams {
+            m: 0.1,
+            l: 0.2,
+            L: 0.4,
+            J: 1e-3,
+            mu: 2e-4,
+        };
+        let p = PivotPendulum::new(&params, 9.81, "test").unwrap();
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..10_000 {
+            let th = 4.0 * uniform();
+            let (s, c) = th.sin_cos();
+            let (dth, ddz) = (20.0 * uniform(), 50.0 * uniform());
+            let plain = p.acceleration(s, c, dth, ddz);
+            let scaled = p.acceleration_prescaled(s, c, dth, ddz);
+            let size = (p.mgl * s.abs() + p.mu * dth.abs() + p.ml * (c * ddz).abs()) / p.j;
+            assert!(
+                (plain - scaled).abs() <= 8.0 * f64::EPSILON * size,
+                "{plain} vs {scaled} at θ = {th}, θ̇ = {dth}, z̈ = {ddz}"
+            );
+        }
     }
 }

@@ -176,8 +176,9 @@ pub fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
 ///   [`crate::fixed::FixedDynamics::rk4_step_fixed`] of `pendulab_plants::CartPendulum`):
 ///   the sine and cosine of the angle at the start of the step (libm's, or [`sin_cos_small`]
 ///   within 1/32 rad of zero), and the three later stages'
-///   sines and cosines from it by the addition theorem ([`sin_cos_shifted`]), about a quarter
-///   of libm's instructions each, within 2 ulp + 6·10⁻¹⁷ of libm. A single right-hand side
+///   sines and cosines from it by the addition theorem for the stages' offsets
+///   ([`sin_cos_offset`]), about a quarter of libm's instructions each, within
+///   2 ulp + 6·10⁻¹⁷ of libm at the stage angle. A single right-hand side
 ///   evaluation outside such a step (the general sampled-data loop, linearisation, …) uses
 ///   libm, as [`Trig::Libm`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -237,19 +238,69 @@ pub fn sin_cos_shifted(x: f64, a: f64, s: f64, c: f64) -> (f64, f64) {
     (s + (s * cm1 + c * sd), c + (c * cm1 - s * sd))
 }
 
+/// Below this `|d|` (`2⁻⁸`) the series drop their `d⁷` and `d⁶` terms ([`short_angle_series`]).
+const SHORT_SHIFT_LIMIT: f64 = 1.0 / 256.0;
+
+/// `(sin(a + d), cos(a + d))` from `(s, c) = (sin a, cos a)` and the offset `d` itself
+/// (not recovered from a rounded `a + d`): the formulas of [`sin_cos_shifted`] for
+/// `|d| ≤` [`SHIFT_LIMIT`] (with shorter series for `|d| ≤ 2⁻⁸`), libm's
+/// `(a + d).sin_cos()` otherwise and for NaN.
+///
+/// This is the sine of the exact sum `a + d`, where [`sin_cos_shifted`] takes the sine of
+/// the rounded `x = fl(a + d)`: the two differ by at most half an ulp of `x` times `|cos|`
+/// (`|sin|`). The error bound is that of [`sin_cos_shifted`], 2 ulp + 6·10⁻¹⁷, against
+/// `sin(a + d)` (checked in `tests/trig_shift.rs` against libm at `fl(a + d)` corrected to
+/// first order by the rounding error of the sum). For an RK4 stage angle `θ + c·h·θ̇` this
+/// is the stage's exact angle, without the round trip `(θ + δ) − θ` on the step's
+/// dependency chain.
+#[inline(always)]
+pub fn sin_cos_offset(a: f64, d: f64, s: f64, c: f64) -> (f64, f64) {
+    let m = d.abs();
+    // False for NaN, which goes to libm as well.
+    let in_range = m <= SHIFT_LIMIT;
+    if !in_range {
+        return (a + d).sin_cos();
+    }
+    let (sd, cm1) = if m <= SHORT_SHIFT_LIMIT {
+        short_angle_series(d)
+    } else {
+        small_angle_series(d)
+    };
+    (s + (s * cm1 + c * sd), c + (c * cm1 - s * sd))
+}
+
 /// `(sin x, cos x)` for `|x| ≤` [`SHIFT_LIMIT`] by the series of [`sin_cos_shifted`] about
-/// the exact anchor 0 (`sin x = x + x³·(…)`, `cos x = 1 + x²·(…)`), within 2 ulp + 6·10⁻¹⁷
+/// the exact anchor 0 (`sin x = x + x³·(…)`, `cos x = 1 + x²·(…)`; without the `x⁷` and
+/// `x⁶` terms for `|x| ≤ 2⁻⁸`, where they are below 5·10⁻¹⁸), within 2 ulp + 6·10⁻¹⁷
 /// of libm (checked in `tests/trig_shift.rs`); libm's `x.sin_cos()` for larger `|x|` and NaN.
 /// About 15 floating-point operations and a short dependency chain: the step-start angle of
 /// [`Trig::Anchored`] near the upright (or any) zero angle.
 #[inline(always)]
 pub fn sin_cos_small(x: f64) -> (f64, f64) {
-    let in_range = x.abs() <= SHIFT_LIMIT;
+    let m = x.abs();
+    if m <= SHORT_SHIFT_LIMIT {
+        let (sx, cm1) = short_angle_series(x);
+        return (sx, 1.0 + cm1);
+    }
+    let in_range = m <= SHIFT_LIMIT;
     if !in_range {
         return x.sin_cos();
     }
     let (sx, cm1) = small_angle_series(x);
     (sx, 1.0 + cm1)
+}
+
+/// `(sin d, cos d − 1)` by their Taylor series to `d⁵` and `d⁴`, for `|d| ≤ 2⁻⁸`, where
+/// the omitted terms are below `2⁻⁴⁸·|d|/7! < 7·10⁻¹⁹·|d|` and `2⁻⁴⁸/6! < 5·10⁻¹⁸` (inside
+/// the 6·10⁻¹⁷ of the bound of [`sin_cos_shifted`]).
+#[inline(always)]
+fn short_angle_series(d: f64) -> (f64, f64) {
+    const S1: f64 = -1.0 / 6.0;
+    const S2: f64 = 1.0 / 120.0;
+    const C1: f64 = -0.5;
+    const C2: f64 = 1.0 / 24.0;
+    let z = d * d;
+    (d + (d * z) * (S1 + S2 * z), z * (C1 + C2 * z))
 }
 
 /// `(sin d, cos d − 1)` by their Taylor series to `d⁷` and `d⁶` for `|d| ≤ 1/32` (see

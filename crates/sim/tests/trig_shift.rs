@@ -5,7 +5,7 @@
 //! `|x − a| ≤ 1/32`) and the roundings of the correction term (magnitude ≤ 1/32, a few times
 //! 2⁻⁵³/32) plus half an ulp for the final addition (see the function's docs).
 
-use pendulab_sim::lanes::{SHIFT_LIMIT, sin_cos_shifted, sin_cos_small};
+use pendulab_sim::lanes::{SHIFT_LIMIT, sin_cos_offset, sin_cos_shifted, sin_cos_small};
 use rand::{Rng, SeedableRng};
 
 /// The spacing of doubles at `v` (ulp), for finite non-zero `v`; the smallest normal spacing
@@ -119,4 +119,56 @@ fn beyond_the_limit_and_for_non_finite_input_it_is_libm() {
     assert!(si.is_nan() && ci.is_nan());
     // A zero shift returns the anchor's values.
     assert_eq!(sin_cos_shifted(a, a, s, c), (s, c));
+}
+
+/// `sin_cos_offset(a, d, ·)` is the sine and cosine of the exact sum `a + d`. The reference
+/// is libm at the rounded sum `x = fl(a + d)` corrected to first order by the sum's exact
+/// rounding error `r = (a + d) − x` (Knuth's TwoSum): `sin(a + d) = sin x + r·cos x` up to
+/// `r²/2 < 10⁻³⁰`. Same bound as `sin_cos_shifted` (2 ulp + 6·10⁻¹⁷), over both series
+/// (`|d| ≤ 2⁻⁸` and up to the limit) and anchors over several periods.
+#[test]
+fn offset_sine_and_cosine_are_those_of_the_exact_sum() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2027);
+    let mut worst = 0.0f64;
+    let mut uncorrected_worst = 0.0f64;
+    for _ in 0..2_000_000 {
+        let a: f64 = match rng.random_range(0..3) {
+            0 => rng.random_range(-20.0..20.0),
+            1 => rng.random_range(-1e-3..1e-3),
+            _ => rng.random_range(-4.0..4.0) * std::f64::consts::FRAC_PI_2,
+        };
+        let d: f64 = match rng.random_range(0..3) {
+            0 => rng.random_range(-SHIFT_LIMIT..=SHIFT_LIMIT),
+            1 => rng.random_range(-1.0 / 256.0..=1.0 / 256.0),
+            _ => rng.random_range(-1e-4..1e-4),
+        };
+        let (s, c) = a.sin_cos();
+        let (so, co) = sin_cos_offset(a, d, s, c);
+        // TwoSum: x + r = a + d exactly.
+        let x = a + d;
+        let bv = x - a;
+        let r = (a - (x - bv)) + (d - bv);
+        let (sx, cx) = x.sin_cos();
+        let (rs, rc) = (sx + r * cx, cx - r * sx);
+        for (got, want, plain) in [(so, rs, sx), (co, rc, cx)] {
+            let bound = 2.0 * ulp(want) + 6e-17;
+            let err = (got - want).abs();
+            assert!(
+                err <= bound,
+                "offset {d:e} from {a:e}: {got:e} vs {want:e}, error {err:e} > {bound:e}"
+            );
+            worst = worst.max(err / bound);
+            uncorrected_worst = uncorrected_worst.max((got - plain).abs() / bound);
+        }
+    }
+    eprintln!("worst error / bound: {worst}; against libm at fl(a + d): {uncorrected_worst}");
+    assert!(worst > 0.05, "worst error / bound = {worst}");
+    // Beyond the limit and for NaN: libm at a + d; a zero offset returns the anchor's values.
+    let a = 0.7f64;
+    let (s, c) = a.sin_cos();
+    for d in [2.0 * SHIFT_LIMIT, -0.5, 3.0] {
+        assert_eq!(sin_cos_offset(a, d, s, c), (a + d).sin_cos());
+    }
+    assert!(sin_cos_offset(a, f64::NAN, s, c).0.is_nan());
+    assert_eq!(sin_cos_offset(a, 0.0, s, c), (s, c));
 }
