@@ -29,9 +29,8 @@
 //! it also produces every diagnostic error.
 
 use super::{REFINEMENT_FLOOR, RiccatiMethod, RiccatiOptions, RiccatiSolution};
-use crate::linalg::dense::lanv2;
-use crate::linalg::schur::{hessenberg, hqr};
-use crate::linalg::{Complex64, Mat, sort_eigenvalues};
+use crate::linalg::small_eig::eigenvalues_small;
+use crate::linalg::{Complex64, Mat};
 use nalgebra::SMatrix;
 
 /// Largest state dimension handled by the fixed-size path.
@@ -341,44 +340,12 @@ fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Opti
     None
 }
 
-/// Eigenvalues of `f` in the order of [`sort_eigenvalues`], computed as
-/// [`eigenvalues`](crate::linalg::eigenvalues) does (Householder Hessenberg reduction, then
-/// Francis QR, blocks read as in `quasi_triangular_eigenvalues`) on a stack copy.
-fn eigenvalues<const N: usize>(f: &Sq<N>) -> Option<Vec<Complex64>> {
-    if f.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
-    let mut h = *f;
-    let t = h.as_mut_slice();
-    hessenberg(t, N, None);
-    hqr(t, N, None, false).ok()?;
-    let mut ev = Vec::with_capacity(N);
-    let mut k = 0;
-    while k < N {
-        if k + 1 < N && t[k + 1 + k * N] != 0.0 {
-            let (a, b, c, d) = (
-                t[k + k * N],
-                t[k + (k + 1) * N],
-                t[k + 1 + k * N],
-                t[k + 1 + (k + 1) * N],
-            );
-            if a == d && b * c < 0.0 {
-                let im = b.abs().sqrt() * c.abs().sqrt();
-                ev.push(Complex64::new(a, im));
-                ev.push(Complex64::new(a, -im));
-            } else {
-                let r = lanv2(a, b, c, d);
-                ev.push(Complex64::new(r.rt1.0, r.rt1.1.abs()));
-                ev.push(Complex64::new(r.rt2.0, -r.rt1.1.abs()));
-            }
-            k += 2;
-        } else {
-            ev.push(Complex64::new(t[k + k * N], 0.0));
-            k += 1;
-        }
-    }
-    sort_eigenvalues(&mut ev);
-    Some(ev)
+/// Eigenvalues of `f` in the order of [`sort_eigenvalues`](crate::linalg::sort_eigenvalues)
+/// by the fixed-size Hessenberg–Francis QR of [`eigenvalues_small`] (no allocation); `None`
+/// (non-finite entries, or no convergence) sends the problem to the general path.
+fn eigenvalues<const N: usize>(f: &Sq<N>) -> Option<[Complex64; N]> {
+    let rows: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| f[(i, j)]));
+    eigenvalues_small(&rows).ok()
 }
 
 /// Index of the unknown `Δ_ij = Δ_ji` in the packed upper triangle (column by column).
@@ -489,7 +456,7 @@ fn solve<const N: usize>(
     Some(RiccatiSolution {
         x: Mat::from_fn(N, N, |i, j| x[(i, j)]),
         gain: Mat::from_fn(m, N, |i, j| k[(i, j)]),
-        closed_loop_poles: poles,
+        closed_loop_poles: poles.to_vec(),
         residual,
         method: RiccatiMethod::Doubling,
         refinement_steps: steps,
