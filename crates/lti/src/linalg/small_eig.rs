@@ -188,7 +188,8 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
             let (rt1r, rt1i, rt2r, rt2i) = if s == 0.0 {
                 (0.0, 0.0, 0.0, 0.0)
             } else {
-                let (h11, h12, h21, h22) = (h11 / s, h12 / s, h21 / s, h22 / s);
+                let rs = 1.0 / s;
+                let (h11, h12, h21, h22) = (h11 * rs, h12 * rs, h21 * rs, h22 * rs);
                 let tr = (h11 + h22) / 2.0;
                 let det = (h11 - tr) * (h22 - tr) - h12 * h21;
                 let rtdisc = det.abs().sqrt();
@@ -212,14 +213,16 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
             let mut v = [0.0f64; 3];
             loop {
                 let h21s0 = h[m + 1][m];
-                let s = (h[m][m] - rt2r).abs() + rt2i.abs() + h21s0.abs();
-                let h21s = h21s0 / s;
-                v[0] = h21s * h[m][m + 1] + (h[m][m] - rt1r) * ((h[m][m] - rt2r) / s)
-                    - rt1i * (rt2i / s);
+                let rs = 1.0 / ((h[m][m] - rt2r).abs() + rt2i.abs() + h21s0.abs());
+                let h21s = h21s0 * rs;
+                v[0] = h21s * h[m][m + 1] + (h[m][m] - rt1r) * ((h[m][m] - rt2r) * rs)
+                    - rt1i * (rt2i * rs);
                 v[1] = h21s * (h[m][m] + h[m + 1][m + 1] - rt1r - rt2r);
                 v[2] = h21s * h[m + 2][m + 1];
-                let s = v[0].abs() + v[1].abs() + v[2].abs();
-                v.iter_mut().for_each(|x| *x /= s);
+                // Scaling only guards against over- and underflow; its rounding is
+                // immaterial (the reflector built from v is normalised).
+                let rs = 1.0 / (v[0].abs() + v[1].abs() + v[2].abs());
+                v.iter_mut().for_each(|x| *x *= rs);
                 if m == l {
                     break;
                 }

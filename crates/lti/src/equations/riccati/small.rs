@@ -147,9 +147,11 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
         w.swap(piv, col);
         inv.swap(piv, col);
         let (wc, ic) = (w[col], inv[col]);
+        // One division per pivot; the multipliers are formed with its reciprocal.
+        let dinv = 1.0 / d;
         for row in 0..N {
             if row != col {
-                let f = w[row][col] / d;
+                let f = w[row][col] * dinv;
                 if f != 0.0 {
                     for k in 0..N {
                         w[row][k] -= f * wc[k];
@@ -159,7 +161,8 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
             }
         }
     }
-    let inv = Sq::<N>::from_fn(|i, j| inv[i][j] / w[i][i]);
+    let rdiag: [f64; N] = std::array::from_fn(|i| 1.0 / w[i][i]);
+    let inv = Sq::<N>::from_fn(|i, j| inv[i][j] * rdiag[i]);
     let rc = 1.0 / (norm1(m) * norm1(&inv));
     rc.is_finite().then_some((inv, rc))
 }
