@@ -173,11 +173,11 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
             // Shifts: exceptional ones every 10 iterations without deflation (alternately
             // built from the bottom and from the top of the active block), otherwise the
             // eigenvalues of the trailing 2×2 block.
-            let (h11, h12, h21, h22) = if kdefl % 20 == 0 {
+            let (h11, h12, h21, h22) = if kdefl.is_multiple_of(20) {
                 let s = h[i][i - 1].abs() + h[i - 1][i - 2].abs();
                 let h11 = 0.75 * s + h[i][i];
                 (h11, -0.4375 * s, s, h11)
-            } else if kdefl % 10 == 0 {
+            } else if kdefl.is_multiple_of(10) {
                 let s = h[l + 1][l].abs() + h[l + 2][l + 1].abs();
                 let h11 = 0.75 * s + h[l][l];
                 (h11, -0.4375 * s, s, h11)
