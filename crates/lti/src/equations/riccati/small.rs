@@ -108,6 +108,17 @@ fn mtm<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> Sq<N> {
     c
 }
 
+/// `tr(A·B) = Σ_ij a_ij b_ji` without forming the product.
+fn trace_of_product<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> f64 {
+    let mut t = 0.0;
+    for i in 0..N {
+        for j in 0..N {
+            t += a[(i, j)] * b[(j, i)];
+        }
+    }
+    t
+}
+
 /// Symmetric part `(M + Mᵀ)/2`.
 fn sym<const N: usize>(m: &Sq<N>) -> Sq<N> {
     (m + m.transpose()) * 0.5
@@ -222,9 +233,9 @@ impl<const N: usize> Data<N> {
             }
             None => Sq::<N>::zeros(),
         };
-        let at = a_f - w0.transpose() * v;
-        let g = sym(&(w0.transpose() * w0));
-        let qt = sym(&(q_f - v.transpose() * v));
+        let at = a_f - mtm(&w0, &v);
+        let g = sym(&mtm(&w0, &w0));
+        let qt = sym(&(q_f - mtm(&v, &v)));
         Some(Self {
             a: a_f,
             b: b_f,
@@ -279,7 +290,7 @@ fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
     // the convergence factor `max |(λ+γ)/(λ−γ)|` over the stable eigenvalues is typically
     // smallest; the general path's norm-based shift when that vanishes. The shift only
     // affects the speed of convergence.
-    let tr = mtm(&d.at.transpose(), &d.at).trace() + mm(&d.g, &d.qt).trace();
+    let tr = trace_of_product(&d.at, &d.at) + trace_of_product(&d.g, &d.qt);
     let rms = (tr.abs() / N as f64).sqrt();
     let mut gamma = if rms.is_finite() && rms > 1e-3 {
         rms
