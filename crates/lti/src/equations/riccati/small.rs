@@ -18,9 +18,10 @@
 //! 4. **strict acceptance**: the relative residual (the same definition as
 //!    [`care_residual`](super::care_residual)) must be at most `100·n·ε` — below the general
 //!    path's own acceptance bound [`GOOD_RESIDUAL`](super::GOOD_RESIDUAL) —, every closed-loop
-//!    pole must lie in the open left half-plane and, for LQR data (`Q̃ ⪰ 0`), `X` must be
-//!    positive semidefinite (as the stabilising solution is then, `X = ∫ e^{Fᵀt}(Q̃ +
-//!    KᵀRK)e^{Ft} dt`).
+//!    pole (computed on the stack by the fixed-size Hessenberg + Francis QR of
+//!    `linalg::small_eig`) must lie in the open left half-plane and, for LQR data
+//!    (`Q̃ ⪰ 0`), `X` must be positive semidefinite (as the stabilising solution is then,
+//!    `X = ∫ e^{Fᵀt}(Q̃ + KᵀRK)e^{Ft} dt`).
 //!
 //! A residual at rounding level together with a Hurwitz closed loop identifies the unique
 //! stabilising solution, so an accepted result is the one the general path would return, to
