@@ -10,6 +10,7 @@
 
 pub(crate) mod dense;
 pub mod schur;
+pub(crate) mod small_eig;
 
 use crate::error::LtiError;
 

@@ -18,9 +18,10 @@
 //! 4. **strict acceptance**: the relative residual (the same definition as
 //!    [`care_residual`](super::care_residual)) must be at most `100·n·ε` — below the general
 //!    path's own acceptance bound [`GOOD_RESIDUAL`](super::GOOD_RESIDUAL) —, every closed-loop
-//!    pole must lie in the open left half-plane and, for LQR data (`Q̃ ⪰ 0`), `X` must be
-//!    positive semidefinite (as the stabilising solution is then, `X = ∫ e^{Fᵀt}(Q̃ +
-//!    KᵀRK)e^{Ft} dt`).
+//!    pole (computed on the stack by the fixed-size Hessenberg + Francis QR of
+//!    `linalg::small_eig`) must lie in the open left half-plane and, for LQR data
+//!    (`Q̃ ⪰ 0`), `X` must be positive semidefinite (as the stabilising solution is then,
+//!    `X = ∫ e^{Fᵀt}(Q̃ + KᵀRK)e^{Ft} dt`).
 //!
 //! A residual at rounding level together with a Hurwitz closed loop identifies the unique
 //! stabilising solution, so an accepted result is the one the general path would return, to
@@ -29,9 +30,8 @@
 //! it also produces every diagnostic error.
 
 use super::{REFINEMENT_FLOOR, RiccatiMethod, RiccatiOptions, RiccatiSolution};
-use crate::linalg::dense::lanv2;
-use crate::linalg::schur::{hessenberg, hqr};
-use crate::linalg::{Complex64, Mat, sort_eigenvalues};
+use crate::linalg::small_eig::eigenvalues_small;
+use crate::linalg::{Complex64, Mat};
 use nalgebra::SMatrix;
 
 /// Largest state dimension handled by the fixed-size path.
@@ -109,6 +109,17 @@ fn mtm<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> Sq<N> {
     c
 }
 
+/// `tr(A·B) = Σ_ij a_ij b_ji` without forming the product.
+fn trace_of_product<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> f64 {
+    let mut t = 0.0;
+    for i in 0..N {
+        for j in 0..N {
+            t += a[(i, j)] * b[(j, i)];
+        }
+    }
+    t
+}
+
 /// Symmetric part `(M + Mᵀ)/2`.
 fn sym<const N: usize>(m: &Sq<N>) -> Sq<N> {
     (m + m.transpose()) * 0.5
@@ -148,9 +159,11 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
         w.swap(piv, col);
         inv.swap(piv, col);
         let (wc, ic) = (w[col], inv[col]);
+        // One division per pivot; the multipliers are formed with its reciprocal.
+        let dinv = 1.0 / d;
         for row in 0..N {
             if row != col {
-                let f = w[row][col] / d;
+                let f = w[row][col] * dinv;
                 if f != 0.0 {
                     for k in 0..N {
                         w[row][k] -= f * wc[k];
@@ -160,7 +173,8 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
             }
         }
     }
-    let inv = Sq::<N>::from_fn(|i, j| inv[i][j] / w[i][i]);
+    let rdiag: [f64; N] = std::array::from_fn(|i| 1.0 / w[i][i]);
+    let inv = Sq::<N>::from_fn(|i, j| inv[i][j] * rdiag[i]);
     let rc = 1.0 / (norm1(m) * norm1(&inv));
     rc.is_finite().then_some((inv, rc))
 }
@@ -220,9 +234,9 @@ impl<const N: usize> Data<N> {
             }
             None => Sq::<N>::zeros(),
         };
-        let at = a_f - w0.transpose() * v;
-        let g = sym(&(w0.transpose() * w0));
-        let qt = sym(&(q_f - v.transpose() * v));
+        let at = a_f - mtm(&w0, &v);
+        let g = sym(&mtm(&w0, &w0));
+        let qt = sym(&(q_f - mtm(&v, &v)));
         Some(Self {
             a: a_f,
             b: b_f,
@@ -277,7 +291,7 @@ fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
     // the convergence factor `max |(λ+γ)/(λ−γ)|` over the stable eigenvalues is typically
     // smallest; the general path's norm-based shift when that vanishes. The shift only
     // affects the speed of convergence.
-    let tr = mtm(&d.at.transpose(), &d.at).trace() + mm(&d.g, &d.qt).trace();
+    let tr = trace_of_product(&d.at, &d.at) + trace_of_product(&d.g, &d.qt);
     let rms = (tr.abs() / N as f64).sqrt();
     let mut gamma = if rms.is_finite() && rms > 1e-3 {
         rms
@@ -341,44 +355,12 @@ fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Opti
     None
 }
 
-/// Eigenvalues of `f` in the order of [`sort_eigenvalues`], computed as
-/// [`eigenvalues`](crate::linalg::eigenvalues) does (Householder Hessenberg reduction, then
-/// Francis QR, blocks read as in `quasi_triangular_eigenvalues`) on a stack copy.
-fn eigenvalues<const N: usize>(f: &Sq<N>) -> Option<Vec<Complex64>> {
-    if f.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
-    let mut h = *f;
-    let t = h.as_mut_slice();
-    hessenberg(t, N, None);
-    hqr(t, N, None, false).ok()?;
-    let mut ev = Vec::with_capacity(N);
-    let mut k = 0;
-    while k < N {
-        if k + 1 < N && t[k + 1 + k * N] != 0.0 {
-            let (a, b, c, d) = (
-                t[k + k * N],
-                t[k + (k + 1) * N],
-                t[k + 1 + k * N],
-                t[k + 1 + (k + 1) * N],
-            );
-            if a == d && b * c < 0.0 {
-                let im = b.abs().sqrt() * c.abs().sqrt();
-                ev.push(Complex64::new(a, im));
-                ev.push(Complex64::new(a, -im));
-            } else {
-                let r = lanv2(a, b, c, d);
-                ev.push(Complex64::new(r.rt1.0, r.rt1.1.abs()));
-                ev.push(Complex64::new(r.rt2.0, -r.rt1.1.abs()));
-            }
-            k += 2;
-        } else {
-            ev.push(Complex64::new(t[k + k * N], 0.0));
-            k += 1;
-        }
-    }
-    sort_eigenvalues(&mut ev);
-    Some(ev)
+/// Eigenvalues of `f` in the order of [`sort_eigenvalues`](crate::linalg::sort_eigenvalues)
+/// by the fixed-size Hessenberg–Francis QR of [`eigenvalues_small`] (no allocation); `None`
+/// (non-finite entries, or no convergence) sends the problem to the general path.
+fn eigenvalues<const N: usize>(f: &Sq<N>) -> Option<[Complex64; N]> {
+    let rows: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| f[(i, j)]));
+    eigenvalues_small(&rows).ok()
 }
 
 /// Index of the unknown `Δ_ij = Δ_ji` in the packed upper triangle (column by column).
@@ -489,7 +471,7 @@ fn solve<const N: usize>(
     Some(RiccatiSolution {
         x: Mat::from_fn(N, N, |i, j| x[(i, j)]),
         gain: Mat::from_fn(m, N, |i, j| k[(i, j)]),
-        closed_loop_poles: poles,
+        closed_loop_poles: poles.to_vec(),
         residual,
         method: RiccatiMethod::Doubling,
         refinement_steps: steps,
