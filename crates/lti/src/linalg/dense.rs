@@ -647,6 +647,7 @@ impl Lu {
         let n = self.lu.nrows();
         let l = self.lu.as_slice();
         let nrhs = b.ncols();
+        let mut panel = vec![0.0; TRSM_NB * nrhs];
         // Uᵀ Y = B, block rows top to bottom.
         let mut r = 0;
         while r < n {
@@ -657,14 +658,25 @@ impl Lu {
                 let (done, mut blk) = b.rows_range_pair_mut(0..r, r..r + nb);
                 blk.gemm(-1.0, &ut, &done, 1.0);
             }
-            let bs = b.as_mut_slice();
-            for j in 0..nrhs {
-                let x = &mut bs[j * n..(j + 1) * n];
-                for k in r..r + nb {
-                    let s = dot(&l[k * n + r..k * n + k], &x[r..k]);
-                    x[k] = (x[k] - s) / l[k + k * n];
+            // The diagonal block row by row on a transposed copy, so that each update is an
+            // axpy over all right-hand sides (contiguous, vectorisable).
+            gather_rows(b, r, nb, &mut panel);
+            for i in 0..nb {
+                let k = r + i;
+                let (done, cur) = panel.split_at_mut(i * nrhs);
+                let cur = &mut cur[..nrhs];
+                for p in 0..i {
+                    let u = l[k * n + r + p];
+                    if u != 0.0 {
+                        axpy(-u, &done[p * nrhs..(p + 1) * nrhs], cur);
+                    }
+                }
+                let d = l[k + k * n];
+                for v in cur.iter_mut() {
+                    *v /= d;
                 }
             }
+            scatter_rows(&panel, r, nb, b);
             r += nb;
         }
         // Lᵀ W = Y, block rows bottom to top.
@@ -678,14 +690,19 @@ impl Lu {
                 let (mut blk, done) = b.rows_range_pair_mut(r..end, end..n);
                 blk.gemm(-1.0, &lt, &done, 1.0);
             }
-            let bs = b.as_mut_slice();
-            for j in 0..nrhs {
-                let x = &mut bs[j * n..(j + 1) * n];
-                for k in (r..end).rev() {
-                    let s = dot(&l[k * n + k + 1..k * n + end], &x[k + 1..end]);
-                    x[k] -= s;
+            gather_rows(b, r, nb, &mut panel);
+            for i in (0..nb).rev() {
+                let k = r + i;
+                let (cur, done) = panel.split_at_mut((i + 1) * nrhs);
+                let cur = &mut cur[i * nrhs..];
+                for p in i + 1..nb {
+                    let lv = l[k * n + r + p];
+                    if lv != 0.0 {
+                        axpy(-lv, &done[(p - i - 1) * nrhs..(p - i) * nrhs], cur);
+                    }
                 }
             }
+            scatter_rows(&panel, r, nb, b);
             end = r;
         }
         let bs = b.as_mut_slice();
@@ -745,6 +762,31 @@ impl Lu {
             return 0.0;
         }
         1.0 / (self.anorm1 * est)
+    }
+}
+
+/// Copies rows `r..r+nb` of `b` into `panel` transposed: row `r+i` becomes the contiguous
+/// slice `panel[i·ncols..(i+1)·ncols]`.
+fn gather_rows(b: &crate::linalg::Mat, r: usize, nb: usize, panel: &mut [f64]) {
+    let (n, nrhs) = b.shape();
+    let bs = b.as_slice();
+    for j in 0..nrhs {
+        let col = &bs[j * n + r..j * n + r + nb];
+        for (i, v) in col.iter().enumerate() {
+            panel[i * nrhs + j] = *v;
+        }
+    }
+}
+
+/// Inverse of [`gather_rows`].
+fn scatter_rows(panel: &[f64], r: usize, nb: usize, b: &mut crate::linalg::Mat) {
+    let (n, nrhs) = b.shape();
+    let bs = b.as_mut_slice();
+    for j in 0..nrhs {
+        let col = &mut bs[j * n + r..j * n + r + nb];
+        for (i, v) in col.iter_mut().enumerate() {
+            *v = panel[i * nrhs + j];
+        }
     }
 }
 

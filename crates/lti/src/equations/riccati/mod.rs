@@ -79,10 +79,13 @@ pub enum RiccatiMethod {
     /// DARE the doubling method, then the Schur method. The first accepted result with a
     /// residual at most [`GOOD_RESIDUAL`] is returned, otherwise the most accurate accepted one.
     ///
-    /// Small CAREs (`n ≤ 8` states, `m ≤ n` inputs) first try the doubling method on
-    /// fixed-size, stack-allocated matrices, accepted only with a relative residual at most
-    /// `100·n·ε`, a Hurwitz closed loop and (for `Q̃ ⪰ 0`) `X ⪰ 0`; such a result reports
-    /// [`RiccatiMethod::Doubling`]. Otherwise the general path above runs unchanged.
+    /// Every CARE first tries the doubling method under strict acceptance — a relative
+    /// residual at most `100·n·ε` after refinement, a Hurwitz closed loop and (for `Q̃ ⪰ 0`)
+    /// `X ⪰ 0`; such a result reports [`RiccatiMethod::Doubling`]. Small CAREs (`n ≤ 8`
+    /// states, `m ≤ n` inputs) use fixed-size, stack-allocated matrices; larger ones the
+    /// general doubling code with a bound of 12 doubling steps, so that a slowly converging
+    /// attempt is abandoned early. When the attempt declines, the general path above runs
+    /// (see [`care`]).
     #[default]
     Auto,
     /// Ordered real Schur form of the Hamiltonian matrix (CARE) or of the symplectic matrix
@@ -599,12 +602,27 @@ pub(crate) fn solve_with_fallback(
     fin: &Finisher<'_>,
     candidates: &[RiccatiMethod],
     options: &RiccatiOptions,
+    compute: impl FnMut(RiccatiMethod) -> Result<Computed>,
+) -> Result<RiccatiSolution> {
+    solve_with_fallback_prior(fin, candidates, options, None, compute)
+}
+
+/// [`solve_with_fallback`] with the finished result of one candidate already known (`prior`,
+/// used in its place instead of computing it again).
+pub(crate) fn solve_with_fallback_prior(
+    fin: &Finisher<'_>,
+    candidates: &[RiccatiMethod],
+    options: &RiccatiOptions,
+    mut prior: Option<(RiccatiMethod, Result<RiccatiSolution>)>,
     mut compute: impl FnMut(RiccatiMethod) -> Result<Computed>,
 ) -> Result<RiccatiSolution> {
     let mut first_err: Option<LtiError> = None;
     let mut best: Option<RiccatiSolution> = None;
     for &m in candidates {
-        let attempt = compute(m).and_then(|c| fin.finish_with(c, m, options));
+        let attempt = match prior.take_if(|(pm, _)| *pm == m) {
+            Some((_, known)) => known,
+            None => compute(m).and_then(|c| fin.finish_with(c, m, options)),
+        };
         match attempt {
             Ok(sol) => {
                 if sol.residual <= GOOD_RESIDUAL {
