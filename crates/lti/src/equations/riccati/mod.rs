@@ -516,10 +516,11 @@ impl Finisher<'_> {
                 None => {
                     let ak = self.a - self.b * &k;
                     match self.domain {
-                        Domain::Continuous => crate::equations::lyap(&ak.transpose(), &res_mat),
-                        Domain::Discrete => crate::equations::dlyap(&ak.transpose(), &res_mat),
+                        Domain::Continuous => kleinman_step(&ak, &res_mat),
+                        Domain::Discrete => {
+                            crate::equations::dlyap(&ak.transpose(), &res_mat).map(|d| d.x)
+                        }
                     }
-                    .map(|d| d.x)
                 }
             };
             let Ok(delta) = delta else {
@@ -593,6 +594,32 @@ impl Finisher<'_> {
             refinement_steps: steps,
         })
     }
+}
+
+/// The Kleinman–Newton correction: `Δ` with `FᵀΔ + ΔF = −Res` for the closed loop `F`, by
+/// Bartels–Stewart on the real Schur form `Fᵀ = USUᵀ` (`SY + YSᵀ = −UᵀResU`, `Δ = UYUᵀ`) —
+/// the computation of [`lyap`](crate::equations::lyap) without its input checks and its
+/// residual evaluation (the caller evaluates the Riccati residual of `X + Δ` instead). An
+/// eigenvalue collision `λᵢ(F) + λⱼ(F) ≈ 0` (no unique correction) is an error.
+fn kleinman_step(f: &Mat, res: &Mat) -> Result<Mat> {
+    let (s, u) = crate::linalg::schur::real_schur(&f.transpose())?.into_parts();
+    let mut y = -(u.transpose() * res * &u);
+    y = symmetrize(&y);
+    let perturbed = crate::equations::triangular::solve_quasi_sylvester(
+        &s,
+        &s,
+        crate::equations::triangular::RightCoef::TransposeOfUpper,
+        &mut y,
+    );
+    if perturbed {
+        return Err(LtiError::Singular {
+            what: "Lyapunov operator of the Newton step (closed loop not stable)".into(),
+            rcond: 0.0,
+        });
+    }
+    let d = symmetrize(&(&u * y * u.transpose()));
+    check_finite("Newton correction", &d)?;
+    Ok(d)
 }
 
 /// Runs the candidate methods in order and returns the first accepted solution with a
