@@ -90,7 +90,7 @@ pub fn care(
     // Auto for n > SMALL_MAX: a bounded doubling attempt with strict acceptance first.
     let mut prior = None;
     if options.method == RiccatiMethod::Auto && dims.n > super::small::SMALL_MAX {
-        let attempt = care_doubling(&red, options.scaling, SDA_AUTO_MAX_ITER)
+        let attempt = care_doubling(&red, options.scaling, true)
             .and_then(|x| fin.finish(x, RiccatiMethod::Doubling, options));
         match attempt {
             Ok(sol) if strictly_acceptable(&red, &sol) => return Ok(sol),
@@ -106,9 +106,7 @@ pub fn care(
     };
     solve_with_fallback_prior(&fin, &candidates, options, prior, |m| match m {
         RiccatiMethod::Schur | RiccatiMethod::Auto => care_schur(&red, options.scaling),
-        RiccatiMethod::Doubling => {
-            care_doubling(&red, options.scaling, SDA_MAX_ITER).map(Into::into)
-        }
+        RiccatiMethod::Doubling => care_doubling(&red, options.scaling, false).map(Into::into),
     })
 }
 
@@ -198,13 +196,14 @@ pub(crate) const SDA_MAX_ITER: usize = 60;
 /// `n > SMALL_MAX`: the error after `k` steps is about `r^(2^k)` with `r` the convergence rate,
 /// so 12 steps reach rounding level for every `r ≤ 1 − 0.009` (`2¹² · 0.009 ≈ 37 ≈ −ln ε`).
 /// A problem with a Hamiltonian eigenvalue closer to the axis (relative to the shift)
-/// converges more slowly; the attempt then stops after at most 12 steps (about 13 `n × n`
-/// factorisations and 80 matrix products, less than one Schur decomposition of the `2n × 2n`
-/// Hamiltonian) and the ordered-Schur method runs.
+/// converges more slowly; the attempt then stops — as soon as the rate of decrease of `‖E_k‖`
+/// shows it (see [`sda_iterate_limited`]), at the latest after 12 steps (about 13 `n × n`
+/// factorisations and 80 matrix products) — and the ordered-Schur method runs.
 pub(crate) const SDA_AUTO_MAX_ITER: usize = 12;
 
-/// Structure-preserving doubling for the CARE (unrefined solution), with at most `max_iter`
-/// doubling steps.
+/// Structure-preserving doubling for the CARE (unrefined solution). With `attempt`, the
+/// bounded iteration of `Auto`'s first attempt ([`SDA_AUTO_MAX_ITER`] steps and the early
+/// bail-out of [`sda_iterate_limited`]); otherwise up to [`SDA_MAX_ITER`] steps.
 ///
 /// Cayley transform with shift `γ > 0` (Chu, Fan & Lin 2005): with `A_γ = Ã − γI`,
 /// `W = A_γᵀ + Q̃A_γ⁻¹G`, the initial symplectic pencil in first standard form is
@@ -221,7 +220,7 @@ pub(crate) const SDA_AUTO_MAX_ITER: usize = 12;
 /// numerically singular. On the `care-n100` data the iteration count is flat (8 steps
 /// including the last, confirming one) for `γ` between 0.25 and 1.5 times this value and
 /// grows for larger shifts.
-pub(crate) fn care_doubling(red: &Reduced, scaling: bool, max_iter: usize) -> Result<Mat> {
+pub(crate) fn care_doubling(red: &Reduced, scaling: bool, attempt: bool) -> Result<Mat> {
     let n = red.a.nrows();
     let s = scale_factor(red, scaling);
     let g = &red.g * s;
@@ -264,7 +263,7 @@ pub(crate) fn care_doubling(red: &Reduced, scaling: bool, max_iter: usize) -> Re
         let mut e0 = &red.a + &eye * gamma;
         lu.solve_in_place(&mut e0);
         e0.gemm(-1.0, &z, &h0, 1.0);
-        return Ok(sda_iterate_limited(e0, g0, h0, max_iter)? * s);
+        return Ok(sda_iterate_limited(e0, g0, h0, attempt)? * s);
     }
     Err(LtiError::Singular {
         what: "Cayley-transformed Hamiltonian in the doubling method".into(),
@@ -301,16 +300,29 @@ fn symmetrize_in_place(m: &mut Mat) {
 /// update is below `1e-10·‖H‖`. More than [`SDA_MAX_ITER`] steps give
 /// [`LtiError::NoConvergence`].
 pub(crate) fn sda_iterate(e: Mat, g: Mat, h: Mat) -> Result<Mat> {
-    sda_iterate_limited(e, g, h, SDA_MAX_ITER)
+    sda_iterate_limited(e, g, h, false)
 }
 
-/// [`sda_iterate`] with at most `max_iter` doubling steps.
+/// [`sda_iterate`]; with `attempt`, at most [`SDA_AUTO_MAX_ITER`] steps and an early
+/// bail-out ([`LtiError::NoConvergence`]) when the iteration will not converge within them.
+///
+/// Bail-out rule (from step 4 on): with `ℓ_k = ln(‖E_{k−1}‖/‖E_k‖)`, an iteration in its
+/// quadratic phase doubles `ℓ` every step and reaches rounding level (`ℓ ≈ −ln ε ≈ 36`) after
+/// about `log₂(36/ℓ_k)` more steps; the attempt stops when `‖E‖` does not decrease
+/// (`ℓ_k ≤ 0`) or when `k + log₂(36/ℓ_k)` exceeds the limit by more than 2 steps. The estimate
+/// is optimistic while `ℓ` is not yet doubling (a spread of slow modes, e.g. CAREX 4.2,
+/// lowers `‖E‖` by a constant factor per step), so it errs towards continuing.
 pub(crate) fn sda_iterate_limited(
     mut e: Mat,
     mut g: Mat,
     mut h: Mat,
-    max_iter: usize,
+    attempt: bool,
 ) -> Result<Mat> {
+    let max_iter = if attempt {
+        SDA_AUTO_MAX_ITER
+    } else {
+        SDA_MAX_ITER
+    };
     let n = e.nrows();
     let mut wt = Mat::zeros(n, n);
     let mut y = Mat::zeros(n, 2 * n);
@@ -320,7 +332,7 @@ pub(crate) fn sda_iterate_limited(
     let mut last_dh = f64::INFINITY;
     let mut e_norm = e.norm();
     let tol = 4.0 * f64::EPSILON * (n as f64).sqrt();
-    for _ in 0..max_iter {
+    for k in 1..=max_iter {
         // Wᵀ = I + H G.
         wt.gemm(1.0, &h, &g, 0.0);
         for i in 0..n {
@@ -370,6 +382,15 @@ pub(crate) fn sda_iterate_limited(
             return Ok(h);
         }
         last_dh = dh;
+        if attempt && k >= 4 {
+            let ell = (e_norm / e_new).ln();
+            if !(ell > 0.0) || k as f64 + (36.0 / ell).log2() > (max_iter + 2) as f64 {
+                return Err(LtiError::NoConvergence {
+                    algorithm: "structure-preserving doubling (bounded attempt)".into(),
+                    iterations: k,
+                });
+            }
+        }
         e_norm = e_new;
     }
     Err(LtiError::NoConvergence {
