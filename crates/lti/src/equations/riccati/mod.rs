@@ -38,7 +38,9 @@
 //! whose residual is at most [`GOOD_RESIDUAL`], otherwise the most accurate accepted one. When
 //! all fail, the data are diagnosed (PBH tests on the unstable and boundary modes) so that the
 //! error names the cause: [`LtiError::NotStabilizable`], [`LtiError::NotDetectable`] or
-//! [`LtiError::BoundaryEigenvalue`].
+//! [`LtiError::BoundaryEigenvalue`]. For the CARE, `Auto` first makes one bounded doubling
+//! attempt accepted only under strict rules (relative residual `≤ 100·n·ε` after refinement,
+//! Hurwitz closed loop, `X ⪰ 0` for LQR data); see [`care`].
 
 mod care;
 mod dare;
