@@ -340,7 +340,7 @@ pub(crate) fn sda_iterate_limited(
         }
         let lu = Lu::new(&wt);
         let rc = lu.rcond();
-        if !(rc >= f64::EPSILON) {
+        if rc.is_nan() || rc < f64::EPSILON {
             return Err(LtiError::Singular {
                 what: "I + G_k H_k in the doubling iteration".into(),
                 rcond: rc,
@@ -384,7 +384,8 @@ pub(crate) fn sda_iterate_limited(
         last_dh = dh;
         if attempt && k >= 4 {
             let ell = (e_norm / e_new).ln();
-            if !(ell > 0.0) || k as f64 + (36.0 / ell).log2() > (max_iter + 2) as f64 {
+            if ell.is_nan() || ell <= 0.0 || k as f64 + (36.0 / ell).log2() > (max_iter + 2) as f64
+            {
                 return Err(LtiError::NoConvergence {
                     algorithm: "structure-preserving doubling (bounded attempt)".into(),
                     iterations: k,
