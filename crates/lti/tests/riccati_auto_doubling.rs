@@ -233,7 +233,7 @@ fn carex_examples_keep_their_accuracy_on_either_path() {
 /// analogue `ẋ = −δx + bu`, the optimal closed loop is `−sqrt(δ² + b²q)`, so the oscillator
 /// keeps a margin of about `10⁻⁴` and the Hamiltonian has eigenvalues about `10⁻⁴` from the
 /// axis: the doubling rate `|(λ−γ)/(λ+γ)|` is `1 − O(10⁻⁴)`, and about 19 doubling steps are
-/// needed, more than the 12 of the `Auto` attempt. `Auto` must give up and return exactly
+/// needed, more than the 11 of the `Auto` attempt. `Auto` must give up and return exactly
 /// what an explicit Schur solve returns (the same computation); explicit doubling (60 steps
 /// allowed) still converges to the same solution.
 #[test]

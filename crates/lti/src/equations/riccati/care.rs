@@ -34,8 +34,8 @@ use crate::linalg::schur::real_schur;
 /// relative residual ≤ `100·n·ε` after refinement, Hurwitz closed loop, and `X ⪰ 0` when
 /// `Q̃ ⪰ 0` (LQR data); an accepted result reports [`RiccatiMethod::Doubling`].
 /// - `n ≤ 8` states and `m ≤ n` inputs: a fixed-size (stack-allocated) doubling + Newton path.
-/// - `n > 8`: the doubling method above with at most 12 doubling steps (enough for a
-///   convergence rate up to `1 − 0.009`; a slower one — a Hamiltonian eigenvalue near the
+/// - `n > 8`: the doubling method above with at most 11 doubling steps (enough for a
+///   convergence rate up to `1 − 0.018`; a slower one — a Hamiltonian eigenvalue near the
 ///   imaginary axis relative to the shift — stops the attempt early, so a declined attempt
 ///   costs less than the Schur method), then the same refinement and checks as every method.
 ///
@@ -194,12 +194,14 @@ pub(crate) const SDA_MAX_ITER: usize = 60;
 
 /// Iteration limit of the first (doubling) attempt of [`RiccatiMethod::Auto`] for
 /// `n > SMALL_MAX`: the error after `k` steps is about `r^(2^k)` with `r` the convergence rate,
-/// so 12 steps reach rounding level for every `r ≤ 1 − 0.009` (`2¹² · 0.009 ≈ 37 ≈ −ln ε`).
+/// so 11 steps reach rounding level for every `r ≤ 1 − 0.018` (`2¹¹ · 0.018 ≈ 37 ≈ −ln ε`).
 /// A problem with a Hamiltonian eigenvalue closer to the axis (relative to the shift)
 /// converges more slowly; the attempt then stops — as soon as the rate of decrease of `‖E_k‖`
-/// shows it (see [`sda_iterate_limited`]), at the latest after 12 steps (about 13 `n × n`
-/// factorisations and 80 matrix products) — and the ordered-Schur method runs.
-pub(crate) const SDA_AUTO_MAX_ITER: usize = 12;
+/// shows it (see [`sda_iterate_limited`]), at the latest after 11 steps — and the
+/// ordered-Schur method runs. The limit is where the two methods cost about the same: at
+/// `n = 100` one step costs about 1/15 of the Schur method (`care-n100` converges in 7), and
+/// CAREX 4.3 (`n = 60`, 11 steps) was measured no faster by doubling than by Schur.
+pub(crate) const SDA_AUTO_MAX_ITER: usize = 11;
 
 /// Structure-preserving doubling for the CARE (unrefined solution). With `attempt`, the
 /// bounded iteration of `Auto`'s first attempt ([`SDA_AUTO_MAX_ITER`] steps and the early
@@ -309,9 +311,11 @@ pub(crate) fn sda_iterate(e: Mat, g: Mat, h: Mat) -> Result<Mat> {
 /// Bail-out rule (from step 4 on): with `ℓ_k = ln(‖E_{k−1}‖/‖E_k‖)`, an iteration in its
 /// quadratic phase doubles `ℓ` every step and reaches rounding level (`ℓ ≈ −ln ε ≈ 36`) after
 /// about `log₂(36/ℓ_k)` more steps; the attempt stops when `‖E‖` does not decrease
-/// (`ℓ_k ≤ 0`) or when `k + log₂(36/ℓ_k)` exceeds the limit by more than 2 steps. The estimate
-/// is optimistic while `ℓ` is not yet doubling (a spread of slow modes, e.g. CAREX 4.2,
-/// lowers `‖E‖` by a constant factor per step), so it errs towards continuing.
+/// (`ℓ_k ≤ 0`) or when `k + log₂(36/ℓ_k)` exceeds the limit. The estimate is optimistic while
+/// `ℓ` is not yet doubling (a spread of slow modes, e.g. CAREX 4.2, lowers `‖E‖` by a
+/// constant factor per step), so it errs towards continuing. On `care-n100` it predicts 9.5
+/// steps at step 4 (7 are taken); CAREX 4.2 (`n = 100`, not converged after 12) stops at
+/// step 4.
 pub(crate) fn sda_iterate_limited(
     mut e: Mat,
     mut g: Mat,
@@ -384,8 +388,7 @@ pub(crate) fn sda_iterate_limited(
         last_dh = dh;
         if attempt && k >= 4 {
             let ell = (e_norm / e_new).ln();
-            if ell.is_nan() || ell <= 0.0 || k as f64 + (36.0 / ell).log2() > (max_iter + 2) as f64
-            {
+            if ell.is_nan() || ell <= 0.0 || k as f64 + (36.0 / ell).log2() > max_iter as f64 {
                 return Err(LtiError::NoConvergence {
                     algorithm: "structure-preserving doubling (bounded attempt)".into(),
                     iterations: k,

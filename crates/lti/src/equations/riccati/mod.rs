@@ -85,7 +85,7 @@ pub enum RiccatiMethod {
     /// residual at most `100·n·ε` after refinement, a Hurwitz closed loop and (for `Q̃ ⪰ 0`)
     /// `X ⪰ 0`; such a result reports [`RiccatiMethod::Doubling`]. Small CAREs (`n ≤ 8`
     /// states, `m ≤ n` inputs) use fixed-size, stack-allocated matrices; larger ones the
-    /// general doubling code with a bound of 12 doubling steps, so that a slowly converging
+    /// general doubling code with a bound of 11 doubling steps, so that a slowly converging
     /// attempt is abandoned early. When the attempt declines, the general path above runs
     /// (see [`care`]).
     #[default]
