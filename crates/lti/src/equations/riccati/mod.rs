@@ -38,7 +38,9 @@
 //! whose residual is at most [`GOOD_RESIDUAL`], otherwise the most accurate accepted one. When
 //! all fail, the data are diagnosed (PBH tests on the unstable and boundary modes) so that the
 //! error names the cause: [`LtiError::NotStabilizable`], [`LtiError::NotDetectable`] or
-//! [`LtiError::BoundaryEigenvalue`].
+//! [`LtiError::BoundaryEigenvalue`]. For the CARE, `Auto` first makes one bounded doubling
+//! attempt accepted only under strict rules (relative residual `≤ 100·n·ε` after refinement,
+//! Hurwitz closed loop, `X ⪰ 0` for LQR data); see [`care`].
 
 mod care;
 mod dare;
@@ -79,10 +81,13 @@ pub enum RiccatiMethod {
     /// DARE the doubling method, then the Schur method. The first accepted result with a
     /// residual at most [`GOOD_RESIDUAL`] is returned, otherwise the most accurate accepted one.
     ///
-    /// Small CAREs (`n ≤ 8` states, `m ≤ n` inputs) first try the doubling method on
-    /// fixed-size, stack-allocated matrices, accepted only with a relative residual at most
-    /// `100·n·ε`, a Hurwitz closed loop and (for `Q̃ ⪰ 0`) `X ⪰ 0`; such a result reports
-    /// [`RiccatiMethod::Doubling`]. Otherwise the general path above runs unchanged.
+    /// Every CARE first tries the doubling method under strict acceptance — a relative
+    /// residual at most `100·n·ε` after refinement, a Hurwitz closed loop and (for `Q̃ ⪰ 0`)
+    /// `X ⪰ 0`; such a result reports [`RiccatiMethod::Doubling`]. Small CAREs (`n ≤ 8`
+    /// states, `m ≤ n` inputs) use fixed-size, stack-allocated matrices; larger ones the
+    /// general doubling code with a bound of 11 doubling steps, so that a slowly converging
+    /// attempt is abandoned early. When the attempt declines, the general path above runs
+    /// (see [`care`]).
     #[default]
     Auto,
     /// Ordered real Schur form of the Hamiltonian matrix (CARE) or of the symplectic matrix
@@ -513,10 +518,11 @@ impl Finisher<'_> {
                 None => {
                     let ak = self.a - self.b * &k;
                     match self.domain {
-                        Domain::Continuous => crate::equations::lyap(&ak.transpose(), &res_mat),
-                        Domain::Discrete => crate::equations::dlyap(&ak.transpose(), &res_mat),
+                        Domain::Continuous => kleinman_step(&ak, &res_mat),
+                        Domain::Discrete => {
+                            crate::equations::dlyap(&ak.transpose(), &res_mat).map(|d| d.x)
+                        }
                     }
-                    .map(|d| d.x)
                 }
             };
             let Ok(delta) = delta else {
@@ -592,6 +598,32 @@ impl Finisher<'_> {
     }
 }
 
+/// The Kleinman–Newton correction: `Δ` with `FᵀΔ + ΔF = −Res` for the closed loop `F`, by
+/// Bartels–Stewart on the real Schur form `Fᵀ = USUᵀ` (`SY + YSᵀ = −UᵀResU`, `Δ = UYUᵀ`) —
+/// the computation of [`lyap`](crate::equations::lyap) without its input checks and its
+/// residual evaluation (the caller evaluates the Riccati residual of `X + Δ` instead). An
+/// eigenvalue collision `λᵢ(F) + λⱼ(F) ≈ 0` (no unique correction) is an error.
+fn kleinman_step(f: &Mat, res: &Mat) -> Result<Mat> {
+    let (s, u) = crate::linalg::schur::real_schur(&f.transpose())?.into_parts();
+    let mut y = -(u.transpose() * res * &u);
+    y = symmetrize(&y);
+    let perturbed = crate::equations::triangular::solve_quasi_sylvester(
+        &s,
+        &s,
+        crate::equations::triangular::RightCoef::TransposeOfUpper,
+        &mut y,
+    );
+    if perturbed {
+        return Err(LtiError::Singular {
+            what: "Lyapunov operator of the Newton step (closed loop not stable)".into(),
+            rcond: 0.0,
+        });
+    }
+    let d = symmetrize(&(&u * y * u.transpose()));
+    check_finite("Newton correction", &d)?;
+    Ok(d)
+}
+
 /// Runs the candidate methods in order and returns the first accepted solution with a
 /// residual at most [`GOOD_RESIDUAL`], else the most accurate accepted one; when none is
 /// accepted the data are diagnosed and the most informative error is returned.
@@ -599,12 +631,27 @@ pub(crate) fn solve_with_fallback(
     fin: &Finisher<'_>,
     candidates: &[RiccatiMethod],
     options: &RiccatiOptions,
+    compute: impl FnMut(RiccatiMethod) -> Result<Computed>,
+) -> Result<RiccatiSolution> {
+    solve_with_fallback_prior(fin, candidates, options, None, compute)
+}
+
+/// [`solve_with_fallback`] with the finished result of one candidate already known (`prior`,
+/// used in its place instead of computing it again).
+pub(crate) fn solve_with_fallback_prior(
+    fin: &Finisher<'_>,
+    candidates: &[RiccatiMethod],
+    options: &RiccatiOptions,
+    mut prior: Option<(RiccatiMethod, Result<RiccatiSolution>)>,
     mut compute: impl FnMut(RiccatiMethod) -> Result<Computed>,
 ) -> Result<RiccatiSolution> {
     let mut first_err: Option<LtiError> = None;
     let mut best: Option<RiccatiSolution> = None;
     for &m in candidates {
-        let attempt = compute(m).and_then(|c| fin.finish_with(c, m, options));
+        let attempt = match prior.take_if(|(pm, _)| *pm == m) {
+            Some((_, known)) => known,
+            None => compute(m).and_then(|c| fin.finish_with(c, m, options)),
+        };
         match attempt {
             Ok(sol) => {
                 if sol.residual <= GOOD_RESIDUAL {
