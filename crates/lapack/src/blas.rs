@@ -443,11 +443,14 @@ pub(crate) fn syrk<T: Real>(
         Trans::No => {
             // C(:, j) += α Σ_l A(:, l) A(j, l).
             for j in 0..n {
+                let rows = triangle_rows(uplo, j, n);
+                let cj = &mut c[j * ldc + rows.start..j * ldc + rows.end];
                 for l in 0..k {
                     let t = alpha * a[j + l * lda];
                     if t != T::zero() {
-                        for i in triangle_rows(uplo, j, n) {
-                            c[i + j * ldc] += t * a[i + l * lda];
+                        let al = &a[l * lda + rows.start..l * lda + rows.end];
+                        for (cij, &x) in cj.iter_mut().zip(al) {
+                            *cij += t * x;
                         }
                     }
                 }
@@ -491,12 +494,16 @@ pub(crate) fn syr2k<T: Real>(
         Trans::No => {
             // C(:, j) += α Σ_l (A(:, l) B(j, l) + B(:, l) A(j, l)).
             for j in 0..n {
+                let rows = triangle_rows(uplo, j, n);
+                let cj = &mut c[j * ldc + rows.start..j * ldc + rows.end];
                 for l in 0..k {
                     let tb = alpha * b[j + l * ldb];
                     let ta = alpha * a[j + l * lda];
                     if tb != T::zero() || ta != T::zero() {
-                        for i in triangle_rows(uplo, j, n) {
-                            c[i + j * ldc] += a[i + l * lda] * tb + b[i + l * ldb] * ta;
+                        let al = &a[l * lda + rows.start..l * lda + rows.end];
+                        let bl = &b[l * ldb + rows.start..l * ldb + rows.end];
+                        for ((cij, &x), &y) in cj.iter_mut().zip(al).zip(bl) {
+                            *cij += x * tb + y * ta;
                         }
                     }
                 }
