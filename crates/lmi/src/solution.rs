@@ -2,7 +2,7 @@
 //! infeasibility certificates.
 
 pub use crate::backend::Dims;
-use crate::backend::{self, RawStatus, Settings};
+use crate::backend::{self, RawSolution, RawStatus, Settings};
 use crate::error::{LmiError, Result};
 use crate::expr::{Affine, Expr};
 use crate::problem::{Cone, ConstraintId, Origin, Problem, Relation, SosId};
@@ -75,7 +75,8 @@ pub struct SolveOptions {
     /// residuals of the same order (the conic data exported by
     /// `crates/lmi/tests/conic_export.rs`, solved with both settings; the Python build showed
     /// 0–35 %, see `tools/reference/lmi_clarabel_python.py`). The stopping tolerances are
-    /// unaffected.
+    /// unaffected. A solve that ends in numerical trouble with fewer than 10 steps is
+    /// repeated once with Clarabel's default (see [`Solution::refinement_retry`]).
     pub refinement_steps: u32,
     /// Which sparse LDLᵀ factorisation Clarabel uses for its KKT systems. Default
     /// [`KktSolver::Auto`].
@@ -280,6 +281,11 @@ pub struct Solution {
     /// The residual check of every SOS constraint, indexed by [`SosId`] (empty unless
     /// solved).
     pub sos_checks: Vec<SosCheck>,
+    /// Whether the first solve, with [`SolveOptions::refinement_steps`] refinement steps,
+    /// ended in numerical trouble and the problem was solved again with Clarabel's default
+    /// iterative refinement (up to 10 steps per KKT solve); the other fields then describe
+    /// the repeated solve, with both solves' seconds added.
+    pub refinement_retry: bool,
     x: Vec<f64>,
     owner: u64,
 }
@@ -488,22 +494,60 @@ pub(crate) fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solutio
     if let Some(tl) = options.time_limit {
         positive("time_limit", tl)?;
     }
-    let raw = backend::solve(
-        problem,
-        &Settings {
-            max_iterations: options.max_iterations,
-            time_limit: options.time_limit.unwrap_or(f64::INFINITY),
-            gap_abs: t.gap_abs,
-            gap_rel: t.gap_rel,
-            feasibility: t.feasibility,
-            infeasibility: t.infeasibility,
-            scale_rows: options.scale_rows,
-            chordal_decomposition: options.chordal_decomposition,
-            merge_cliques: options.merge_cliques,
-            kkt_solver: options.kkt_solver,
-            refinement_steps: options.refinement_steps,
-        },
-    )?;
+    solve_with(problem, options, backend::solve)
+}
+
+/// Clarabel's own default of iterative-refinement steps per KKT solve
+/// (`iterative_refinement_max_iter`), used for the repeated solve of [`solve_with`].
+pub(crate) const FULL_REFINEMENT_STEPS: u32 = 10;
+
+/// [`solve`] with the backend as a parameter (tests substitute one that fails on demand).
+///
+/// When the first solve ends in numerical trouble (Clarabel's `NumericalError` or
+/// `InsufficientProgress`) with fewer than [`FULL_REFINEMENT_STEPS`] refinement steps per
+/// KKT solve, the problem is solved once more with Clarabel's default refinement: the
+/// shortened refinement of [`SolveOptions::refinement_steps`] is a speed setting and must not
+/// decide whether a problem near the solver's numerical limits solves. The solution then
+/// reports the repeated solve (with [`Solution::refinement_retry`] set and both solves'
+/// seconds added).
+pub(crate) fn solve_with(
+    problem: &Problem,
+    options: &SolveOptions,
+    backend: impl Fn(&Problem, &Settings) -> Result<RawSolution>,
+) -> Result<Solution> {
+    let t = &options.tolerances;
+    let settings = Settings {
+        max_iterations: options.max_iterations,
+        time_limit: options.time_limit.unwrap_or(f64::INFINITY),
+        gap_abs: t.gap_abs,
+        gap_rel: t.gap_rel,
+        feasibility: t.feasibility,
+        infeasibility: t.infeasibility,
+        scale_rows: options.scale_rows,
+        chordal_decomposition: options.chordal_decomposition,
+        merge_cliques: options.merge_cliques,
+        kkt_solver: options.kkt_solver,
+        refinement_steps: options.refinement_steps,
+    };
+    let mut raw = backend(problem, &settings)?;
+    let mut refinement_retry = false;
+    if matches!(
+        raw.status,
+        RawStatus::NumericalError | RawStatus::InsufficientProgress
+    ) && settings.refinement_steps < FULL_REFINEMENT_STEPS
+    {
+        let first_seconds = (raw.solver_seconds, raw.setup_seconds);
+        raw = backend(
+            problem,
+            &Settings {
+                refinement_steps: FULL_REFINEMENT_STEPS,
+                ..settings
+            },
+        )?;
+        raw.solver_seconds += first_seconds.0;
+        raw.setup_seconds += first_seconds.1;
+        refinement_retry = true;
+    }
     let status = match raw.status {
         RawStatus::Solved => Status::Solved,
         RawStatus::AlmostSolved => Status::AlmostSolved,
@@ -566,6 +610,7 @@ pub(crate) fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solutio
         dims: raw.dims,
         checks,
         sos_checks,
+        refinement_retry,
         x: raw.x,
         owner: problem.id(),
     })
@@ -573,7 +618,68 @@ pub(crate) fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solutio
 
 #[cfg(test)]
 mod tests {
-    use super::KktSolver;
+    use super::{FULL_REFINEMENT_STEPS, KktSolver, SolveOptions, Status, solve_with};
+    use crate::backend::{self, RawStatus};
+    use crate::{Expr, Problem};
+    use pendulab_lti::Mat;
+    use std::cell::RefCell;
+
+    /// `min tr X` subject to `X ⪰ C`: the optimum is `tr C` (= 4) at `X = C`.
+    fn trace_problem() -> (Problem, Expr) {
+        let mut p = Problem::new();
+        let x = p.symmetric("X", 2);
+        let c = Mat::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+        p.positive_semidefinite("X ⪰ C", &(&x - Expr::constant(&c)))
+            .unwrap();
+        p.minimize(&x.trace()).unwrap();
+        (p, x)
+    }
+
+    /// A backend that reports numerical trouble whenever it is called with fewer than
+    /// `fail_below` refinement steps (and the real solve otherwise): the repeated solve
+    /// happens exactly when the first one is in trouble with shortened refinement, uses
+    /// Clarabel's default refinement, and its (correct) result is what the user gets.
+    #[test]
+    fn numerical_trouble_with_short_refinement_is_solved_again_with_full_refinement() {
+        let (p, x) = trace_problem();
+        for (fail_below, steps, expect_calls, expect_retry) in [
+            (2, 1, vec![1, FULL_REFINEMENT_STEPS], true),
+            (0, 1, vec![1], false),
+            // Trouble with Clarabel's default refinement already: no second solve.
+            (
+                u32::MAX,
+                FULL_REFINEMENT_STEPS,
+                vec![FULL_REFINEMENT_STEPS],
+                false,
+            ),
+        ] {
+            let calls = RefCell::new(Vec::new());
+            let options = SolveOptions {
+                refinement_steps: steps,
+                ..SolveOptions::default()
+            };
+            let sol = solve_with(&p, &options, |prob, settings| {
+                calls.borrow_mut().push(settings.refinement_steps);
+                let mut raw = backend::solve(prob, settings)?;
+                if settings.refinement_steps < fail_below {
+                    raw.status = RawStatus::NumericalError;
+                }
+                Ok(raw)
+            })
+            .unwrap();
+            assert_eq!(*calls.borrow(), expect_calls);
+            assert_eq!(sol.refinement_retry, expect_retry);
+            if fail_below == u32::MAX {
+                assert!(matches!(sol.status, Status::NumericalTrouble { .. }));
+                continue;
+            }
+            assert!(sol.all_checks_pass(), "{:?}", sol.status);
+            // The solver's 1e-8 tolerances on an O(1) problem.
+            assert!((sol.objective.unwrap() - 4.0).abs() < 1e-6);
+            let xv = sol.value(&x).unwrap();
+            assert!((xv[(0, 1)] - 1.0).abs() < 1e-6);
+        }
+    }
 
     #[test]
     fn auto_picks_faer_from_the_stated_dimension() {
