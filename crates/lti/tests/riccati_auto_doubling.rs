@@ -18,12 +18,14 @@
 
 mod equations_support;
 mod riccati_benchmarks_support;
+mod riccati_support;
 
 use equations_support::{rand_mat, rng};
 use pendulab_lti::equations::riccati::care_residual;
-use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, RiccatiSolution, care, lyap};
+use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, care};
 use pendulab_lti::{LtiError, Mat};
 use riccati_benchmarks_support::{Example, carex};
+use riccati_support::care_condition as condition;
 
 const EPS: f64 = f64::EPSILON;
 
@@ -32,38 +34,6 @@ fn opts(method: RiccatiMethod) -> RiccatiOptions {
         method,
         ..Default::default()
     }
-}
-
-/// `‖Ω⁻¹‖_F` on symmetric matrices, `Ω(Z) = A_cᵀZ + ZA_c`, by power iteration on `Ω⁻*Ω⁻¹`
-/// (an estimate used only to size tolerances).
-fn inverse_operator_norm(ac: &Mat) -> f64 {
-    let n = ac.nrows();
-    let solve = |m: &Mat, z: &Mat| lyap(m, &(-z)).expect("closed loop is stable").x;
-    let mut y = Mat::from_fn(n, n, |i, j| 1.0 + ((i * 7 + j * 3) % 5) as f64 * 0.1);
-    y = (&y + y.transpose()) * 0.5;
-    y /= y.norm();
-    let mut est = 0.0;
-    for _ in 0..30 {
-        let w = solve(&ac.transpose(), &y);
-        let z = solve(ac, &w);
-        let nz = z.norm();
-        let new = nz.sqrt();
-        y = z / nz;
-        if (new - est).abs() <= 1e-3 * new {
-            return new;
-        }
-        est = new;
-    }
-    est
-}
-
-/// Condition number of the CARE at `x` (module documentation).
-fn condition(a: &Mat, b: &Mat, q: &Mat, r: &Mat, sol: &RiccatiSolution) -> f64 {
-    let ac = a - b * &sol.gain;
-    let g = b * r.clone().cholesky().unwrap().solve(&b.transpose());
-    let xn = sol.x.norm();
-    inverse_operator_norm(&ac) * (q.norm() + 2.0 * a.norm() * xn + g.norm() * xn * xn)
-        / xn.max(f64::MIN_POSITIVE)
 }
 
 /// The agreement tolerance of the module documentation, capped at `1e-6` as in the benchmark

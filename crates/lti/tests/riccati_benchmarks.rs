@@ -21,11 +21,13 @@
 //! Run with `--nocapture` to print the accuracy table.
 
 mod riccati_benchmarks_support;
+mod riccati_support;
 
 use pendulab_lti::equations::riccati::{care_residual, dare_residual};
-use pendulab_lti::equations::{RiccatiOptions, care, dare, dlyap, lyap};
+use pendulab_lti::equations::{RiccatiOptions, care, dare};
 use pendulab_lti::{LtiError, Mat};
 use riccati_benchmarks_support::{Example, carex, darex};
+use riccati_support::inverse_operator_norm;
 
 const EPS: f64 = f64::EPSILON;
 
@@ -43,39 +45,6 @@ fn mat(v: &serde_json::Value) -> Mat {
 
 fn rel(a: &Mat, b: &Mat) -> f64 {
     (a - b).norm() / b.norm().max(f64::MIN_POSITIVE)
-}
-
-/// `‖Ω⁻¹‖_F` on symmetric matrices by power iteration on `Ω⁻*Ω⁻¹`, with `Ω⁻¹` applied through
-/// the Lyapunov (`continuous`) or Stein solver. An estimate of a sensitivity, used only to
-/// size tolerances.
-fn inverse_operator_norm(ac: &Mat, continuous: bool) -> f64 {
-    let n = ac.nrows();
-    let solve = |m: &Mat, z: &Mat| -> Mat {
-        let r = if continuous {
-            lyap(m, &(-z))
-        } else {
-            dlyap(m, &(-z))
-        };
-        r.expect("closed-loop operator is invertible").x
-    };
-    let mut y = Mat::from_fn(n, n, |i, j| 1.0 + ((i * 7 + j * 3) % 5) as f64 * 0.1);
-    y = (&y + y.transpose()) * 0.5;
-    y /= y.norm();
-    let mut est = 0.0;
-    for _ in 0..30 {
-        // Ω⁻¹ via the transposed closed loop, its adjoint via the closed loop itself.
-        let w = solve(&ac.transpose(), &y);
-        let z = solve(ac, &w);
-        let nz = z.norm();
-        let new = nz.sqrt();
-        y = z / nz;
-        if (new - est).abs() <= 1e-3 * new {
-            est = new;
-            break;
-        }
-        est = new;
-    }
-    est
 }
 
 /// Condition number of the CARE/DARE at `x` (module documentation).

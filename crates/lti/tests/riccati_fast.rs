@@ -23,12 +23,14 @@
 
 mod equations_support;
 mod riccati_benchmarks_support;
+mod riccati_support;
 
 use equations_support::{rand_mat, rng};
 use pendulab_lti::Mat;
 use pendulab_lti::equations::riccati::care_residual;
-use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, RiccatiSolution, care, lyap};
+use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, RiccatiSolution, care};
 use riccati_benchmarks_support::{Example, carex};
+use riccati_support::care_condition as condition;
 
 const EPS: f64 = f64::EPSILON;
 
@@ -41,37 +43,6 @@ fn opts(method: RiccatiMethod) -> RiccatiOptions {
 
 fn rel(a: &Mat, b: &Mat) -> f64 {
     (a - b).norm() / b.norm().max(f64::MIN_POSITIVE)
-}
-
-/// `‖Ω⁻¹‖_F`, `Ω(Z) = A_cᵀZ + ZA_c`, by power iteration on `Ω⁻*Ω⁻¹` (sizes a tolerance only).
-fn inverse_operator_norm(ac: &Mat) -> f64 {
-    let n = ac.nrows();
-    let solve = |m: &Mat, z: &Mat| lyap(m, &(-z)).expect("closed loop is Hurwitz").x;
-    let mut y = Mat::from_fn(n, n, |i, j| 1.0 + ((i * 7 + j * 3) % 5) as f64 * 0.1);
-    y = (&y + y.transpose()) * 0.5;
-    y /= y.norm();
-    let mut est = 0.0;
-    for _ in 0..30 {
-        let w = solve(&ac.transpose(), &y);
-        let z = solve(ac, &w);
-        let nz = z.norm();
-        let new = nz.sqrt();
-        y = z / nz;
-        if (new - est).abs() <= 1e-3 * new {
-            return new;
-        }
-        est = new;
-    }
-    est
-}
-
-/// Riccati condition number at the solution (module documentation); `G = BR⁻¹Bᵀ` without
-/// the cross term is enough for sizing a tolerance (the cross term changes `G` not at all).
-fn condition(a: &Mat, b: &Mat, q: &Mat, r: &Mat, sol: &RiccatiSolution) -> f64 {
-    let ac = a - b * &sol.gain;
-    let g = b * r.clone().cholesky().unwrap().solve(&b.transpose());
-    let xn = sol.x.norm().max(f64::MIN_POSITIVE);
-    inverse_operator_norm(&ac) * (q.norm() + 2.0 * a.norm() * xn + g.norm() * xn * xn) / xn
 }
 
 /// Agreement tolerance of two backward-stable solutions: `κ·2·(100·n·ε)`, at least a few ulps,
@@ -123,18 +94,7 @@ fn scalar_closed_form() {
 /// `Q = diag(100, 10, 1, 1)`, `R = 1`.
 #[test]
 fn cart_pendulum_fast_path() {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    #[rustfmt::skip]
-    let a = Mat::from_row_slice(4, 4, &[
-        0.0, 0.0, 1.0, 0.0,
-        0.0, 0.0, 0.0, 1.0,
-        0.0, 0.0, -ac, 0.0,
-        0.0, mp * g * lp / j, ac * mp * lp / j, -mup / j,
-    ]);
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
-    let q = pendulab_lti::linalg::diag(&[100.0, 10.0, 1.0, 1.0]);
-    let r = Mat::identity(1, 1);
+    let (a, b, q, r) = riccati_support::cart_pendulum();
     let sol = care(&a, &b, &q, &r, None, &RiccatiOptions::default()).unwrap();
     assert_eq!(sol.method, RiccatiMethod::Doubling, "fast path not taken");
     let res = care_residual(&a, &b, &q, &r, None, &sol.x);

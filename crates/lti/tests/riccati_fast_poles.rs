@@ -14,6 +14,7 @@
 //! `κδ` of the exact eigenvalue to first order, factor 2 for the second-order term).
 
 mod equations_support;
+mod riccati_support;
 
 use equations_support::{rand_mat, rng};
 use pendulab_lti::Mat;
@@ -97,18 +98,7 @@ fn check_poles(id: &str, a: &Mat, b: &Mat, sol: &RiccatiSolution) {
 /// `Q = diag(100, 10, 1, 1)`, `R = 1`.
 #[test]
 fn cart_pendulum_poles() {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    #[rustfmt::skip]
-    let a = Mat::from_row_slice(4, 4, &[
-        0.0, 0.0, 1.0, 0.0,
-        0.0, 0.0, 0.0, 1.0,
-        0.0, 0.0, -ac, 0.0,
-        0.0, mp * g * lp / j, ac * mp * lp / j, -mup / j,
-    ]);
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
-    let q = pendulab_lti::linalg::diag(&[100.0, 10.0, 1.0, 1.0]);
-    let r = Mat::identity(1, 1);
+    let (a, b, q, r) = riccati_support::cart_pendulum();
     let sol = care(&a, &b, &q, &r, None, &RiccatiOptions::default()).unwrap();
     check_poles("cart pendulum", &a, &b, &sol);
 }

@@ -1,0 +1,69 @@
+//! Helpers shared by the Riccati tests: the `care-n4` data (the book's linearised cart
+//! pendulum) and the Riccati condition number that sizes the agreement tolerances.
+//!
+//! Condition number: a solution with relative backward error `η` has relative forward error
+//! at most about `κ·η` (first-order perturbation theory; Byers 1985, Sun 1998), with
+//! `κ = ‖Ω⁻¹‖·(‖Q‖ + 2‖A‖‖X‖ + ‖G‖‖X‖²)/‖X‖`, `Ω(Z) = A_cᵀZ + ZA_c`, `G = BR⁻¹Bᵀ`, Frobenius
+//! norms, `‖Ω⁻¹‖` estimated by power iteration. An estimate of a sensitivity, used only to
+//! size tolerances.
+#![allow(dead_code)]
+
+use pendulab_lti::Mat;
+use pendulab_lti::equations::{RiccatiSolution, dlyap, lyap};
+
+/// The `care-n4` workload: the linearised cart pendulum (SPEC.md §1.1, table 3.5) as
+/// `(A, B, Q, R)` with `Q = diag(100, 10, 1, 1)`, `R = 1`.
+pub fn cart_pendulum() -> (Mat, Mat, Mat, Mat) {
+    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
+    let j = jp + mp * lp * lp;
+    #[rustfmt::skip]
+    let a = Mat::from_row_slice(4, 4, &[
+        0.0, 0.0, 1.0, 0.0,
+        0.0, 0.0, 0.0, 1.0,
+        0.0, 0.0, -ac, 0.0,
+        0.0, mp * g * lp / j, ac * mp * lp / j, -mup / j,
+    ]);
+    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
+    let q = pendulab_lti::linalg::diag(&[100.0, 10.0, 1.0, 1.0]);
+    (a, b, q, Mat::identity(1, 1))
+}
+
+/// `‖Ω⁻¹‖_F` on symmetric matrices by power iteration on `Ω⁻*Ω⁻¹`, with `Ω⁻¹` applied through
+/// the Lyapunov (`continuous`) or Stein solver.
+pub fn inverse_operator_norm(ac: &Mat, continuous: bool) -> f64 {
+    let n = ac.nrows();
+    let solve = |m: &Mat, z: &Mat| -> Mat {
+        let r = if continuous {
+            lyap(m, &(-z))
+        } else {
+            dlyap(m, &(-z))
+        };
+        r.expect("closed-loop operator is invertible").x
+    };
+    let mut y = Mat::from_fn(n, n, |i, j| 1.0 + ((i * 7 + j * 3) % 5) as f64 * 0.1);
+    y = (&y + y.transpose()) * 0.5;
+    y /= y.norm();
+    let mut est = 0.0;
+    for _ in 0..30 {
+        // Ω⁻¹ via the transposed closed loop, its adjoint via the closed loop itself.
+        let w = solve(&ac.transpose(), &y);
+        let z = solve(ac, &w);
+        let nz = z.norm();
+        let new = nz.sqrt();
+        y = z / nz;
+        if (new - est).abs() <= 1e-3 * new {
+            return new;
+        }
+        est = new;
+    }
+    est
+}
+
+/// `κ` of the CARE at the solution `sol` (module documentation); `G = BR⁻¹Bᵀ` without the
+/// cross term is enough for sizing a tolerance.
+pub fn care_condition(a: &Mat, b: &Mat, q: &Mat, r: &Mat, sol: &RiccatiSolution) -> f64 {
+    let ac = a - b * &sol.gain;
+    let g = b * r.clone().cholesky().unwrap().solve(&b.transpose());
+    let xn = sol.x.norm().max(f64::MIN_POSITIVE);
+    inverse_operator_norm(&ac, true) * (q.norm() + 2.0 * a.norm() * xn + g.norm() * xn * xn) / xn
+}
