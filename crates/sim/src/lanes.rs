@@ -46,8 +46,26 @@ use std::f64::consts::FRAC_2_PI;
 
 /// How a lane kernel evaluates `sin` and `cos` of `L` angles.
 pub trait SinCos {
+    /// Whether a plant's own RK4 step ([`LaneDynamics::rk4_step_lanes`]) may take the later
+    /// stages' sines from the step's first ones (see [`AnchoredSinCos`]). Default `false`.
+    const ANCHORED: bool = false;
     /// `(sin x_l, cos x_l)` for every lane.
     fn sin_cos<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]);
+}
+
+/// [`PolySinCos`] for single evaluations, and permission for a plant's RK4 step
+/// ([`LaneDynamics::rk4_step_lanes`]) to take the three later stages' sines and cosines from
+/// the step's first ones by the addition theorem ([`sin_cos_offset_lanes`], the lane form of
+/// [`Trig::Anchored`]). Plants that do not override the step run it as [`PolySinCos`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AnchoredSinCos;
+
+impl SinCos for AnchoredSinCos {
+    const ANCHORED: bool = true;
+    #[inline(always)]
+    fn sin_cos<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
+        sin_cos_lanes(x)
+    }
 }
 
 /// The platform's `f64::sin_cos` per lane: bit-identical to scalar code, not vectorised.
@@ -325,6 +343,40 @@ fn small_angle_series(d: f64) -> (f64, f64) {
 pub trait LaneDynamics<const N: usize, const L: usize>: Sync {
     /// `ẋ` of every lane; `M` supplies the sines and cosines.
     fn derivative_lanes<M: SinCos>(&self, x: &[[f64; L]; N], u: &[f64; L]) -> [[f64; L]; N];
+
+    /// One classic RK4 step of every lane with the inputs held (provided: [`rk4_lanes`]).
+    /// A plant may override it with a step that shares work between the stages when
+    /// `M::ANCHORED` (e.g. `pendulab_plants::CartPendulum`); for other `M` the override must
+    /// keep [`rk4_lanes`]'s operations.
+    #[inline(always)]
+    fn rk4_step_lanes<M: SinCos>(&self, x: &mut [[f64; L]; N], u: &[f64; L], h: &[f64; L])
+    where
+        Self: Sized,
+    {
+        rk4_lanes::<Self, M, N, L>(self, x, u, h);
+    }
+}
+
+/// `(sin(a_l + d_l), cos(a_l + d_l))` of every lane from `(s, c) = (sin a, cos a)` and the
+/// offsets `d` by the formulas of [`sin_cos_offset`] with the series to `d⁷`/`d⁶` in every
+/// lane (no branch per lane, so the lanes stay vectorised); `None` if any `|d_l|` exceeds
+/// [`SHIFT_LIMIT`] or is NaN (the caller then evaluates the step another way). Each result
+/// within 2 ulp + 6·10⁻¹⁷ of the sine and cosine of the exact sum, as [`sin_cos_offset`].
+#[inline(always)]
+pub fn sin_cos_offset_lanes<const L: usize>(
+    d: &[f64; L],
+    s: &[f64; L],
+    c: &[f64; L],
+) -> Option<([f64; L], [f64; L])> {
+    let mut in_range = true;
+    let (mut so, mut co) = ([0.0; L], [0.0; L]);
+    for l in 0..L {
+        in_range &= d[l].abs() <= SHIFT_LIMIT;
+        let (sd, cm1) = small_angle_series(d[l]);
+        so[l] = s[l] + (s[l] * cm1 + c[l] * sd);
+        co[l] = c[l] + (c[l] * cm1 - s[l] * sd);
+    }
+    in_range.then_some((so, co))
 }
 
 /// Options of [`run_feedback_lanes`] (the general loop's [`SampledOptions`](crate::SampledOptions)
@@ -607,7 +659,7 @@ where
             });
         }
         for _ in 0..cfg.substeps {
-            rk4_lanes::<P, M, N, L>(plant, &mut x, &u, &h);
+            plant.rk4_step_lanes::<M>(&mut x, &u, &h);
         }
         let mut bad = false;
         for l in 0..L {
@@ -637,7 +689,7 @@ where
 /// One classic RK4 step of every lane with the inputs held, in the operation order of the
 /// general kernel (`crate::integrate::rk4`).
 #[inline(always)]
-fn rk4_lanes<P, M, const N: usize, const L: usize>(
+pub fn rk4_lanes<P, M, const N: usize, const L: usize>(
     plant: &P,
     x: &mut [[f64; L]; N],
     u: &[f64; L],

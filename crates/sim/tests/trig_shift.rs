@@ -172,3 +172,43 @@ fn offset_sine_and_cosine_are_those_of_the_exact_sum() {
     assert!(sin_cos_offset(a, f64::NAN, s, c).0.is_nan());
     assert_eq!(sin_cos_offset(a, 0.0, s, c), (s, c));
 }
+
+/// The lane form `sin_cos_offset_lanes`: every lane against the sine and cosine of the exact
+/// sum (the reference of `offset_sine_and_cosine_are_those_of_the_exact_sum`), same bound;
+/// `None` as soon as one lane's offset is beyond the limit or NaN.
+#[test]
+fn lane_offsets_are_those_of_the_exact_sum_and_refuse_out_of_range() {
+    use pendulab_sim::lanes::sin_cos_offset_lanes;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2028);
+    let mut worst = 0.0f64;
+    for _ in 0..100_000 {
+        let a: [f64; 8] = std::array::from_fn(|_| rng.random_range(-20.0..20.0));
+        let d: [f64; 8] = std::array::from_fn(|_| {
+            if rng.random_bool(0.5) {
+                rng.random_range(-SHIFT_LIMIT..=SHIFT_LIMIT)
+            } else {
+                rng.random_range(-1.0 / 256.0..=1.0 / 256.0)
+            }
+        });
+        let s: [f64; 8] = std::array::from_fn(|l| a[l].sin());
+        let c: [f64; 8] = std::array::from_fn(|l| a[l].cos());
+        let (so, co) = sin_cos_offset_lanes(&d, &s, &c).expect("all offsets in range");
+        for l in 0..8 {
+            let x = a[l] + d[l];
+            let bv = x - a[l];
+            let r = (a[l] - (x - bv)) + (d[l] - bv);
+            let (sx, cx) = x.sin_cos();
+            for (got, want) in [(so[l], sx + r * cx), (co[l], cx - r * sx)] {
+                let bound = 2.0 * ulp(want) + 6e-17;
+                let err = (got - want).abs();
+                assert!(err <= bound, "lane {l}: offset {:e} from {:e}", d[l], a[l]);
+                worst = worst.max(err / bound);
+            }
+        }
+    }
+    assert!(worst > 0.05, "worst error / bound = {worst}");
+    let (s, c) = ([0.3f64; 4], [0.9f64; 4]);
+    assert!(sin_cos_offset_lanes(&[0.0, 0.01, -0.02, SHIFT_LIMIT], &s, &c).is_some());
+    assert!(sin_cos_offset_lanes(&[0.0, 0.01, -0.02, 1.01 * SHIFT_LIMIT], &s, &c).is_none());
+    assert!(sin_cos_offset_lanes(&[f64::NAN, 0.0, 0.0, 0.0], &s, &c).is_none());
+}
