@@ -19,8 +19,10 @@
 //!   1 kHz, on all cores (rayon), classifying each run as upright (`|θ| ≤ π/2` throughout) or
 //!   fallen (the run stops at the first sample past π/2). Figure: trajectory-steps actually
 //!   integrated per second by the lane kernel (`pendulab_sim::lanes`: 8 runs stepped together
-//!   in SIMD registers, polynomial sine/cosine within 2 ulp of libm); the check also gives the
-//!   wall time of the whole grid and the rate counted on the nominal 10⁸ steps, the upright
+//!   in SIMD registers, `AnchoredSinCos`: the polynomial sine/cosine within 2 ulp of libm once
+//!   per RK4 step, the later stages' by the addition theorem); the check also gives the
+//!   wall time of the whole grid and the rate counted on the nominal 10⁸ steps, the rate with
+//!   the polynomial sine/cosine at every stage (timed alternately), the upright
 //!   fraction, the same grid through the general `SampledLoop` (rate, and the lane kernel with
 //!   libm's sine/cosine, which must be bit-identical to it), and how far the headline's
 //!   outcomes and final states are from the general loop's.
