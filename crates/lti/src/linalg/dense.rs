@@ -417,51 +417,49 @@ pub(crate) fn dot(x: &[f64], y: &[f64]) -> f64 {
 mod tests {
     use crate::linalg::testing::splitmix_matrix as test_matrix;
 
-    #[test]
-    fn blocked_transpose_solve_matches_column_by_column() {
-        // Orders that are and are not multiples of the block size.
-        for (n, m, seed) in [(64, 16, 1), (100, 40, 2), (150, 17, 3)] {
+    /// The blocked multi-right-hand-side solve (`transpose`: `AᵀX = B`, else `AX = B`) on
+    /// orders that are and are not multiples of the block size.
+    ///
+    /// Defining residual: LU with partial pivoting and triangular substitution are backward
+    /// stable, ‖op(A)X − B‖ ≤ c·n·ε‖A‖‖X‖ with a small c (Higham, Accuracy and Stability,
+    /// Thm 9.4); 10·n·ε allows for it. The unblocked substitution, one column at a time
+    /// (below the blocking threshold), performs the same operations in another order:
+    /// agreement to rounding times cond(A) (random A: cond ~ 1e2–1e3; 1e-10 relative is
+    /// generous).
+    fn check_blocked_solve(transpose: bool, cases: [(usize, usize, u64); 3]) {
+        for (n, m, seed) in cases {
             let a = test_matrix(n, n, seed);
             let b = test_matrix(n, m, seed + 10);
             let lu = Lu::new(&a);
+            let solve = |x: &mut crate::linalg::Mat| {
+                if transpose {
+                    lu.solve_transpose_in_place(x);
+                } else {
+                    lu.solve_in_place(x);
+                }
+            };
             let mut x = b.clone();
-            lu.solve_transpose_in_place(&mut x); // blocked (n ≥ 64, m ≥ 16)
-            // Defining residual: LU with partial pivoting and triangular substitution are
-            // backward stable, ‖AᵀX − B‖ ≤ c·n·ε‖A‖‖X‖ with a small c (Higham, Accuracy and
-            // Stability, Thm 9.4); 10·n·ε allows for it.
-            let rel = (a.transpose() * &x - &b).norm() / (a.norm() * x.norm());
+            solve(&mut x); // blocked (n ≥ 64, m ≥ 16)
+            let op_a = if transpose { a.transpose() } else { a.clone() };
+            let rel = (op_a * &x - &b).norm() / (a.norm() * x.norm());
             assert!(rel <= 10.0 * n as f64 * EPS, "n = {n}: residual {rel:e}");
-            // The unblocked substitution, one column at a time (below the blocking
-            // threshold), performs the same operations in another order: agreement to
-            // rounding times cond(A) (random A: cond ~ 1e2–1e3; 1e-10 relative is generous).
             for j in 0..m {
                 let mut col = b.columns(j, 1).into_owned();
-                lu.solve_transpose_in_place(&mut col);
+                solve(&mut col);
                 let d = (&col - x.column(j)).norm() / x.column(j).norm();
                 assert!(d <= 1e-10, "n = {n}, column {j}: differs by {d:e}");
             }
         }
     }
+
+    #[test]
+    fn blocked_transpose_solve_matches_column_by_column() {
+        check_blocked_solve(true, [(64, 16, 1), (100, 40, 2), (150, 17, 3)]);
+    }
+
     #[test]
     fn blocked_solve_matches_column_by_column() {
-        for (n, m, seed) in [(64, 16, 4), (100, 40, 5), (150, 17, 6)] {
-            let a = test_matrix(n, n, seed);
-            let b = test_matrix(n, m, seed + 10);
-            let lu = Lu::new(&a);
-            let mut x = b.clone();
-            lu.solve_in_place(&mut x); // blocked (n ≥ 64, m ≥ 16)
-            // Defining residual, backward stable as for the transposed solve: 10·n·ε.
-            let rel = (&a * &x - &b).norm() / (a.norm() * x.norm());
-            assert!(rel <= 10.0 * n as f64 * EPS, "n = {n}: residual {rel:e}");
-            // The unblocked substitution (one column): same operations in another order,
-            // agreement to rounding times cond(A) (≈ 1e2–1e3; 1e-10 is generous).
-            for j in 0..m {
-                let mut col = b.columns(j, 1).into_owned();
-                lu.solve_in_place(&mut col);
-                let d = (&col - x.column(j)).norm() / x.column(j).norm();
-                assert!(d <= 1e-10, "n = {n}, column {j}: differs by {d:e}");
-            }
-        }
+        check_blocked_solve(false, [(64, 16, 4), (100, 40, 5), (150, 17, 6)]);
     }
     use super::*;
 
