@@ -5,23 +5,15 @@
 use core::ffi::{c_char, c_int};
 use pendulab_lapack::ffi::*;
 
-fn c(x: u8) -> c_char {
-    x as c_char
+mod common;
+
+/// A deterministic well-conditioned test matrix (entries in [−1, 1]), column-major.
+fn test_matrix(m: usize, n: usize, seed: u64) -> Vec<f64> {
+    common::lcg_entries(m * n, seed)
 }
 
-/// A deterministic well-conditioned test matrix (entries in [−1, 1]).
-fn test_matrix(m: usize, n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (0..m * n)
-        .map(|_| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        })
-        .collect()
+fn c(x: u8) -> c_char {
+    x as c_char
 }
 
 #[test]

@@ -13,23 +13,11 @@
 use core::ffi::c_char;
 use pendulab_lapack::ffi::dgemm_;
 
+mod common;
+use common::lcg_entries as fill;
+
 const PAD: usize = 2;
 const SENTINEL: f64 = 7777.0;
-
-/// Deterministic entries in (−1, 1) (a linear congruential sequence).
-fn fill(len: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    (0..len)
-        .map(|_| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        })
-        .collect()
-}
 
 #[test]
 fn small_and_general_paths_match_the_defining_sum() {

@@ -12,6 +12,9 @@ use core::ffi::{c_char, c_int};
 use pendulab_lapack::ffi::dsyevr_;
 use serde_json::Value;
 
+mod common;
+use common::lcg_entries as lcg;
+
 const TOL: f64 = 1e-12;
 
 fn num(v: &Value) -> f64 {
@@ -89,18 +92,6 @@ fn dist(x: &[f64], y: &[f64]) -> f64 {
         .map(|(p, q)| (p - q).powi(2))
         .sum::<f64>()
         .sqrt()
-}
-
-fn lcg(n: usize, seed: u64) -> Vec<f64> {
-    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-    (0..n)
-        .map(|_| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        })
-        .collect()
 }
 
 /// Column-major symmetric `n × n` with leading dimension `lda`, the triangle not named by
