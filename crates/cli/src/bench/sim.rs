@@ -43,7 +43,7 @@ use pendulab_sim::batch::{Axis, grid, run_initial_states};
 use pendulab_sim::controllers::StaticStateFeedback;
 use pendulab_sim::env::FixedEnv;
 use pendulab_sim::lanes::{
-    AnchoredSinCos, LaneOptions, LibmSinCos, PolySinCos, Trig, run_feedback_lanes,
+    AnchoredSinCos, LaneOptions, LibmSinCos, PolySinCos, SHIFT_LIMIT, Trig, run_feedback_lanes,
 };
 use pendulab_sim::{
     Env, EnvConfig, Integrator, Record, RunStatus, SampledLoop, SampledOptions, StayWithin,
@@ -357,18 +357,19 @@ fn pooled(rounds: &[super::Timing]) -> super::Timing {
 const CALLS: usize = 100_000;
 
 /// How often the anchored RK4 step falls back to libm in the random-policy episodes of the
-/// cart-pole rollout: the stage angles of each step recomputed from the libm plant's stages
-/// (`θ`, `θ + (h/2)·θ̇₁`, `θ + (h/2)·θ̇₂`, `θ + h·θ̇₃`), counted against the ranges of the
-/// anchored series. Returns `(steps, [first angle, stage 2, stage 3, stage 4, any])`.
-fn anchored_fallbacks(plant: &CartPendulum, episodes: usize) -> Result<(usize, [usize; 5])> {
+/// cart-pole rollout: the first angle `θ` and the stage offsets `(h/2)·θ̇₁`, `(h/2)·θ̇₂`,
+/// `h·θ̇₃` of each step recomputed from the libm plant's stages, counted against the ranges
+/// of the anchored series (`first_range`, `shift_range`). Returns
+/// `(steps, [first angle, stage 2, stage 3, stage 4, any])`.
+fn anchored_fallbacks(
+    plant: &CartPendulum,
+    episodes: usize,
+    (first_range, shift_range): (f64, f64),
+) -> Result<(usize, [usize; 5])> {
     use pendulab_sim::fixed::FixedDynamics;
     let mut env = Env::<_, 4>::new(*plant, EnvConfig::cart_pole(0.4)?)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-    let (h, first_range, shift_range) = (
-        env.config().dt,
-        pendulab_sim::lanes::SHIFT_LIMIT,
-        pendulab_sim::lanes::SHIFT_LIMIT,
-    );
+    let h = env.config().dt;
     let mut counts = [0usize; 5];
     let mut steps = 0usize;
     env.reset(Some(1));
@@ -513,7 +514,16 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
     }
     // The anchored environment against the general one, and how often its step takes libm.
     let (differing, anchored_dev) = anchored_agreement(2000)?;
-    let (counted_steps, fallbacks) = anchored_fallbacks(&plant, 2000)?;
+    let (counted_steps, fallbacks) = anchored_fallbacks(
+        &plant,
+        2000,
+        (
+            CartPendulum::ANCHORED_ANGLE_LIMIT,
+            CartPendulum::ANCHORED_SHIFT_LIMIT,
+        ),
+    )?;
+    // ... and how often the narrower series of the 1 ms loops (1/32 rad) alone would have.
+    let (_, narrow) = anchored_fallbacks(&plant, 2000, (SHIFT_LIMIT, SHIFT_LIMIT))?;
     let frac = |n: usize| n as f64 / counted_steps as f64;
     // An LQR policy balances through a whole episode.
     let k = lqr_gain(&plant)?;
@@ -552,6 +562,10 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
             "anchored_libm_fallback_fraction_stage_3": frac(fallbacks[2]),
             "anchored_libm_fallback_fraction_stage_4": frac(fallbacks[3]),
             "anchored_libm_fallback_fraction_any": frac(fallbacks[4]),
+            "anchored_series_ranges_rad": [CartPendulum::ANCHORED_ANGLE_LIMIT, CartPendulum::ANCHORED_SHIFT_LIMIT],
+            "beyond_1_32_rad_fraction_first_angle": frac(narrow[0]),
+            "beyond_1_32_rad_fraction_stage_4": frac(narrow[3]),
+            "beyond_1_32_rad_fraction_any": frac(narrow[4]),
             "step_equals_rk4_kernel": step_is_rk4,
             "lqr_policy_steps": survived,
             "lqr_policy_survives_500": survived == 500,
