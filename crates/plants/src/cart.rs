@@ -38,7 +38,7 @@
 
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
-use pendulab_sim::lanes::{SHIFT_LIMIT, Trig, sin_cos_offset, sin_cos_small};
+use pendulab_sim::lanes::{Trig, sin_cos_offset, sin_cos_small};
 
 use crate::drive::Drive;
 use crate::error::{PlantError, Requirement, check, check_point};
@@ -306,9 +306,9 @@ impl CartPendulum {
     /// libm-based references. [`Trig::Anchored`] changes only the RK4 step of the
     /// fixed-size closed-loop kernel (`pendulab_sim::fixed`, e.g. `SampledLoop::fixed`): the
     /// step's later stages take their sines from the first stage's (about 250 fewer
-    /// instructions per step, each within 2 ulp + 6·10⁻¹⁷ of libm for stage offsets up to
-    /// 1/32 rad, 2 ulp + 1.1·10⁻¹⁶ up to [`CartPendulum::ANCHORED_SHIFT_LIMIT`]), the first
-    /// stage's from a series within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] of upright, and the
+    /// instructions per step, each within 2 ulp + 6·10⁻¹⁷ of libm for steps of at most
+    /// 2⁻⁸ s, 2 ulp + 1.1·10⁻¹⁶ for longer ones), the first stage's from a series near
+    /// upright (within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] for the longer steps), and the
     /// pendulum's constants are divided by `J` beforehand; every other evaluation
     /// of this plant uses libm. Jacobians, linearisations, energy and geometry always use
     /// libm.
@@ -476,18 +476,22 @@ impl Dynamics for CartPendulum {
 /// ([`pendulab_sim::fixed`]): the operations of [`CartPendulum::derivative_array`], which the
 /// [`Dynamics`] implementation also evaluates, so the kernel reproduces `SampledLoop` bit for
 /// bit — except with [`Trig::Anchored`], whose RK4 step evaluates the step's first sine and
-/// cosine by series within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] of upright
-/// ([`pendulab_sim::lanes::sin_cos_small`] within 1/32 rad, `wide_angle_series` beyond; libm
-/// further out) and takes the later stages' from them for the stages' offsets by the addition
-/// theorem ([`pendulab_sim::lanes::sin_cos_offset`] up to 1/32 rad, `wide_shift_series` up
-/// to [`CartPendulum::ANCHORED_SHIFT_LIMIT`], libm beyond): within 2 ulp + 6·10⁻¹⁷ of
-/// libm's each (2 ulp + 1.1·10⁻¹⁶ for offsets beyond 1/32), about 250 fewer instructions per
-/// step, and a shorter dependency chain (see `anchored_step`). The wider tiers serve the
-/// 20 ms steps of the CartPole-v1 environment (`pendulab_sim::env::FixedEnv`), whose angles
-/// (≤ 12°) and stage offsets (`(h/2)·θ̇`, `h·θ̇` with |θ̇| up to ~3.5 rad/s) mostly exceed
-/// 1/32; within 1/32 the values are unchanged. Steps of at most 2⁻⁸ s (the 1 ms loops) keep
-/// the 1/32 rad tiers alone (libm beyond): the same values wherever the wider tiers would
-/// not apply, and ~10 % faster there than with the wider tiers' code (measured).
+/// cosine by a series near upright and takes the later stages' from them for the stages'
+/// offsets by the addition theorem (see `anchored_step`): about 250 fewer instructions per
+/// step than libm's four, and a shorter dependency chain. Two variants, by the step length:
+///
+/// - steps of at most 2⁻⁸ s (the 1 ms loops): [`pendulab_sim::lanes::sin_cos_small`] for the
+///   first angle and [`pendulab_sim::lanes::sin_cos_offset`] for the stages, series within
+///   1/32 rad, libm beyond; each within 2 ulp + 6·10⁻¹⁷ of libm's;
+/// - longer steps (e.g. the 20 ms of the CartPole-v1 environment,
+///   `pendulab_sim::env::FixedEnv`, whose angles up to 12° and stage offsets `(h/2)·θ̇`,
+///   `h·θ̇` mostly exceed 1/32): one series each over the whole range,
+///   `wide_angle_series` within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] of upright and
+///   `wide_shift_series` for offsets up to [`CartPendulum::ANCHORED_SHIFT_LIMIT`] (libm
+///   beyond), within 2 ulp + 6·10⁻¹⁷ and 2 ulp + 1.1·10⁻¹⁶ of libm's. One series rather than
+///   tiers, because an episode's random angles would mispredict the choice between tiers
+///   about every third step (measured: 52 against 60 ns per environment step); and not for
+///   the 1 ms loops, which run ~10 % slower with the wide series' code (measured).
 impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
     #[inline(always)]
     fn derivative_fixed(&self, x: &[f64; 4], u: f64) -> [f64; 4] {
@@ -515,41 +519,35 @@ impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
     }
 }
 
-/// Steps up to this length (s) take the anchored step with the 1/32 rad series only: their
-/// stage offsets `h·θ̇` exceed 1/32 only beyond |θ̇| = 8 rad/s, and the wider tiers' code
-/// makes the 1 ms loops ~10 % slower per step (measured), though never taken there.
+/// Steps up to this length (s) take the anchored step with the 1/32 rad series of
+/// `pendulab_sim::lanes` (their stage offsets `h·θ̇` exceed 1/32 only beyond |θ̇| = 8 rad/s);
+/// longer ones the wide series (see the `FixedDynamics` implementation).
 const NARROW_STEP_LIMIT: f64 = 1.0 / 256.0;
 
 const WIDE_ANGLE_LIMIT: f64 = CartPendulum::ANCHORED_ANGLE_LIMIT;
 const WIDE_SHIFT_LIMIT: f64 = CartPendulum::ANCHORED_SHIFT_LIMIT;
 
-/// The sine and cosine of an anchored RK4 step's first angle: [`sin_cos_small`] for
-/// `|θ| ≤ 1/32`, [`wide_angle_series`] for `|θ| ≤` [`WIDE_ANGLE_LIMIT`], libm beyond (and for
-/// NaN). Each within 2 ulp + 6·10⁻¹⁷ of libm (the series' bound, checked in this module's
-/// tests over the whole range).
+/// The sine and cosine of an anchored RK4 step's first angle for steps longer than 2⁻⁸ s:
+/// [`wide_angle_series`] for `|θ| ≤` [`WIDE_ANGLE_LIMIT`], libm beyond (and for NaN); within
+/// 2 ulp + 6·10⁻¹⁷ of libm (checked in this module's tests over the whole range). One series
+/// for the whole range: the random angles of an environment's episodes would mispredict the
+/// choice between narrower series about every third step.
 #[inline(always)]
 fn anchor_sin_cos(theta: f64) -> (f64, f64) {
-    let m = theta.abs();
-    if m <= SHIFT_LIMIT {
-        sin_cos_small(theta)
-    } else if m <= WIDE_ANGLE_LIMIT {
+    if theta.abs() <= WIDE_ANGLE_LIMIT {
         wide_angle_series(theta)
     } else {
         theta.sin_cos()
     }
 }
 
-/// `(sin(θ + d), cos(θ + d))` of an RK4 stage angle from `(s, c) = (sin θ, cos θ)`:
-/// [`sin_cos_offset`] for `|d| ≤ 1/32`, the same addition theorem with
-/// [`wide_shift_series`] for `|d| ≤` [`WIDE_SHIFT_LIMIT`], libm's `(θ + d).sin_cos()`
-/// beyond (and for NaN). The wider tier only replaces libm where it took over before, so steps
-/// within 1/32 are unchanged.
+/// `(sin(θ + d), cos(θ + d))` of an RK4 stage angle from `(s, c) = (sin θ, cos θ)` for steps
+/// longer than 2⁻⁸ s: the addition theorem of [`sin_cos_offset`] with
+/// [`wide_shift_series`] for `|d| ≤` [`WIDE_SHIFT_LIMIT`] (one series for the whole range,
+/// as [`anchor_sin_cos`]), libm's `(θ + d).sin_cos()` beyond (and for NaN).
 #[inline(always)]
 fn stage_sin_cos(theta: f64, d: f64, s: f64, c: f64) -> (f64, f64) {
-    let m = d.abs();
-    if m <= SHIFT_LIMIT {
-        sin_cos_offset(theta, d, s, c)
-    } else if m <= WIDE_SHIFT_LIMIT {
+    if d.abs() <= WIDE_SHIFT_LIMIT {
         let (sd, cm1) = wide_shift_series(d);
         (s + (s * cm1 + c * sd), c + (c * cm1 - s * sd))
     } else {
@@ -775,8 +773,8 @@ mod tests {
         let mut points: Vec<f64> = (0..400_000)
             .map(|_| uniform(&mut state, -0.3, 0.3))
             .collect();
-        // The tier boundaries and their neighbours.
-        for b in [SHIFT_LIMIT, WIDE_ANGLE_LIMIT, 1.0 / 256.0] {
+        // The range's end and tiny angles (where the series' leading term rules).
+        for b in [WIDE_ANGLE_LIMIT, 1e-3, 1e-9, 1e-300] {
             for v in [
                 b,
                 f64::from_bits(b.to_bits() + 1),
@@ -806,9 +804,10 @@ mod tests {
     /// The stage sines and cosines from the anchor's (`stage_sin_cos`) against libm at the
     /// stage angle `x = fl(θ + d)`, corrected to first order by the rounding error of that sum
     /// (`r = (θ + d) − x`, exact by Knuth's TwoSum; `sin(x + r) = sin x + r cos x` up to
-    /// `r²/2 < 10⁻³²`): anchors over several periods and near zero, offsets up to 1/8 (the
-    /// wide tier) and beyond (libm). Bound: 2 ulp + 6·10⁻¹⁷ for offsets within 1/32 (the
-    /// documented bound of `sin_cos_offset`); for the wide tier the correction term
+    /// `r²/2 < 10⁻³²`): anchors over several periods and near zero, offsets within 1/32 and
+    /// up to 1/8 (the wide series) and beyond (libm). Bound: 2 ulp + 6·10⁻¹⁷ for offsets
+    /// within 1/32 (the documented bound of `sin_cos_offset`, whose argument holds for the
+    /// longer series as well: its truncation is smaller); beyond, the correction term
     /// `s·(cos d − 1) + c·sin d` reaches |d| + d²/2 < 0.133 and its three roundings add up to
     /// 3 · 2⁻⁵³ · 0.133 < 5·10⁻¹⁷ more, so 2 ulp + 1.1·10⁻¹⁶ there.
     #[test]
@@ -821,7 +820,11 @@ mod tests {
                 1 => uniform(&mut state, -1e-3, 1e-3),
                 _ => uniform(&mut state, -0.25, 0.25),
             };
-            let d = uniform(&mut state, -0.15, 0.15);
+            let d = match i % 4 {
+                0 => uniform(&mut state, -1e-3, 1e-3),
+                1 => uniform(&mut state, -1.0 / 32.0, 1.0 / 32.0),
+                _ => uniform(&mut state, -0.15, 0.15),
+            };
             let (s, c) = a.sin_cos();
             let (gs, gc) = stage_sin_cos(a, d, s, c);
             let x = a + d;
@@ -833,7 +836,7 @@ mod tests {
                 continue;
             }
             let (rs, rc) = (xs + r * xc, xc - r * xs);
-            let tier = usize::from(d.abs() > SHIFT_LIMIT);
+            let tier = usize::from(d.abs() > pendulab_sim::lanes::SHIFT_LIMIT);
             let extra = [6e-17, 1.1e-16][tier];
             for (got, want) in [(gs, rs), (gc, rc)] {
                 let bound = 2.0 * ulp(want) + extra;
