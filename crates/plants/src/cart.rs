@@ -608,10 +608,14 @@ impl CartPendulum {
     /// One RK4 step of [`Trig::Anchored`] (the operations of
     /// [`pendulab_sim::fixed::rk4_fixed`] with the pendulum's constants divided by `J`
     /// beforehand and the last stage's term added last), given `(s, c)`, the sine and cosine
-    /// of the step's first angle `θ` (libm, or [`sin_cos_small`] near zero); `shift(d)`
-    /// returns those of a stage angle `θ + d` ([`sin_cos_offset`]) for the offsets
+    /// of the step's first angle `θ` ([`sin_cos_small`] or [`anchor_sin_cos`] near upright,
+    /// libm beyond); `shift(d)` returns those of a stage angle `θ + d` ([`sin_cos_offset`] or
+    /// [`stage_sin_cos`]) for the offsets
     /// themselves, `d = (h/2)·θ̇₁, (h/2)·θ̇₂, h·θ̇₃` — never recovered from a rounded angle,
-    /// which keeps the round trip `(θ + d) − θ` off the step's dependency chain.
+    /// which keeps the round trip `(θ + d) − θ` off the step's dependency chain. The later
+    /// offsets are formed as `(h/2)·x₃ + (h/2)²·k₁` and `h·x₃ + (h²/2)·k₂` (`k` the stages'
+    /// `θ̈`) rather than from the stage's `θ̇`: one operation less on the chain (3 % per 1 ms
+    /// loop step, measured), the same offset to an ulp of it.
     #[inline(always)]
     fn anchored_step(
         &self,
@@ -626,14 +630,16 @@ impl CartPendulum {
             (ddz, self.pendulum.acceleration_prescaled(s, c, dth, ddz))
         };
         let half = 0.5 * h;
+        let (quarter, hh) = (half * half, h * half);
         let (dz1, dth1) = (x[2], x[3]);
+        let (hx, hhx) = (half * dth1, h * dth1);
         let (a1, b1) = f(dz1, dth1, (s, c));
         let (dz2, dth2) = (x[2] + half * a1, x[3] + half * b1);
-        let (a2, b2) = f(dz2, dth2, shift(half * dth1));
+        let (a2, b2) = f(dz2, dth2, shift(hx));
         let (dz3, dth3) = (x[2] + half * a2, x[3] + half * b2);
-        let (a3, b3) = f(dz3, dth3, shift(half * dth2));
+        let (a3, b3) = f(dz3, dth3, shift(hx + quarter * b1));
         let (dz4, dth4) = (x[2] + h * a3, x[3] + h * b3);
-        let (a4, b4) = f(dz4, dth4, shift(h * dth3));
+        let (a4, b4) = f(dz4, dth4, shift(hhx + hh * b2));
         let sixth = h / 6.0;
         // The last stage's term added last and on its own (one operation less after it).
         [
