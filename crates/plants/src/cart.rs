@@ -269,6 +269,16 @@ impl CartPendulum {
     /// Indices of the states the rig measures (encoders): `y = [z, θ]`.
     pub const MEASURED_STATES: [usize; 2] = [0, 1];
 
+    /// [`Trig::Anchored`]: the largest `|θ|` \[rad\] at the start of an RK4 step whose sine and
+    /// cosine come from a series (beyond it: libm). The CartPole-v1 environment's angles,
+    /// |θ| ≤ 12° = 0.21 rad, lie within it.
+    pub const ANCHORED_ANGLE_LIMIT: f64 = 0.25;
+
+    /// [`Trig::Anchored`]: the largest stage offset `|d|` \[rad\] (`(h/2)·θ̇` or `h·θ̇`) whose
+    /// sine and cosine come from the step's first ones by the addition theorem (beyond it:
+    /// libm at the stage angle). A step of `h = 20 ms` stays within it up to |θ̇| = 6.25 rad/s.
+    pub const ANCHORED_SHIFT_LIMIT: f64 = 0.125;
+
     /// A plant from validated parameters.
     ///
     /// # Errors
@@ -296,8 +306,10 @@ impl CartPendulum {
     /// libm-based references. [`Trig::Anchored`] changes only the RK4 step of the
     /// fixed-size closed-loop kernel (`pendulab_sim::fixed`, e.g. `SampledLoop::fixed`): the
     /// step's later stages take their sines from the first stage's (about 250 fewer
-    /// instructions per step, each within 2 ulp + 6·10⁻¹⁷ of libm) and the pendulum's
-    /// constants are divided by `J` beforehand; every other evaluation
+    /// instructions per step, each within 2 ulp + 6·10⁻¹⁷ of libm for steps of at most
+    /// 2⁻⁸ s, 2 ulp + 1.1·10⁻¹⁶ for longer ones), the first stage's from a series near
+    /// upright (within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] for the longer steps), and the
+    /// pendulum's constants are divided by `J` beforehand; every other evaluation
     /// of this plant uses libm. Jacobians, linearisations, energy and geometry always use
     /// libm.
     pub fn with_trig(mut self, trig: Trig) -> Self {
@@ -464,10 +476,22 @@ impl Dynamics for CartPendulum {
 /// ([`pendulab_sim::fixed`]): the operations of [`CartPendulum::derivative_array`], which the
 /// [`Dynamics`] implementation also evaluates, so the kernel reproduces `SampledLoop` bit for
 /// bit — except with [`Trig::Anchored`], whose RK4 step evaluates the step's first sine and
-/// cosine by libm (by [`pendulab_sim::lanes::sin_cos_small`] within 1/32 rad of upright) and
-/// takes the later stages' from them for the stages' offsets
-/// ([`pendulab_sim::lanes::sin_cos_offset`]): within 2 ulp + 6·10⁻¹⁷ of libm's each, about
-/// 250 fewer instructions per step, and a shorter dependency chain (see `anchored_step`).
+/// cosine by a series near upright and takes the later stages' from them for the stages'
+/// offsets by the addition theorem (see `anchored_step`): about 250 fewer instructions per
+/// step than libm's four, and a shorter dependency chain. Two variants, by the step length:
+///
+/// - steps of at most 2⁻⁸ s (the 1 ms loops): [`pendulab_sim::lanes::sin_cos_small`] for the
+///   first angle and [`pendulab_sim::lanes::sin_cos_offset`] for the stages, series within
+///   1/32 rad, libm beyond; each within 2 ulp + 6·10⁻¹⁷ of libm's;
+/// - longer steps (e.g. the 20 ms of the CartPole-v1 environment,
+///   `pendulab_sim::env::FixedEnv`, whose angles up to 12° and stage offsets `(h/2)·θ̇`,
+///   `h·θ̇` mostly exceed 1/32): one series each over the whole range,
+///   `wide_angle_series` within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] of upright and
+///   `wide_shift_series` for offsets up to [`CartPendulum::ANCHORED_SHIFT_LIMIT`] (libm
+///   beyond), within 2 ulp + 6·10⁻¹⁷ and 2 ulp + 1.1·10⁻¹⁶ of libm's. One series rather than
+///   tiers, because an episode's random angles would mispredict the choice between tiers
+///   about every third step (measured: 52 against 60 ns per environment step); and not for
+///   the 1 ms loops, which run ~10 % slower with the wide series' code (measured).
 impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
     #[inline(always)]
     fn derivative_fixed(&self, x: &[f64; 4], u: f64) -> [f64; 4] {
@@ -485,19 +509,113 @@ impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
             return pendulab_sim::fixed::rk4_fixed(self, x, u, h);
         }
         let theta = x[1];
-        let (s, c) = sin_cos_small(theta);
-        *x = self.anchored_step(x, u, h, (s, c), |d| sin_cos_offset(theta, d, s, c));
+        if h <= NARROW_STEP_LIMIT {
+            let (s, c) = sin_cos_small(theta);
+            *x = self.anchored_step(x, u, h, (s, c), |d| sin_cos_offset(theta, d, s, c));
+        } else {
+            let (s, c) = anchor_sin_cos(theta);
+            *x = self.anchored_step(x, u, h, (s, c), |d| stage_sin_cos(theta, d, s, c));
+        }
     }
+}
+
+/// Steps up to this length (s) take the anchored step with the 1/32 rad series of
+/// `pendulab_sim::lanes` (their stage offsets `h·θ̇` exceed 1/32 only beyond |θ̇| = 8 rad/s);
+/// longer ones the wide series (see the `FixedDynamics` implementation).
+const NARROW_STEP_LIMIT: f64 = 1.0 / 256.0;
+
+const WIDE_ANGLE_LIMIT: f64 = CartPendulum::ANCHORED_ANGLE_LIMIT;
+const WIDE_SHIFT_LIMIT: f64 = CartPendulum::ANCHORED_SHIFT_LIMIT;
+
+/// The sine and cosine of an anchored RK4 step's first angle for steps longer than 2⁻⁸ s:
+/// [`wide_angle_series`] for `|θ| ≤` [`WIDE_ANGLE_LIMIT`], libm beyond (and for NaN); within
+/// 2 ulp + 6·10⁻¹⁷ of libm (checked in this module's tests over the whole range). One series
+/// for the whole range: the random angles of an environment's episodes would mispredict the
+/// choice between narrower series about every third step.
+#[inline(always)]
+fn anchor_sin_cos(theta: f64) -> (f64, f64) {
+    if theta.abs() <= WIDE_ANGLE_LIMIT {
+        wide_angle_series(theta)
+    } else {
+        theta.sin_cos()
+    }
+}
+
+/// `(sin(θ + d), cos(θ + d))` of an RK4 stage angle from `(s, c) = (sin θ, cos θ)` for steps
+/// longer than 2⁻⁸ s: the addition theorem of [`sin_cos_offset`] with
+/// [`wide_shift_series`] for `|d| ≤` [`WIDE_SHIFT_LIMIT`] (one series for the whole range,
+/// as [`anchor_sin_cos`]), libm's `(θ + d).sin_cos()` beyond (and for NaN).
+#[inline(always)]
+fn stage_sin_cos(theta: f64, d: f64, s: f64, c: f64) -> (f64, f64) {
+    if d.abs() <= WIDE_SHIFT_LIMIT {
+        let (sd, cm1) = wide_shift_series(d);
+        (s + (s * cm1 + c * sd), c + (c * cm1 - s * sd))
+    } else {
+        (theta + d).sin_cos()
+    }
+}
+
+/// `(sin x, cos x)` for `|x| ≤ 1/4` by their Taylor series to `x¹¹` and `x¹²` (the first
+/// omitted terms, `x¹³/13! < 2.5·10⁻¹⁸` and `x¹⁴/14! < 5·10⁻²⁰`, are far below half an ulp),
+/// the polynomials in `z = x²` evaluated in Estrin's pairing: `sin x = x + x·z·P(z)`,
+/// `cos x = 1 + z·Q(z)`. The correction terms are at most `x³/6 < 2.7·10⁻³` and
+/// `x²/2 ≤ 1/32`, so their few roundings cost ≲ 2·10⁻¹⁷ and the final addition half an ulp.
+#[inline(always)]
+fn wide_angle_series(x: f64) -> (f64, f64) {
+    const S: [f64; 5] = [
+        -1.0 / 6.0,
+        1.0 / 120.0,
+        -1.0 / 5040.0,
+        1.0 / 362_880.0,
+        -1.0 / 39_916_800.0,
+    ];
+    const C: [f64; 6] = [
+        -0.5,
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+        1.0 / 479_001_600.0,
+    ];
+    let z = x * x;
+    let z2 = z * z;
+    let p = (S[0] + S[1] * z) + z2 * ((S[2] + S[3] * z) + S[4] * z2);
+    let q = (C[0] + C[1] * z) + z2 * ((C[2] + C[3] * z) + z2 * (C[4] + C[5] * z));
+    (x + (x * z) * p, 1.0 + z * q)
+}
+
+/// `(sin d, cos d − 1)` for `|d| ≤ 1/8` by their Taylor series to `d⁹` and `d¹⁰` (the first
+/// omitted terms, `d¹¹/11! < 3·10⁻¹⁸` and `d¹²/12! < 2·10⁻²⁰`), Estrin's pairing in `z = d²`;
+/// as the series of `pendulab_sim::lanes::sin_cos_offset` with two more terms each.
+#[inline(always)]
+fn wide_shift_series(d: f64) -> (f64, f64) {
+    const S: [f64; 4] = [-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0];
+    const C: [f64; 5] = [
+        -0.5,
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+    ];
+    let z = d * d;
+    let z2 = z * z;
+    let p = (S[0] + S[1] * z) + z2 * (S[2] + S[3] * z);
+    let q = (C[0] + C[1] * z) + z2 * ((C[2] + C[3] * z) + C[4] * z2);
+    (d + (d * z) * p, z * q)
 }
 
 impl CartPendulum {
     /// One RK4 step of [`Trig::Anchored`] (the operations of
     /// [`pendulab_sim::fixed::rk4_fixed`] with the pendulum's constants divided by `J`
     /// beforehand and the last stage's term added last), given `(s, c)`, the sine and cosine
-    /// of the step's first angle `θ` (libm, or [`sin_cos_small`] near zero); `shift(d)`
-    /// returns those of a stage angle `θ + d` ([`sin_cos_offset`]) for the offsets
+    /// of the step's first angle `θ` ([`sin_cos_small`] or [`anchor_sin_cos`] near upright,
+    /// libm beyond); `shift(d)` returns those of a stage angle `θ + d` ([`sin_cos_offset`] or
+    /// [`stage_sin_cos`]) for the offsets
     /// themselves, `d = (h/2)·θ̇₁, (h/2)·θ̇₂, h·θ̇₃` — never recovered from a rounded angle,
-    /// which keeps the round trip `(θ + d) − θ` off the step's dependency chain.
+    /// which keeps the round trip `(θ + d) − θ` off the step's dependency chain. The later
+    /// offsets are formed as `(h/2)·x₃ + (h/2)²·k₁` and `h·x₃ + (h²/2)·k₂` (`k` the stages'
+    /// `θ̈`) rather than from the stage's `θ̇`: one operation less on the chain (3 % per 1 ms
+    /// loop step, measured), the same offset to an ulp of it.
     #[inline(always)]
     fn anchored_step(
         &self,
@@ -512,14 +630,16 @@ impl CartPendulum {
             (ddz, self.pendulum.acceleration_prescaled(s, c, dth, ddz))
         };
         let half = 0.5 * h;
+        let (quarter, hh) = (half * half, h * half);
         let (dz1, dth1) = (x[2], x[3]);
+        let (hx, hhx) = (half * dth1, h * dth1);
         let (a1, b1) = f(dz1, dth1, (s, c));
         let (dz2, dth2) = (x[2] + half * a1, x[3] + half * b1);
-        let (a2, b2) = f(dz2, dth2, shift(half * dth1));
+        let (a2, b2) = f(dz2, dth2, shift(hx));
         let (dz3, dth3) = (x[2] + half * a2, x[3] + half * b2);
-        let (a3, b3) = f(dz3, dth3, shift(half * dth2));
+        let (a3, b3) = f(dz3, dth3, shift(hx + quarter * b1));
         let (dz4, dth4) = (x[2] + h * a3, x[3] + h * b3);
-        let (a4, b4) = f(dz4, dth4, shift(h * dth3));
+        let (a4, b4) = f(dz4, dth4, shift(hhx + hh * b2));
         let sixth = h / 6.0;
         // The last stage's term added last and on its own (one operation less after it).
         [
@@ -630,6 +750,112 @@ impl CartPendulum {
 mod tests {
     use super::*;
     use pendulab_sim::rk4_step;
+
+    /// The spacing of doubles at `v` (ulp); the smallest normal spacing at zero.
+    fn ulp(v: f64) -> f64 {
+        let a = v.abs();
+        if a == 0.0 {
+            return f64::MIN_POSITIVE;
+        }
+        f64::from_bits(a.to_bits() + 1) - a
+    }
+
+    /// Uniform numbers in `[lo, hi)` from a 64-bit LCG (Knuth's MMIX constants).
+    fn uniform(state: &mut u64, lo: f64, hi: f64) -> f64 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        lo + (hi - lo) * ((*state >> 11) as f64 / (1u64 << 53) as f64)
+    }
+
+    /// The anchored step's first sine and cosine against libm's (the independent reference)
+    /// over `|θ| ≤ 0.3`: within the bound of `Trig::Anchored`, 2 ulp + 6·10⁻¹⁷ (libm < 1
+    /// ulp, the truncated series < 3·10⁻¹⁸, the correction's roundings ≲ 2·10⁻¹⁷, the final
+    /// addition half an ulp), and exactly libm's beyond the wide series' range.
+    #[test]
+    fn anchor_sine_and_cosine_are_within_the_anchored_bound_of_libm() {
+        let mut state = 1u64;
+        let mut worst = 0.0f64;
+        let mut points: Vec<f64> = (0..400_000)
+            .map(|_| uniform(&mut state, -0.3, 0.3))
+            .collect();
+        // The range's end and tiny angles (where the series' leading term rules).
+        for b in [WIDE_ANGLE_LIMIT, 1e-3, 1e-9, 1e-300] {
+            for v in [
+                b,
+                f64::from_bits(b.to_bits() + 1),
+                f64::from_bits(b.to_bits() - 1),
+            ] {
+                points.extend([v, -v]);
+            }
+        }
+        for x in points {
+            let (s, c) = anchor_sin_cos(x);
+            let (rs, rc) = x.sin_cos();
+            if x.abs() > WIDE_ANGLE_LIMIT {
+                assert_eq!((s, c), (rs, rc), "{x:e}");
+                continue;
+            }
+            for (got, want) in [(s, rs), (c, rc)] {
+                let bound = 2.0 * ulp(want) + 6e-17;
+                let err = (got - want).abs();
+                assert!(err <= bound, "{x:e}: {got:e} vs {want:e}");
+                worst = worst.max(err / bound);
+            }
+        }
+        // Not vacuous: the rounding shows.
+        assert!(worst > 0.05, "worst error / bound {worst}");
+    }
+
+    /// The stage sines and cosines from the anchor's (`stage_sin_cos`) against libm at the
+    /// stage angle `x = fl(θ + d)`, corrected to first order by the rounding error of that sum
+    /// (`r = (θ + d) − x`, exact by Knuth's TwoSum; `sin(x + r) = sin x + r cos x` up to
+    /// `r²/2 < 10⁻³²`): anchors over several periods and near zero, offsets within 1/32 and
+    /// up to 1/8 (the wide series) and beyond (libm). Bound: 2 ulp + 6·10⁻¹⁷ for offsets
+    /// within 1/32 (the documented bound of `sin_cos_offset`, whose argument holds for the
+    /// longer series as well: its truncation is smaller); beyond, the correction term
+    /// `s·(cos d − 1) + c·sin d` reaches |d| + d²/2 < 0.133 and its three roundings add up to
+    /// 3 · 2⁻⁵³ · 0.133 < 5·10⁻¹⁷ more, so 2 ulp + 1.1·10⁻¹⁶ there.
+    #[test]
+    fn stage_sine_and_cosine_are_within_the_anchored_bound_of_libm() {
+        let mut state = 2u64;
+        let mut worst = [0.0f64; 2];
+        for i in 0..1_000_000 {
+            let a = match i % 3 {
+                0 => uniform(&mut state, -20.0, 20.0),
+                1 => uniform(&mut state, -1e-3, 1e-3),
+                _ => uniform(&mut state, -0.25, 0.25),
+            };
+            let d = match i % 4 {
+                0 => uniform(&mut state, -1e-3, 1e-3),
+                1 => uniform(&mut state, -1.0 / 32.0, 1.0 / 32.0),
+                _ => uniform(&mut state, -0.15, 0.15),
+            };
+            let (s, c) = a.sin_cos();
+            let (gs, gc) = stage_sin_cos(a, d, s, c);
+            let x = a + d;
+            let bb = x - a;
+            let r = (a - (x - bb)) + (d - bb);
+            let (xs, xc) = x.sin_cos();
+            if d.abs() > WIDE_SHIFT_LIMIT {
+                assert_eq!((gs, gc), (xs, xc), "a = {a:e}, d = {d:e}");
+                continue;
+            }
+            let (rs, rc) = (xs + r * xc, xc - r * xs);
+            let tier = usize::from(d.abs() > pendulab_sim::lanes::SHIFT_LIMIT);
+            let extra = [6e-17, 1.1e-16][tier];
+            for (got, want) in [(gs, rs), (gc, rc)] {
+                let bound = 2.0 * ulp(want) + extra;
+                let err = (got - want).abs();
+                assert!(err <= bound, "a = {a:e}, d = {d:e}: {got:e} vs {want:e}");
+                worst[tier] = worst[tier].max(err / bound);
+            }
+        }
+        assert!(
+            worst[0] > 0.05 && worst[1] > 0.05,
+            "worst error / bound {worst:?}"
+        );
+    }
 
     /// The polynomial sine/cosine changes `θ̈` only through `sin θ` and `cos θ`: by at most
     /// their error (2 ulp + 4·10⁻¹⁷·max(1, |θ|), `Trig`'s documented bound against libm)

@@ -1,11 +1,13 @@
 //! The Gymnasium-style environment: reproducible resets, steps equal to the RK4 kernel,
-//! termination, truncation, clipping and errors.
+//! termination, truncation, clipping and errors; `FixedEnv` against `Env`.
 
 mod common;
 
 use common::CartPendulum;
 use pendulab_lti::Mat;
-use pendulab_sim::{Env, EnvConfig, SimError, rk4_step};
+use pendulab_sim::env::FixedEnv;
+use pendulab_sim::fixed::FixedDynamics;
+use pendulab_sim::{Dynamics, Env, EnvConfig, SimError, rk4_step};
 
 #[test]
 fn resets_are_seeded_and_steps_are_rk4_periods() {
@@ -101,4 +103,141 @@ fn bad_configuration_and_actions_are_errors() {
         Err(SimError::NonFiniteCommand { .. })
     ));
     assert!(env.reset_to([0.0, f64::INFINITY, 0.0, 0.0]).is_err());
+}
+
+/// The test plant on arrays for `FixedEnv`: its own `Dynamics::derivative` (the contract of
+/// `FixedDynamics`), with the provided RK4 step.
+impl FixedDynamics<4> for CartPendulum {
+    fn derivative_fixed(&self, x: &[f64; 4], u: f64) -> [f64; 4] {
+        let mut dx = [0.0; 4];
+        self.derivative(0.0, x, &[u], &mut dx);
+        dx
+    }
+}
+
+/// A deterministic action sequence in ±`amp` (a 64-bit LCG, Knuth's MMIX constants): the
+/// actions only need to be the same for both environments.
+fn actions(seed: u64, amp: f64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * amp
+    }
+}
+
+/// `FixedEnv` with the provided RK4 step (`rk4_fixed`, the operations of `rk4_step`) against
+/// `Env` (the generic RK4 on slices): the same seeds draw the same initial states and every
+/// step of thousands of random-action episodes (actions up to ±6 V, beyond the ±5 V limit,
+/// so the clipping is exercised) agrees bit for bit, observation, reward and flags, with one
+/// and with three substeps; `Env::fixed` continues from the same generator state.
+#[test]
+fn fixed_env_repeats_the_general_env_bit_for_bit() {
+    for substeps in [1, 3] {
+        let config = EnvConfig {
+            substeps,
+            ..EnvConfig::cart_pole(0.4).unwrap()
+        };
+        let mut general = Env::<_, 4>::new(CartPendulum::default(), config.clone()).unwrap();
+        let mut fast = FixedEnv::<_, 4>::new(CartPendulum::default(), config).unwrap();
+        assert_eq!(general.reset(Some(11)), fast.reset(Some(11)));
+        let mut next = actions(5, 6.0);
+        let (mut episodes, mut truncated) = (0, 0);
+        for _ in 0..20_000 {
+            let a = next();
+            let (sa, sb) = (general.step(a).unwrap(), fast.step(a).unwrap());
+            assert_eq!(sa, sb);
+            assert_eq!(general.steps(), fast.steps());
+            if sa.terminated || sa.truncated {
+                episodes += 1;
+                truncated += usize::from(sa.truncated);
+                // Reward 0 and no change after the end, in both.
+                assert_eq!(general.step(0.3).unwrap(), fast.step(0.3).unwrap());
+                assert_eq!(general.reset(None), fast.reset(None));
+            }
+        }
+        assert!(episodes > 100, "{episodes} episodes");
+        assert_eq!(truncated, 0, "random actions never balance for 500 steps");
+        // The conversion carries the generator state along.
+        let mut copy = general.fixed();
+        assert_eq!(copy.observation(), general.observation());
+        assert_eq!(copy.reset(None), general.reset(None));
+        assert_eq!(copy.config(), general.config());
+    }
+}
+
+/// `FixedEnv` keeps the semantics: seeded resets, truncation at 500 steps under a
+/// stabilising policy, and the configuration and action errors of `Env`.
+#[test]
+fn fixed_env_seeds_truncates_and_refuses_bad_input() {
+    let plant = CartPendulum::default();
+    let mut env = FixedEnv::<_, 4>::new(plant, EnvConfig::cart_pole(0.4).unwrap()).unwrap();
+    let a = env.reset(Some(7));
+    assert_eq!(a, env.reset(Some(7)));
+    assert_ne!(a, env.reset(None));
+    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[10.0, 10.0, 0.0, 0.0]));
+    let k = pendulab_lti::design::lqr(&plant.linear(), &q, &Mat::identity(1, 1), None)
+        .unwrap()
+        .gain;
+    let mut obs = env.reset(Some(3));
+    let mut n = 0;
+    loop {
+        let u = -(0..4).map(|j| k[(0, j)] * obs[j]).sum::<f64>();
+        let s = env.step(u).unwrap();
+        n += 1;
+        obs = s.obs;
+        if s.terminated || s.truncated {
+            assert!(s.truncated && !s.terminated, "fell at step {n}");
+            break;
+        }
+    }
+    assert_eq!((n, env.steps()), (500, 500));
+    let after = env.step(1.0).unwrap();
+    assert_eq!((after.reward, after.truncated, after.obs), (0.0, true, obs));
+    let bad = |f: fn(&mut EnvConfig)| {
+        let mut c = EnvConfig::cart_pole(0.4).unwrap();
+        f(&mut c);
+        FixedEnv::<_, 4>::new(plant, c).is_err()
+    };
+    assert!(bad(|c| c.dt = 0.0));
+    assert!(bad(|c| c.substeps = 0));
+    assert!(bad(|c| c.max_steps = 0));
+    assert!(bad(|c| c.action_limit = -1.0));
+    assert!(bad(|c| c.reset_half_width = vec![0.1; 3]));
+    assert!(bad(|c| c.nominal = vec![0.0; 5]));
+    assert!(bad(|c| c.reset_half_width[2] = -0.1));
+    assert!(bad(|c| c.limits.push((4, 1.0))));
+    assert!(bad(|c| c.nominal[0] = f64::NAN));
+    env.reset(Some(1));
+    env.step(0.5).unwrap();
+    match env.step(f64::NAN) {
+        Err(SimError::NonFiniteCommand { t, index: 0, value }) => {
+            assert!(value.is_nan());
+            assert_eq!(t, 0.02, "the time of the refused step");
+        }
+        other => panic!("expected NonFiniteCommand, got {other:?}"),
+    }
+    // The refused action changed nothing.
+    assert_eq!(env.steps(), 1);
+    assert!(matches!(
+        env.reset_to([0.0, f64::NAN, 0.0, 0.0]),
+        Err(SimError::NonFiniteInitialState { .. })
+    ));
+    // A state that blows up is an error, not a panic: an unbounded action limit and a
+    // huge action overflow the cart's velocity within a step.
+    let mut wild = FixedEnv::<_, 4>::new(
+        plant,
+        EnvConfig {
+            action_limit: f64::MAX,
+            limits: vec![],
+            ..EnvConfig::cart_pole(0.4).unwrap()
+        },
+    )
+    .unwrap();
+    wild.reset(Some(1));
+    assert!(matches!(
+        wild.step(f64::MAX),
+        Err(SimError::NonFiniteState { .. })
+    ));
 }

@@ -26,14 +26,21 @@
 //!   fraction, the same grid through the general `SampledLoop` (rate, and the lane kernel with
 //!   libm's sine/cosine, which must be bit-identical to it), and how far the headline's
 //!   outcomes and final states are from the general loop's.
-//! - `cartpole-step`: the Gymnasium-style environment (`pendulab_sim::Env`, CartPole-v1 settings
-//!   on this rig: one RK4 step of 20 ms per `step`, track ±0.4 m chosen here) driven by uniform
-//!   random actions in ±5 V with resets at episode ends, like a random-policy rollout, the
-//!   default plant (libm's sine/cosine). Figure: `step` calls per second, random actions
-//!   included. Check: the rate with the plant's opt-in polynomial sine/cosine
-//!   (`Trig::Polynomial`), the cost of drawing the random actions alone and the environment's
-//!   rate without it; one step equals the RK4 kernel; an LQR policy survives the 500-step
-//!   episode.
+//! - `cartpole-step`: the Gymnasium-style environment (CartPole-v1 settings on this rig: one
+//!   RK4 step of 20 ms per `step`, track ±0.4 m chosen here) driven by uniform random actions
+//!   in ±5 V with resets at episode ends, like a random-policy rollout, through
+//!   `pendulab_sim::env::FixedEnv` (the fixed-size RK4 kernel of `FixedDynamics`) with the
+//!   plant's `Trig::Anchored` step: the first angle's sine/cosine by a series within 0.25 rad
+//!   of upright, the later stages' by the addition theorem for offsets up to 1/8 rad (each
+//!   within 2 ulp + 1.1·10⁻¹⁶ of libm; libm beyond). Figure: `step` calls per second,
+//!   random actions included. Check: the general `Env` with libm (the previous headline),
+//!   timed alternately with the headline; `FixedEnv` with libm (bit-identical to `Env` over
+//!   10 000 steps); `Env` with the polynomial sine/cosine; the anchored environment against
+//!   the libm one over 2000 episodes (episodes ending differently, largest state deviation,
+//!   largest ratio to the documented bound `n · 10⁻¹⁴ · e^{8 n h}` after `n` steps);
+//!   how often the anchored step falls back to libm in the rollout's episodes (and how often
+//!   it would with the 1/32 rad series of the 1 ms loops); one step equals the RK4 kernel;
+//!   an LQR policy survives the 500-step episode; the cost of drawing the random actions.
 
 use super::{BenchReport, Budget, Workload, time};
 use anyhow::{Context, Result};
@@ -41,8 +48,9 @@ use pendulab_lti::Mat;
 use pendulab_plants::{CartEquilibrium, CartPendulum};
 use pendulab_sim::batch::{Axis, grid, run_initial_states};
 use pendulab_sim::controllers::StaticStateFeedback;
+use pendulab_sim::env::FixedEnv;
 use pendulab_sim::lanes::{
-    AnchoredSinCos, LaneOptions, LibmSinCos, PolySinCos, Trig, run_feedback_lanes,
+    AnchoredSinCos, LaneOptions, LibmSinCos, PolySinCos, SHIFT_LIMIT, Trig, run_feedback_lanes,
 };
 use pendulab_sim::{
     Env, EnvConfig, Integrator, Record, RunStatus, SampledLoop, SampledOptions, StayWithin,
@@ -324,39 +332,170 @@ fn run_batch(budget: &Budget) -> Result<BenchReport> {
     })
 }
 
-fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
-    // Headline: the environment with the default plant (libm's sine/cosine).
-    let plant = CartPendulum::book();
-    let mut env = Env::<_, 4>::new(plant, EnvConfig::cart_pole(0.4)?)?;
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-    env.reset(Some(1));
-    const CALLS: usize = 100_000;
-    let mut episodes = 0usize;
-    let mut steps_total = 0usize;
-    let timing = time(budget, || {
-        steps_total += CALLS;
+/// A random-policy rollout of `CALLS` steps: uniform actions in ±5 V, reset at episode ends.
+/// Returns the episodes finished.
+macro_rules! rollout {
+    ($env:expr, $rng:expr) => {{
+        let mut finished = 0usize;
         for _ in 0..CALLS {
-            let a: f64 = rng.random_range(-5.0..5.0);
-            let s = env.step(a).expect("step");
+            let a: f64 = $rng.random_range(-5.0..5.0);
+            let s = $env.step(a).expect("step");
             if s.terminated || s.truncated {
-                env.reset(None);
-                episodes += 1;
+                $env.reset(None);
+                finished += 1;
             }
         }
+        finished
+    }};
+}
+
+/// Alternately timed rounds pooled: the median of the rounds' medians, the fastest batch.
+fn pooled(rounds: &[super::Timing]) -> super::Timing {
+    let mut medians: Vec<f64> = rounds.iter().map(|t| t.median_s).collect();
+    medians.sort_by(|a, b| a.total_cmp(b));
+    super::Timing {
+        iterations: rounds.iter().map(|t| t.iterations).sum(),
+        median_s: medians[medians.len() / 2],
+        min_s: rounds.iter().map(|t| t.min_s).fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// Steps per timed batch of the cart-pole rollouts.
+const CALLS: usize = 100_000;
+
+/// How often the anchored RK4 step falls back to libm in the random-policy episodes of the
+/// cart-pole rollout: the first angle `θ` and the stage offsets `(h/2)·θ̇₁`, `(h/2)·θ̇₂`,
+/// `h·θ̇₃` of each step recomputed from the libm plant's stages, counted against the ranges
+/// of the anchored series (`first_range`, `shift_range`). Returns
+/// `(steps, [first angle, stage 2, stage 3, stage 4, any])`.
+fn anchored_fallbacks(
+    plant: &CartPendulum,
+    episodes: usize,
+    (first_range, shift_range): (f64, f64),
+) -> Result<(usize, [usize; 5])> {
+    use pendulab_sim::fixed::FixedDynamics;
+    let mut env = Env::<_, 4>::new(*plant, EnvConfig::cart_pole(0.4)?)?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    let h = env.config().dt;
+    let mut counts = [0usize; 5];
+    let mut steps = 0usize;
+    env.reset(Some(1));
+    let mut done = 0;
+    while done < episodes {
+        let a: f64 = rng.random_range(-5.0..5.0);
+        let x = env.observation();
+        let u = a.clamp(-5.0, 5.0);
+        let k1 = plant.derivative_fixed(&x, u);
+        let x2: [f64; 4] = std::array::from_fn(|i| x[i] + 0.5 * h * k1[i]);
+        let k2 = plant.derivative_fixed(&x2, u);
+        let x3: [f64; 4] = std::array::from_fn(|i| x[i] + 0.5 * h * k2[i]);
+        let out = [
+            x[1].abs() > first_range,
+            (0.5 * h * x[3]).abs() > shift_range,
+            (0.5 * h * x2[3]).abs() > shift_range,
+            (h * x3[3]).abs() > shift_range,
+        ];
+        for (c, o) in counts.iter_mut().zip(out) {
+            *c += usize::from(o);
+        }
+        counts[4] += usize::from(out.iter().any(|&o| o));
+        steps += 1;
+        let s = env.step(a)?;
+        if s.terminated || s.truncated {
+            env.reset(None);
+            done += 1;
+        }
+    }
+    Ok((steps, counts))
+}
+
+/// The anchored environment against the general one with libm over `episodes` random-policy
+/// episodes (same seeds, same actions): episodes whose length or ending differs, the largest
+/// state difference of the others, and the largest ratio of a step's difference to the
+/// documented bound after `n` steps, `n · 10⁻¹⁴ · e^{8 n h}` (per step at most 10⁻¹⁴ from the
+/// anchored sines' 2 ulp + 1.1·10⁻¹⁶, amplified at most like e^{8 t} by the falling pendulum;
+/// derived in `pendulab-plants`' `tests/env.rs`).
+fn anchored_agreement(episodes: usize) -> Result<(usize, f64, f64)> {
+    let config = EnvConfig::cart_pole(0.4)?;
+    let h = config.dt;
+    let mut general = Env::<_, 4>::new(CartPendulum::book(), config.clone())?;
+    let mut fast = FixedEnv::<_, 4>::new(CartPendulum::book().with_trig(Trig::Anchored), config)?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2);
+    let mut differing = 0usize;
+    let (mut max_dev, mut max_ratio) = (0.0f64, 0.0f64);
+    for e in 0..episodes {
+        let seed = Some(e as u64);
+        general.reset(seed);
+        fast.reset(seed);
+        let mut ended = false;
+        let mut n = 0usize;
+        while !ended {
+            let a: f64 = rng.random_range(-5.0..5.0);
+            let (sa, sb) = (general.step(a)?, fast.step(a)?);
+            n += 1;
+            let ends = |s: &pendulab_sim::Step<4>| (s.terminated, s.truncated);
+            if ends(&sa) != ends(&sb) {
+                differing += 1;
+                break;
+            }
+            ended = sa.terminated || sa.truncated;
+            let bound = n as f64 * 1e-14 * (8.0 * n as f64 * h).exp();
+            for j in 0..4 {
+                let d = (sa.obs[j] - sb.obs[j]).abs();
+                max_dev = max_dev.max(d);
+                max_ratio = max_ratio.max(d / bound);
+            }
+        }
+    }
+    Ok((differing, max_dev, max_ratio))
+}
+
+fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
+    // Headline: the fixed-size environment with the plant's anchored RK4 step.
+    let plant = CartPendulum::book();
+    let anchored = plant.with_trig(Trig::Anchored);
+    let mut env = FixedEnv::<_, 4>::new(anchored, EnvConfig::cart_pole(0.4)?)?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    env.reset(Some(1));
+    let mut episodes = 0usize;
+    let mut steps_total = 0usize;
+    // The general environment with libm's sine/cosine, timed alternately with the headline
+    // (rounds of ~50 ms each) so that both see the same host load.
+    let mut general = Env::<_, 4>::new(plant, EnvConfig::cart_pole(0.4)?)?;
+    let mut rng_general = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    general.reset(Some(1));
+    let rounds = Budget {
+        min_time: budget.min_time / 8,
+    };
+    let (mut t_fast, mut t_general) = (Vec::new(), Vec::new());
+    let start = Instant::now();
+    while t_fast.len() < 4 || start.elapsed() < budget.min_time * 2 {
+        t_fast.push(time(&rounds, || {
+            steps_total += CALLS;
+            episodes += rollout!(env, rng);
+        }));
+        t_general.push(time(&rounds, || {
+            black_box(rollout!(general, rng_general));
+        }));
+    }
+    let timing = pooled(&t_fast);
+    let timing_general = pooled(&t_general);
+    // The fixed-size environment with libm (bit-identical to the general one).
+    let mut fixed_libm = FixedEnv::<_, 4>::new(plant, EnvConfig::cart_pole(0.4)?)?;
+    let mut rng_libm = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+    fixed_libm.reset(Some(1));
+    let t_libm = time(budget, || {
+        black_box(rollout!(fixed_libm, rng_libm));
     });
-    // The same rollout with the plant's polynomial sine/cosine (within 2 ulp of libm).
-    let poly_plant = plant.with_trig(Trig::Polynomial);
-    let mut poly_env = Env::<_, 4>::new(poly_plant, EnvConfig::cart_pole(0.4)?)?;
+    // The general environment with the plant's polynomial sine/cosine (within 2 ulp of libm).
+    let mut poly_env = Env::<_, 4>::new(
+        plant.with_trig(Trig::Polynomial),
+        EnvConfig::cart_pole(0.4)?,
+    )?;
     let mut rng_poly = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     poly_env.reset(Some(1));
     let t_poly = time(budget, || {
-        for _ in 0..CALLS {
-            let a: f64 = rng_poly.random_range(-5.0..5.0);
-            let s = poly_env.step(a).expect("step");
-            if s.terminated || s.truncated {
-                poly_env.reset(None);
-            }
-        }
+        black_box(rollout!(poly_env, rng_poly));
     });
     // The random actions alone: what the rollout spends outside the environment.
     let mut rng_only = rand_chacha::ChaCha8Rng::seed_from_u64(1);
@@ -367,12 +506,41 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
         }
         black_box(acc);
     });
-    // A step is one RK4 step of 20 ms with the clipped action held.
-    let x0 = env.reset_to([0.01, 0.02, -0.03, 0.04])?;
-    let s = env.step(7.0)?;
+    // A step is one RK4 step of 20 ms with the clipped action held; the fixed-size
+    // environment with libm repeats the general one bit for bit over whole episodes.
+    let x0 = general.reset_to([0.01, 0.02, -0.03, 0.04])?;
+    let s = general.step(7.0)?;
     let mut x = x0;
     rk4_step(&plant, 0.0, &mut x, &[5.0], 0.02);
     let step_is_rk4 = s.obs == x;
+    let mut a = Env::<_, 4>::new(plant, EnvConfig::cart_pole(0.4)?)?;
+    let mut b = a.fixed();
+    let mut rng_a = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+    let mut rng_b = rng_a.clone();
+    a.reset(Some(3));
+    b.reset(Some(3));
+    let mut libm_identical = true;
+    for _ in 0..10_000 {
+        let (ua, ub): (f64, f64) = (rng_a.random_range(-6.0..6.0), rng_b.random_range(-6.0..6.0));
+        let (sa, sb) = (a.step(ua)?, b.step(ub)?);
+        libm_identical &= sa == sb;
+        if sa.terminated || sa.truncated {
+            libm_identical &= a.reset(None) == b.reset(None);
+        }
+    }
+    // The anchored environment against the general one, and how often its step takes libm.
+    let (differing, anchored_dev, anchored_ratio) = anchored_agreement(2000)?;
+    let (counted_steps, fallbacks) = anchored_fallbacks(
+        &plant,
+        2000,
+        (
+            CartPendulum::ANCHORED_ANGLE_LIMIT,
+            CartPendulum::ANCHORED_SHIFT_LIMIT,
+        ),
+    )?;
+    // ... and how often the narrower series of the 1 ms loops (1/32 rad) alone would have.
+    let (_, narrow) = anchored_fallbacks(&plant, 2000, (SHIFT_LIMIT, SHIFT_LIMIT))?;
+    let frac = |n: usize| n as f64 / counted_steps as f64;
     // An LQR policy balances through a whole episode.
     let k = lqr_gain(&plant)?;
     let mut obs = env.reset(Some(9));
@@ -391,14 +559,34 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
         figure: CALLS as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "Env::step (default plant, libm sin/cos) with a uniform random action in [-5, 5] V (ChaCha8) and Env::reset at episode ends, one core",
+            "figure_measures": "FixedEnv::step (pendulab_sim::env, fixed-size RK4 kernel; plant with Trig::Anchored: later RK4 stages' sin/cos from the step's first by the addition theorem) with a uniform random action in [-5, 5] V (ChaCha8) and reset at episode ends, one core",
             "median_s_per_100k_steps": timing.median_s,
+            "min_s_per_100k_steps": timing.min_s,
             "episodes": episodes,
             "mean_episode_length": steps_total as f64 / episodes.max(1) as f64,
+            "general_env_libm_steps_per_s": CALLS as f64 / timing_general.median_s,
+            "general_env_libm_min_s_per_100k_steps": timing_general.min_s,
+            "fixed_env_libm_steps_per_s": CALLS as f64 / t_libm.median_s,
+            "fixed_env_libm_identical_to_general_env_10k_steps": libm_identical,
+            "general_env_polynomial_trig_steps_per_s": CALLS as f64 / t_poly.median_s,
+            "anchored_vs_general_libm_episodes": 2000,
+            "anchored_vs_general_libm_episodes_ending_differently": differing,
+            "anchored_vs_general_libm_max_abs_state_deviation": anchored_dev,
+            "anchored_vs_general_libm_worst_deviation_over_documented_bound": anchored_ratio,
+            "anchored_within_documented_bound": anchored_ratio <= 1.0 && differing == 0,
+            "anchored_libm_fallback_steps_counted": counted_steps,
+            "anchored_libm_fallback_fraction_first_angle": frac(fallbacks[0]),
+            "anchored_libm_fallback_fraction_stage_2": frac(fallbacks[1]),
+            "anchored_libm_fallback_fraction_stage_3": frac(fallbacks[2]),
+            "anchored_libm_fallback_fraction_stage_4": frac(fallbacks[3]),
+            "anchored_libm_fallback_fraction_any": frac(fallbacks[4]),
+            "anchored_series_ranges_rad": [CartPendulum::ANCHORED_ANGLE_LIMIT, CartPendulum::ANCHORED_SHIFT_LIMIT],
+            "beyond_1_32_rad_fraction_first_angle": frac(narrow[0]),
+            "beyond_1_32_rad_fraction_stage_4": frac(narrow[3]),
+            "beyond_1_32_rad_fraction_any": frac(narrow[4]),
             "step_equals_rk4_kernel": step_is_rk4,
             "lqr_policy_steps": survived,
             "lqr_policy_survives_500": survived == 500,
-            "polynomial_trig_steps_per_s": CALLS as f64 / t_poly.median_s,
             "random_actions_only_per_s": CALLS as f64 / t_rng.median_s,
             "env_without_random_actions_steps_per_s":
                 CALLS as f64 / (timing.median_s - t_rng.median_s).max(f64::MIN_POSITIVE),
