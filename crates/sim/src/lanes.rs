@@ -196,7 +196,11 @@ pub fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
 ///   within 1/32 rad of zero), and the three later stages'
 ///   sines and cosines from it by the addition theorem for the stages' offsets
 ///   ([`sin_cos_offset`]), about a quarter of libm's instructions each, within
-///   2 ulp + 6·10⁻¹⁷ of libm at the stage angle. A single right-hand side
+///   2 ulp + 6·10⁻¹⁷ of libm at the stage angle. A plant may widen these ranges for long
+///   steps: the cart's step for `h > 2⁻⁸ s` (the environment's 20 ms) takes the first angle
+///   from one series up to 0.25 rad and the offsets up to 1/8 rad, within 2 ulp + 1.1·10⁻¹⁶
+///   (`pendulab_plants::CartPendulum::ANCHORED_ANGLE_LIMIT`, `ANCHORED_SHIFT_LIMIT`). A
+///   single right-hand side
 ///   evaluation outside such a step (the general sampled-data loop, linearisation, …) uses
 ///   libm, as [`Trig::Libm`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -18,7 +18,7 @@
 //! | batch runs on all cores | [`batch`] | grids of initial states, seeded Monte Carlo, region-of-attraction maps |
 //! | one fixed-size closed loop (`[f64; N]` plant, static state feedback, ZOH, RK4, saturation), monomorphised | [`fixed`] | [`SampledLoop::fixed`]; bit-identical to the general loop |
 //! | SIMD lanes for batch studies of static feedback | [`lanes`] | `L` runs stepped together; bit-identical to the general loop with [`lanes::LibmSinCos`] |
-//! | a Gymnasium-style environment | [`Env`], [`EnvConfig`] | `reset(seed)`, `step(u)`; CartPole-v1 settings on the cart rig |
+//! | a Gymnasium-style environment | [`Env`], [`EnvConfig`], [`FixedEnv`] | `reset(seed)`, `step(u)`; CartPole-v1 settings on the cart rig; `FixedEnv` steps a fixed-size plant with its own RK4 step |
 //! | errors | [`SimError`] | typed, naming what and where (and the time of a blow-up) |
 //!
 //! Conventions: SI units and radians; state feedback is `u = −K x` (the textbook's
@@ -74,7 +74,7 @@ pub mod systems;
 pub use actuator::{Actuator, DisturbancePoint, Friction, WithDriveFriction};
 pub use controller::Controller;
 pub use dynamics::Dynamics;
-pub use env::{Env, EnvConfig, Step};
+pub use env::{Env, EnvConfig, FixedEnv, Step};
 pub use error::{Result, SimError};
 pub use integrate::rk4::{Rk4Work, rk4_step, rk4_step_slice};
 pub use integrate::{
