@@ -1,9 +1,10 @@
 //! The continuous algebraic Riccati equation.
 
+use super::smith::CayleySmith;
 use super::{
-    ClosedLoopSchur, Computed, Domain, Finisher, Reduced, RiccatiMethod, RiccatiOptions,
-    RiccatiSolution, empty_solution, reduce, scale_factor, solution_and_factor_from_subspace,
-    solve_with_fallback_prior, validate,
+    ClosedLoopSchur, Computed, Domain, Finisher, NewtonHint, Reduced, RiccatiMethod,
+    RiccatiOptions, RiccatiSolution, empty_solution, reduce, scale_factor,
+    solution_and_factor_from_subspace, solve_with_fallback_prior, validate,
 };
 use crate::error::{LtiError, Result};
 use crate::linalg::Mat;
@@ -46,7 +47,10 @@ use crate::linalg::schur::real_schur;
 /// Explicit [`RiccatiMethod::Schur`] always runs Laub's method.
 ///
 /// The result is then refined by Kleinman–Newton steps in residual-correction form
-/// (`(A−BK)ᵀΔ + Δ(A−BK) = −Res(X)`, kept only if the residual drops) and checked: relative
+/// (`(A−BK)ᵀΔ + Δ(A−BK) = −Res(X)`, kept only if the residual drops; after doubling the
+/// first step is solved by the Smith iteration under the doubling's Cayley shift, after
+/// Laub's method on the Hamiltonian's Schur form, otherwise by Bartels–Stewart on a new
+/// Schur form of `A − BK`) and checked: relative
 /// residual ≤ [`RESIDUAL_LIMIT`](super::RESIDUAL_LIMIT), all closed-loop poles in the open
 /// left half-plane.
 ///
@@ -93,7 +97,7 @@ pub fn care(
     let mut prior = None;
     if options.method == RiccatiMethod::Auto && dims.n > super::small::SMALL_MAX {
         let attempt = care_doubling(&red, options.scaling, true)
-            .and_then(|x| fin.finish(x, RiccatiMethod::Doubling, options));
+            .and_then(|c| fin.finish_with(c, RiccatiMethod::Doubling, options));
         match attempt {
             Ok(sol) if strictly_acceptable(&red, &sol) => return Ok(sol),
             // Stopped at the attempt's iteration limit: the fallback runs the full iteration.
@@ -108,7 +112,7 @@ pub fn care(
     };
     solve_with_fallback_prior(&fin, &candidates, options, prior, |m| match m {
         RiccatiMethod::Schur | RiccatiMethod::Auto => care_schur(&red, options.scaling),
-        RiccatiMethod::Doubling => care_doubling(&red, options.scaling, false).map(Into::into),
+        RiccatiMethod::Doubling => care_doubling(&red, options.scaling, false),
     })
 }
 
@@ -187,7 +191,7 @@ pub(crate) fn care_schur(red: &Reduced, scaling: bool) -> Result<Computed> {
     let t11 = sch.t().view((0, 0), (n, n)).into_owned();
     Ok(Computed {
         x: x * s,
-        hint: Some(ClosedLoopSchur { u1, lu, t11 }),
+        hint: Some(NewtonHint::Schur(ClosedLoopSchur { u1, lu, t11 })),
     })
 }
 
@@ -224,7 +228,7 @@ pub(crate) const SDA_AUTO_MAX_ITER: usize = 11;
 /// numerically singular. On the `care-n100` data the iteration count is flat (8 steps
 /// including the last, confirming one) for `γ` between 0.25 and 1.5 times this value and
 /// grows for larger shifts.
-pub(crate) fn care_doubling(red: &Reduced, scaling: bool, attempt: bool) -> Result<Mat> {
+pub(crate) fn care_doubling(red: &Reduced, scaling: bool, attempt: bool) -> Result<Computed> {
     let n = red.a.nrows();
     let s = scale_factor(red, scaling);
     let g = &red.g * s;
@@ -267,7 +271,11 @@ pub(crate) fn care_doubling(red: &Reduced, scaling: bool, attempt: bool) -> Resu
         let mut e0 = &red.a + &eye * gamma;
         lu.solve_in_place(&mut e0);
         e0.gemm(-1.0, &z, &h0, 1.0);
-        return Ok(sda_iterate_limited(e0, g0, h0, attempt)? * s);
+        let x = sda_iterate_limited(e0, g0, h0, attempt)? * s;
+        return Ok(Computed {
+            x,
+            hint: Some(NewtonHint::Smith(CayleySmith { shift: gamma })),
+        });
     }
     Err(LtiError::Singular {
         what: "Cayley-transformed Hamiltonian in the doubling method".into(),

@@ -22,8 +22,10 @@
 //!    the rounding level `REFINEMENT_FLOOR · n · ε` ([`REFINEMENT_FLOOR`]); a step is kept only
 //!    if it lowers the residual, and the iteration stops when a step gains less than a factor 2.
 //!    After Laub's method the CARE steps first reuse the ordered Schur form of the Hamiltonian
-//!    (`A − BK = U₁T₁₁U₁⁻¹`, so no Schur decomposition of `A − BK` is needed); when such a step
-//!    does not lower the residual or gains less than a factor 2, the exact step follows.
+//!    (`A − BK = U₁T₁₁U₁⁻¹`, so no Schur decomposition of `A − BK` is needed), and after the
+//!    doubling method they are solved by the Smith iteration under the doubling's own Cayley
+//!    shift (matrix products only, see `smith.rs`); when such a step does not lower the
+//!    residual or gains less than a factor 2, the exact step follows.
 //! 6. The closed-loop poles are computed and required to be stable; the relative residual is
 //!    required to be below [`RESIDUAL_LIMIT`].
 //!
@@ -45,6 +47,7 @@
 mod care;
 mod dare;
 mod small;
+mod smith;
 
 pub use care::care;
 pub use dare::dare;
@@ -487,7 +490,7 @@ impl Finisher<'_> {
         self.finish_with(Computed { x, hint: None }, method, options)
     }
 
-    /// [`Finisher::finish`] for a computed solution that may carry a [`ClosedLoopSchur`]: the
+    /// [`Finisher::finish`] for a computed solution that may carry a [`NewtonHint`]: the
     /// Newton steps then use it (no Schur decomposition of `A − BK`) as long as they lower the
     /// residual; after the first step that does not, the exact step (Schur decomposition of
     /// `A − BK`) is tried before giving up.
@@ -514,7 +517,8 @@ impl Finisher<'_> {
             // Newton step in correction form: L_K(Δ) = −Res(X), with L_K the Fréchet
             // derivative at X: (A−BK)ᵀΔ + Δ(A−BK) (Kleinman) or (A−BK)ᵀΔ(A−BK) − Δ (Hewer).
             let delta = match &hint {
-                Some(h) => h.newton_step(&res_mat),
+                Some(NewtonHint::Schur(h)) => h.newton_step(&res_mat),
+                Some(NewtonHint::Smith(h)) => h.newton_step(&(self.a - self.b * &k), &res_mat),
                 None => {
                     let ak = self.a - self.b * &k;
                     match self.domain {
@@ -715,13 +719,23 @@ pub(crate) fn solution_and_factor_from_subspace(
     Ok((symmetrize(&xt), lu))
 }
 
-/// A computed (unrefined) solution, with the Schur data of its closed loop when the method
-/// provides them.
+/// A computed (unrefined) solution, with what its method knows about its closed loop.
 pub(crate) struct Computed {
     /// The solution.
     pub x: Mat,
-    /// `A − BK(X) = U₁ T₁₁ U₁⁻¹` from the ordered Schur form of the Hamiltonian.
-    pub hint: Option<ClosedLoopSchur>,
+    /// Data for a cheaper Newton step than the exact one (continuous time only).
+    pub hint: Option<NewtonHint>,
+}
+
+/// What a method knows about the closed loop `A − BK(X)` of its solution, used by
+/// [`Finisher::finish_with`] for a Newton step without a Schur decomposition of `A − BK`.
+pub(crate) enum NewtonHint {
+    /// `A − BK(X) = U₁ T₁₁ U₁⁻¹` from the ordered Schur form of the Hamiltonian (Laub's
+    /// method).
+    Schur(ClosedLoopSchur),
+    /// The Cayley shift under which the doubling method converged, for the Smith iteration
+    /// (structure-preserving doubling).
+    Smith(smith::CayleySmith),
 }
 
 impl From<Mat> for Computed {
