@@ -40,19 +40,21 @@ impl Trajectory {
                 )));
             }
         }
-        if let Some(k) = t.iter().position(|v| !v.is_finite()) {
-            return Err(LtiError::InvalidArgument(format!(
-                "trajectory: time sample {k} is not finite ({})",
-                t[k]
-            )));
-        }
-        if let Some(k) = t.windows(2).position(|w| w[1] < w[0]) {
-            return Err(LtiError::InvalidArgument(format!(
-                "trajectory: time decreases between samples {k} and {} ({} -> {})",
-                k + 1,
-                t[k],
-                t[k + 1]
-            )));
+        if !times_are_valid(&t) {
+            if let Some(k) = t.iter().position(|v| !v.is_finite()) {
+                return Err(LtiError::InvalidArgument(format!(
+                    "trajectory: time sample {k} is not finite ({})",
+                    t[k]
+                )));
+            }
+            if let Some(k) = t.windows(2).position(|w| w[1] < w[0]) {
+                return Err(LtiError::InvalidArgument(format!(
+                    "trajectory: time decreases between samples {k} and {} ({} -> {})",
+                    k + 1,
+                    t[k],
+                    t[k + 1]
+                )));
+            }
         }
         Ok(Self {
             t,
@@ -209,6 +211,19 @@ fn column(m: &Mat, j: usize) -> &[f64] {
     &m.as_slice()[j * n..(j + 1) * n]
 }
 
+/// `true` if every time sample is finite and none is smaller than its predecessor: one pass
+/// without early exit, which the compiler vectorises (a long simulation result is checked at
+/// about one instruction per sample); the caller looks for the offending sample only when it
+/// is `false`.
+fn times_are_valid(t: &[f64]) -> bool {
+    let finite = t.iter().fold(true, |ok, v| ok & v.is_finite());
+    let ordered = t
+        .iter()
+        .zip(t.iter().skip(1))
+        .fold(true, |ok, (a, b)| ok & (b >= a));
+    finite & ordered
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -251,6 +266,35 @@ mod tests {
             Mat::zeros(2, 0),
             Mat::zeros(2, 0),
         );
-        assert!(e.is_err());
+        assert!(
+            matches!(e, Err(LtiError::InvalidArgument(m)) if m.contains("sample 1 is not finite"))
+        );
+    }
+
+    #[test]
+    fn time_checks_name_the_first_offending_sample() {
+        let check = |t: Vec<f64>| {
+            let n = t.len();
+            Trajectory::new(t, Mat::zeros(n, 1), Mat::zeros(n, 0), Mat::zeros(n, 0))
+        };
+        // A long valid grid (with repeated instants, as at a switching event) passes.
+        let mut t: Vec<f64> = (0..10_001).map(|k| k as f64 * 1e-3).collect();
+        t[500] = t[499];
+        assert!(check(t.clone()).is_ok());
+        for (k, bad, what) in [
+            (0, f64::NEG_INFINITY, "sample 0 is not finite"),
+            (7_777, f64::INFINITY, "sample 7777 is not finite"),
+            (10_000, f64::NAN, "sample 10000 is not finite"),
+            (3_000, 0.5, "between samples 2999 and 3000"),
+            (9_999, 20.0, "between samples 9999 and 10000"),
+        ] {
+            let mut tb = t.clone();
+            tb[k] = bad;
+            let e = check(tb);
+            assert!(
+                matches!(&e, Err(LtiError::InvalidArgument(m)) if m.contains(what)),
+                "sample {k} = {bad}: {e:?}"
+            );
+        }
     }
 }
