@@ -321,36 +321,53 @@ fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
 
 /// The doubling iteration on a symplectic pencil in first standard form (Chu, Fan, Lin, Wang
 /// 2004), with the general path's stopping rules.
+///
+/// One step, with `W = I + GH` and `[Y₁ Y₂] = W⁻¹[E G]` (the arrangement of the general path's
+/// `sda_iterate`, eight `n × n` products):
+/// `E₊ = E Y₁`, `G₊ = G + (E Y₂) Eᵀ`, `H₊ = H + Eᵀ(H Y₁)` (`H W⁻¹ = W⁻ᵀH`, so this is the
+/// textbook `H + Eᵀ(I + HG)⁻¹HE`).
+///
+/// Stopping: `‖ΔH‖ ≤ 4√n·ε‖H‖`, `‖E‖ ≤ ε`, the general path's prediction of the next
+/// increment `‖ΔH‖·(‖E₊‖/‖E‖)² ≤ ε‖H‖` (in the quadratic phase `ΔH_{k+1} = O(‖E_{k+1}‖²)`,
+/// so the confirming step that would change `H` below rounding level is not taken), or
+/// rounding-level stagnation.
 fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Option<Sq<N>> {
     let eye = Sq::<N>::identity();
+    let tol = 4.0 * f64::EPSILON * (N as f64).sqrt();
     let mut last_dh = f64::INFINITY;
+    let mut e_norm = e.norm();
     for _ in 0..60 {
         let w = eye + mm(&g, &h);
         let (wi, rc) = inverse_rcond(&w)?;
         if rc < f64::EPSILON {
             return None;
         }
-        let wi_e = mm(&wi, &e);
-        let wi_g = mm(&wi, &g);
-        let wit_he = mtm(&wi, &mm(&h, &e));
-        let e_new = mm(&e, &wi_e);
-        let g_new = sym(&(g + mm(&mm(&e, &wi_g), &e.transpose())));
-        let h_new = sym(&(h + mtm(&e, &wit_he)));
-        let dh = (h_new - h).norm();
-        let hn = h_new.norm();
-        e = e_new;
-        g = g_new;
-        h = h_new;
-        if !hn.is_finite() {
+        let y1 = mm(&wi, &e);
+        let y2 = mm(&wi, &g);
+        let et = e.transpose();
+        let delta_h = mm(&et, &mm(&h, &y1));
+        let dh = delta_h.norm();
+        h = sym(&(h + delta_h));
+        g = sym(&(g + mm(&mm(&e, &y2), &et)));
+        e = mm(&e, &y1);
+        let hn = h.norm();
+        let e_new = e.norm();
+        if !hn.is_finite() || !e_new.is_finite() {
             return None;
         }
-        if dh <= 4.0 * f64::EPSILON * (N as f64).sqrt() * hn || e.norm() <= f64::EPSILON {
+        let predicted = if e_norm > 0.0 {
+            dh * (e_new / e_norm).powi(2)
+        } else {
+            0.0
+        };
+        if dh <= tol * hn || predicted <= f64::EPSILON * hn || e_new <= f64::EPSILON {
             return Some(h);
         }
         if dh <= 1e-10 * hn && dh >= 0.5 * last_dh {
             return Some(h);
         }
         last_dh = dh;
+        e_norm = e_new;
     }
     None
 }
