@@ -273,7 +273,9 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
                 let t2 = t1 * v2;
                 let t3 = t1 * v3;
                 if three {
-                    let (mut r0, mut r1, mut r2) = (h[k], h[k + 1], h[k + 2]);
+                    let (top, rest) = h.split_at_mut(k + 1);
+                    let (r0, (r1, r2)) = (&mut top[k], rest.split_at_mut(1));
+                    let (r1, r2) = (&mut r1[0], &mut r2[0]);
                     for j in 0..N {
                         let sum = r0[j] + v2 * r1[j] + v3 * r2[j];
                         r0[j] -= sum * t1;
@@ -285,7 +287,6 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
                         r1[k - 1] = 0.0;
                         r2[k - 1] = 0.0;
                     }
-                    (h[k], h[k + 1], h[k + 2]) = (r0, r1, r2);
                     for row in h.iter_mut() {
                         let sum = row[k] + v2 * row[k + 1] + v3 * row[k + 2];
                         row[k] -= sum * t1;
@@ -293,7 +294,8 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
                         row[k + 2] -= sum * t3;
                     }
                 } else {
-                    let (mut r0, mut r1) = (h[k], h[k + 1]);
+                    let (top, rest) = h.split_at_mut(k + 1);
+                    let (r0, r1) = (&mut top[k], &mut rest[0]);
                     for j in 0..N {
                         let sum = r0[j] + v2 * r1[j];
                         r0[j] -= sum * t1;
@@ -303,7 +305,6 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
                         r0[k - 1] = below;
                         r1[k - 1] = 0.0;
                     }
-                    (h[k], h[k + 1]) = (r0, r1);
                     for row in h.iter_mut() {
                         let sum = row[k] + v2 * row[k + 1];
                         row[k] -= sum * t1;

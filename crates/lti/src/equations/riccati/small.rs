@@ -156,8 +156,10 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
         if d == 0.0 || !d.is_finite() {
             return None;
         }
-        w.swap(piv, col);
-        inv.swap(piv, col);
+        if piv != col {
+            w.swap(piv, col);
+            inv.swap(piv, col);
+        }
         let (wc, ic) = (w[col], inv[col]);
         // One division per pivot; the multipliers are formed with its reciprocal.
         let dinv = 1.0 / d;
@@ -183,13 +185,73 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
 /// semidefinite up to `tol` relative.
 fn is_psd<const N: usize>(m: &Sq<N>, tol: f64) -> bool {
     let shifted = m + Sq::<N>::identity() * (tol * m.norm());
-    shifted.cholesky().is_some()
+    cholesky(&shifted).is_some()
+}
+
+/// Lower Cholesky factor `L` of `M = LLᵀ` from the lower triangle of `M` (the
+/// column-by-column Cholesky–Banachiewicz recurrence, Golub & Van Loan, "Matrix
+/// Computations", 4th ed., Algorithm 4.2.2); `None` unless every pivot is positive and
+/// finite (`M` not numerically positive definite).
+fn cholesky<const N: usize>(m: &Sq<N>) -> Option<Sq<N>> {
+    let mut l = Sq::<N>::zeros();
+    for j in 0..N {
+        let mut d = m[(j, j)];
+        for k in 0..j {
+            d -= l[(j, k)] * l[(j, k)];
+        }
+        if !(d > 0.0 && d.is_finite()) {
+            return None;
+        }
+        let ljj = d.sqrt();
+        l[(j, j)] = ljj;
+        for i in j + 1..N {
+            let mut s = m[(i, j)];
+            for k in 0..j {
+                s -= l[(i, k)] * l[(j, k)];
+            }
+            l[(i, j)] = s / ljj;
+        }
+    }
+    Some(l)
+}
+
+/// `L⁻¹B` by forward substitution (`L` lower triangular with a nonzero diagonal, as
+/// [`cholesky`] returns it).
+fn solve_lower<const N: usize>(l: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let mut x = *b;
+    for c in 0..N {
+        for i in 0..N {
+            let mut s = x[(i, c)];
+            for k in 0..i {
+                s -= l[(i, k)] * x[(k, c)];
+            }
+            x[(i, c)] = s / l[(i, i)];
+        }
+    }
+    x
+}
+
+/// `L⁻ᵀB` by back substitution (`L` as in [`solve_lower`]).
+fn solve_lower_tr<const N: usize>(l: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let mut x = *b;
+    for c in 0..N {
+        for i in (0..N).rev() {
+            let mut s = x[(i, c)];
+            for k in i + 1..N {
+                s -= l[(k, i)] * x[(k, c)];
+            }
+            x[(i, c)] = s / l[(i, i)];
+        }
+    }
+    x
 }
 
 /// Data of the problem with the cross term removed (module docs, step 1).
 struct Data<const N: usize> {
     /// `A` as given.
     a: Sq<N>,
+    /// `Aᵀ`.
+    a_tr: Sq<N>,
     /// `B` padded with zero columns to `n × n`.
     b: Sq<N>,
     /// `Q` (symmetric part).
@@ -225,12 +287,12 @@ impl<const N: usize> Data<N> {
                 0.0
             }
         });
-        let l = r_f.cholesky()?.l();
-        let w0 = l.solve_lower_triangular(&b_f.transpose())?;
+        let l = cholesky(&r_f)?;
+        let w0 = solve_lower(&l, &b_f.transpose());
         let v = match nc {
             Some(nm) => {
                 let nt = Sq::<N>::from_fn(|i, j| if i < m { nm[(j, i)] } else { 0.0 });
-                l.solve_lower_triangular(&nt)?
+                solve_lower(&l, &nt)
             }
             None => Sq::<N>::zeros(),
         };
@@ -239,6 +301,7 @@ impl<const N: usize> Data<N> {
         let qt = sym(&(q_f - mtm(&v, &v)));
         Some(Self {
             a: a_f,
+            a_tr: a_f.transpose(),
             b: b_f,
             q: q_f,
             q_norm: q.norm(),
@@ -254,18 +317,19 @@ impl<const N: usize> Data<N> {
     /// Gain `K = R⁻¹(BᵀX + Nᵀ) = L⁻ᵀ(W₀X + V)` (rows `≥ m` zero) and `Z = W₀X + V`.
     fn gain(&self, x: &Sq<N>) -> Option<(Sq<N>, Sq<N>)> {
         let z = mm(&self.w0, x) + self.v;
-        let k = self.l.tr_solve_lower_triangular(&z)?;
+        let k = solve_lower_tr(&self.l, &z);
         Some((k, z))
     }
 
     /// Residual matrix `AᵀX + XA − (XB+N)R⁻¹(BᵀX+Nᵀ) + Q` (with `(XB+N)R⁻¹(BᵀX+Nᵀ) = ZᵀZ`)
-    /// and the relative residual (sum of the four terms' Frobenius norms in the denominator).
+    /// and the relative residual (sum of the four terms' Frobenius norms in the denominator;
+    /// `‖XA‖_F = ‖(AᵀX)ᵀ‖_F = ‖AᵀX‖_F` for symmetric `X`).
     fn residual(&self, x: &Sq<N>, z: &Sq<N>) -> (Sq<N>, f64) {
-        let atx = mtm(&self.a, x);
+        let atx = mm(&self.a_tr, x);
         let xa = atx.transpose();
-        let g = mtm(z, z);
+        let g = mm(&z.transpose(), z);
         let res = sym(&(atx + xa - g + self.q));
-        let s = atx.norm() + xa.norm() + g.norm() + self.q_norm;
+        let s = 2.0 * atx.norm() + g.norm() + self.q_norm;
         let rn = res.norm();
         (res, if s > 0.0 { rn / s } else { rn })
     }
