@@ -72,21 +72,22 @@ pub(crate) fn care_small(
     }
 }
 
-/// `A·B` by the plain triple loop (column-major `j, k, i` order). For the fixed orders used
-/// here the compiler unrolls and vectorises it completely, which nalgebra's generic product
-/// (a `gemm` call with run-time strides) does not.
+/// `A·B` by the plain triple loop over the column arrays of nalgebra's storage (`j, k, i`
+/// order, each result column accumulated in a local array). For the fixed orders used here
+/// the compiler unrolls and vectorises it completely, which nalgebra's generic product (a
+/// `gemm` call with run-time strides) does not.
 #[inline(always)]
 fn mm<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let (ac, bc) = (&a.data.0, &b.data.0);
     let mut c = Sq::<N>::zeros();
-    let (av, bv) = (a.as_slice(), b.as_slice());
-    let cv = c.as_mut_slice();
-    for j in 0..N {
-        for k in 0..N {
-            let bkj = bv[k + j * N];
-            for i in 0..N {
-                cv[i + j * N] += av[i + k * N] * bkj;
+    for (cj, bj) in c.data.0.iter_mut().zip(bc) {
+        let mut col = [0.0f64; N];
+        for (ak, &bkj) in ac.iter().zip(bj) {
+            for (ci, &aik) in col.iter_mut().zip(ak) {
+                *ci += aik * bkj;
             }
         }
+        *cj = col;
     }
     c
 }
@@ -120,9 +121,32 @@ fn trace_of_product<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> f64 {
     t
 }
 
-/// Symmetric part `(M + Mᵀ)/2`.
+/// Symmetric part `(M + Mᵀ)/2`, each off-diagonal pair formed once (the diagonal is kept:
+/// `(m_ii + m_ii)/2 = m_ii` exactly).
+#[inline(always)]
 fn sym<const N: usize>(m: &Sq<N>) -> Sq<N> {
-    (m + m.transpose()) * 0.5
+    let mut s = *m;
+    for j in 0..N {
+        for i in 0..j {
+            let v = (m[(i, j)] + m[(j, i)]) * 0.5;
+            s[(i, j)] = v;
+            s[(j, i)] = v;
+        }
+    }
+    s
+}
+
+/// Frobenius norm `sqrt(Σ m_ij²)` (the plain sum of squares, as nalgebra's `norm`), summed
+/// column-wise (one partial sum per row index) so that the compiler vectorises it.
+#[inline(always)]
+fn fro<const N: usize>(m: &Sq<N>) -> f64 {
+    let mut acc = [0.0f64; N];
+    for col in &m.data.0 {
+        for (a, &v) in acc.iter_mut().zip(col) {
+            *a += v * v;
+        }
+    }
+    acc.iter().sum::<f64>().sqrt()
 }
 
 /// Induced 1-norm (largest column sum).
@@ -184,7 +208,7 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
 /// `true` if `M + δI` admits a Cholesky factorisation, `δ = tol·‖M‖_F`: `M` is positive
 /// semidefinite up to `tol` relative.
 fn is_psd<const N: usize>(m: &Sq<N>, tol: f64) -> bool {
-    let shifted = m + Sq::<N>::identity() * (tol * m.norm());
+    let shifted = m + Sq::<N>::identity() * (tol * fro(m));
     cholesky(&shifted).is_some()
 }
 
@@ -329,15 +353,15 @@ impl<const N: usize> Data<N> {
         let xa = atx.transpose();
         let g = mm(&z.transpose(), z);
         let res = sym(&(atx + xa - g + self.q));
-        let s = 2.0 * atx.norm() + g.norm() + self.q_norm;
-        let rn = res.norm();
+        let s = 2.0 * fro(&atx) + fro(&g) + self.q_norm;
+        let rn = fro(&res);
         (res, if s > 0.0 { rn / s } else { rn })
     }
 }
 
 /// Scale factor `sqrt(‖Q̃‖_F / ‖G‖_F)` (the general path's step 3).
 fn scale_factor<const N: usize>(d: &Data<N>, scaling: bool) -> f64 {
-    let (qn, gn) = (d.qt.norm(), d.g.norm());
+    let (qn, gn) = (fro(&d.qt), fro(&d.g));
     if scaling && qn > 0.0 && gn > 0.0 && (qn / gn).is_finite() {
         (qn / gn).sqrt()
     } else {
@@ -360,7 +384,7 @@ fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
     let mut gamma = if rms.is_finite() && rms > 1e-3 {
         rms
     } else {
-        (d.at.norm().max((g.norm() * q.norm()).sqrt()) / (N as f64).sqrt()).max(1e-3)
+        (fro(&d.at).max((fro(&g) * fro(&q)).sqrt()) / (N as f64).sqrt()).max(1e-3)
     };
     for _ in 0..4 {
         let ag = d.at - eye * gamma;
@@ -399,7 +423,7 @@ fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Opti
     let eye = Sq::<N>::identity();
     let tol = 4.0 * f64::EPSILON * (N as f64).sqrt();
     let mut last_dh = f64::INFINITY;
-    let mut e_norm = e.norm();
+    let mut e_norm = fro(&e);
     for _ in 0..60 {
         let w = eye + mm(&g, &h);
         let (wi, rc) = inverse_rcond(&w)?;
@@ -410,12 +434,12 @@ fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Opti
         let y2 = mm(&wi, &g);
         let et = e.transpose();
         let delta_h = mm(&et, &mm(&h, &y1));
-        let dh = delta_h.norm();
+        let dh = fro(&delta_h);
         h = sym(&(h + delta_h));
         g = sym(&(g + mm(&mm(&e, &y2), &et)));
         e = mm(&e, &y1);
-        let hn = h.norm();
-        let e_new = e.norm();
+        let hn = fro(&h);
+        let e_new = fro(&e);
         if !hn.is_finite() || !e_new.is_finite() {
             return None;
         }
