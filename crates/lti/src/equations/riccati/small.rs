@@ -371,6 +371,13 @@ fn scale_factor<const N: usize>(d: &Data<N>, scaling: bool) -> f64 {
 
 /// Doubling after a Cayley transform (same shift choice as the general path), unrefined.
 fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
+    let (e0, g0, h0) = cayley_start(d, s)?;
+    sda_iterate(e0, g0, h0).map(|(_, _, h)| h * s)
+}
+
+/// The starting pencil `(E₀, G₀, H₀)` of the doubling iteration for the data scaled by `s`
+/// (`G·s`, `Q̃/s`): the Cayley transform with shift `γ` (Chu, Fan & Lin 2005).
+fn cayley_start<const N: usize>(d: &Data<N>, s: f64) -> Option<(Sq<N>, Sq<N>, Sq<N>)> {
     let g = d.g * s;
     let q = d.qt * (1.0 / s);
     let eye = Sq::<N>::identity();
@@ -402,42 +409,53 @@ fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
         let e0 = eye + (agi - mm(&agi_g, &wi_q_agi)) * (2.0 * gamma);
         let g0 = sym(&(mm(&agi_g, &wi) * (2.0 * gamma)));
         let h0 = sym(&(wi_q_agi * (2.0 * gamma)));
-        return sda_iterate(e0, g0, h0).map(|h| h * s);
+        return Some((e0, g0, h0));
     }
     None
 }
 
-/// The doubling iteration on a symplectic pencil in first standard form (Chu, Fan, Lin, Wang
-/// 2004), with the general path's stopping rules.
+/// One doubling step on the symplectic pencil `(E, G, H)` in first standard form (Chu, Fan,
+/// Lin, Wang 2004), in place; returns `‖ΔH‖_F`, or `None` if `I + GH` is numerically singular
+/// (reciprocal condition number below `ε`).
 ///
-/// One step, with `W = I + GH` and `[Y₁ Y₂] = W⁻¹[E G]` (the arrangement of the general path's
-/// `sda_iterate`, eight `n × n` products):
-/// `E₊ = E Y₁`, `G₊ = G + (E Y₂) Eᵀ`, `H₊ = H + Eᵀ(H Y₁)` (`H W⁻¹ = W⁻ᵀH`, so this is the
-/// textbook `H + Eᵀ(I + HG)⁻¹HE`).
+/// With `W = I + GH` and `[Y₁ Y₂] = W⁻¹[E G]` (the arrangement of the general path's
+/// `sda_iterate`, eight `n × n` products): `E₊ = E Y₁`, `G₊ = G + (E Y₂) Eᵀ`,
+/// `H₊ = H + Eᵀ(H Y₁)` (`H W⁻¹ = W⁻ᵀH`, so this is the textbook `H + Eᵀ(I + HG)⁻¹HE`); `G₊`
+/// and `H₊` are symmetrised.
+#[inline(always)]
+fn sda_step<const N: usize>(e: &mut Sq<N>, g: &mut Sq<N>, h: &mut Sq<N>) -> Option<f64> {
+    let w = Sq::<N>::identity() + mm(g, h);
+    let (wi, rc) = inverse_rcond(&w)?;
+    if rc < f64::EPSILON {
+        return None;
+    }
+    let y1 = mm(&wi, e);
+    let y2 = mm(&wi, g);
+    let et = e.transpose();
+    let delta_h = mm(&et, &mm(h, &y1));
+    *h = sym(&(*h + delta_h));
+    *g = sym(&(*g + mm(&mm(e, &y2), &et)));
+    *e = mm(e, &y1);
+    Some(fro(&delta_h))
+}
+
+/// The doubling iteration ([`sda_step`]) with the general path's stopping rules; returns the
+/// final pencil `(E, G, H)`, `H` the approximation of the solution.
 ///
 /// Stopping: `‖ΔH‖ ≤ 4√n·ε‖H‖`, `‖E‖ ≤ ε`, the general path's prediction of the next
 /// increment `‖ΔH‖·(‖E₊‖/‖E‖)² ≤ ε‖H‖` (in the quadratic phase `ΔH_{k+1} = O(‖E_{k+1}‖²)`,
 /// so the confirming step that would change `H` below rounding level is not taken), or
 /// rounding-level stagnation.
-fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Option<Sq<N>> {
-    let eye = Sq::<N>::identity();
+fn sda_iterate<const N: usize>(
+    mut e: Sq<N>,
+    mut g: Sq<N>,
+    mut h: Sq<N>,
+) -> Option<(Sq<N>, Sq<N>, Sq<N>)> {
     let tol = 4.0 * f64::EPSILON * (N as f64).sqrt();
     let mut last_dh = f64::INFINITY;
     let mut e_norm = fro(&e);
     for _ in 0..60 {
-        let w = eye + mm(&g, &h);
-        let (wi, rc) = inverse_rcond(&w)?;
-        if rc < f64::EPSILON {
-            return None;
-        }
-        let y1 = mm(&wi, &e);
-        let y2 = mm(&wi, &g);
-        let et = e.transpose();
-        let delta_h = mm(&et, &mm(&h, &y1));
-        let dh = fro(&delta_h);
-        h = sym(&(h + delta_h));
-        g = sym(&(g + mm(&mm(&e, &y2), &et)));
-        e = mm(&e, &y1);
+        let dh = sda_step(&mut e, &mut g, &mut h)?;
         let hn = fro(&h);
         let e_new = fro(&e);
         if !hn.is_finite() || !e_new.is_finite() {
@@ -449,10 +467,10 @@ fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Opti
             0.0
         };
         if dh <= tol * hn || predicted <= f64::EPSILON * hn || e_new <= f64::EPSILON {
-            return Some(h);
+            return Some((e, g, h));
         }
         if dh <= 1e-10 * hn && dh >= 0.5 * last_dh {
-            return Some(h);
+            return Some((e, g, h));
         }
         last_dh = dh;
         e_norm = e_new;
@@ -581,4 +599,154 @@ fn solve<const N: usize>(
         method: RiccatiMethod::Doubling,
         refinement_steps: steps,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::testing::splitmix_matrix;
+
+    const EPS: f64 = f64::EPSILON;
+
+    fn sq<const N: usize>(m: &Mat) -> Sq<N> {
+        Sq::<N>::from_fn(|i, j| m[(i, j)])
+    }
+
+    /// `γ_n = nε/(1 − nε)`, the rounding-error constant of an `n`-term sum (Higham,
+    /// "Accuracy and Stability of Numerical Algorithms", 2nd ed., §3.1).
+    fn gamma(n: usize) -> f64 {
+        n as f64 * EPS / (1.0 - n as f64 * EPS)
+    }
+
+    /// The helpers against their definitions and nalgebra's own routines, for one order.
+    fn helpers_for<const N: usize>(seed: u64) {
+        let a = sq::<N>(&splitmix_matrix(N, N, seed));
+        let b = sq::<N>(&splitmix_matrix(N, N, seed + 1000));
+        // `mm`: each entry is an inner product of length N, within γ_N (|A||B|)_ij of the
+        // exact one (Higham §3.5), so it differs from nalgebra's product (another summation
+        // order) by at most 2γ_N (|A||B|)_ij.
+        let got = mm(&a, &b);
+        let want = a * b;
+        let bound = a.abs() * b.abs() * (2.0 * gamma(N));
+        for (i, j) in (0..N).flat_map(|i| (0..N).map(move |j| (i, j))) {
+            assert!(
+                (got[(i, j)] - want[(i, j)]).abs() <= bound[(i, j)],
+                "mm ({i},{j})"
+            );
+        }
+        // `sym` is (M + Mᵀ)/2 entry by entry: the same two roundings in either order.
+        assert_eq!(sym(&a), (a + a.transpose()) * 0.5);
+        // `fro`: a sum of N² squares in another order, then a square root: relative
+        // difference at most N²ε (γ_{N²}) plus the root's half ulp.
+        let (f, n) = (fro(&a), a.norm());
+        assert!(
+            (f - n).abs() <= (N * N) as f64 * EPS * n + EPS * n,
+            "fro {f} vs {n}"
+        );
+
+        // Cholesky of an SPD matrix M = CᵀC + I/10: backward stable, |LLᵀ − M| ≤
+        // γ_{N+1}|L||Lᵀ| (Higham Thm 10.3), and ‖|L||Lᵀ|‖_F ≤ ‖L‖_F²; a factor 2 spare.
+        let m = a.transpose() * a + Sq::<N>::identity() * 0.1;
+        let l = cholesky(&m).expect("SPD");
+        for i in 0..N {
+            for j in i + 1..N {
+                assert_eq!(l[(i, j)], 0.0, "L not lower triangular");
+            }
+        }
+        let tol = 2.0 * gamma(N + 1) * l.norm_squared();
+        assert!((l * l.transpose() - m).norm() <= tol, "LLᵀ ≠ M");
+        // Indefinite: a negative pivot appears, no factor.
+        let mut ind = m;
+        ind[(N - 1, N - 1)] = -1.0 - m.norm();
+        assert!(cholesky(&ind).is_none());
+        // Triangular solves: backward stable (Higham Thm 8.5, |ΔL| ≤ γ_N|L|), so the
+        // residual is at most γ_N‖|L||X|‖_F ≤ γ_N‖L‖_F‖X‖_F; a factor 2 spare.
+        let x = solve_lower(&l, &b);
+        let tol = 2.0 * gamma(N) * l.norm() * x.norm();
+        assert!((l * x - b).norm() <= tol, "L X ≠ B");
+        let x = solve_lower_tr(&l, &b);
+        let tol = 2.0 * gamma(N) * l.norm() * x.norm();
+        assert!((l.transpose() * x - b).norm() <= tol, "Lᵀ X ≠ B");
+
+        // Inverse: residual of Gauss–Jordan with partial pivoting, ‖MX − I‖ ≤ c_N ε‖M‖‖X‖
+        // with a modest c_N for these random matrices (Higham §14.4; growth factor small);
+        // c_N = 20N allows for it. The rcond is the definition 1/(‖M‖₁‖M⁻¹‖₁), compared with
+        // the one from nalgebra's LU inverse: the two inverses differ by O(κ₁ Nε) relatively
+        // (first-order perturbation of the inverse), so the rconds by O(κ₁ Nε)·rcond; the
+        // constant 100 covers c_N for both routines.
+        let (inv, rc) = inverse_rcond(&a).expect("nonsingular");
+        let tol = 20.0 * N as f64 * EPS * a.norm() * inv.norm();
+        assert!((a * inv - Sq::<N>::identity()).norm() <= tol, "M M⁻¹ ≠ I");
+        let reference = a.try_inverse().expect("nonsingular");
+        let rc_ref = 1.0 / (norm1(&a) * norm1(&reference));
+        let kappa = 1.0 / rc_ref;
+        assert!(
+            (rc - rc_ref).abs() <= 100.0 * N as f64 * EPS * kappa * rc_ref,
+            "rcond {rc} vs {rc_ref}"
+        );
+        assert!(inverse_rcond(&Sq::<N>::zeros()).is_none());
+    }
+
+    #[test]
+    fn helpers_satisfy_their_defining_equations() {
+        for seed in 0..20 {
+            helpers_for::<1>(seed);
+            helpers_for::<2>(seed);
+            helpers_for::<3>(seed);
+            helpers_for::<4>(seed);
+            helpers_for::<5>(seed);
+            helpers_for::<8>(seed);
+        }
+    }
+
+    /// Runs the doubling to its stop on the given data, then takes the step the predictive
+    /// test skipped: it must change `H` by no more than the rounding-level convergence bound
+    /// `4√n·ε‖H‖` (the rule that would have stopped the iteration after it).
+    fn skipped_step_is_negligible<const N: usize>(a: &Mat, b: &Mat, q: &Mat, r: &Mat) {
+        let d = Data::<N>::new(a, b, q, r, None).expect("data");
+        let s = scale_factor(&d, true);
+        let (e0, g0, h0) = cayley_start(&d, s).expect("Cayley transform");
+        let (mut e, mut g, mut h) = sda_iterate(e0, g0, h0).expect("converges");
+        let h_stop = h;
+        let dh = sda_step(&mut e, &mut g, &mut h).expect("step");
+        let bound = 4.0 * (N as f64).sqrt() * EPS * fro(&h_stop);
+        assert!(
+            dh <= bound,
+            "n = {N}: skipped step changes H by {dh:e} > {bound:e}"
+        );
+    }
+
+    #[test]
+    fn predicted_stop_only_skips_a_rounding_level_step() {
+        // The cart pendulum of `care-n4` (SPEC.md §1.1 parameters, table 3.5).
+        let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
+        let j = jp + mp * lp * lp;
+        #[rustfmt::skip]
+        let a = Mat::from_row_slice(4, 4, &[
+            0.0, 0.0, 1.0, 0.0,
+            0.0, 0.0, 0.0, 1.0,
+            0.0, 0.0, -ac, 0.0,
+            0.0, mp * g * lp / j, ac * mp * lp / j, -mup / j,
+        ]);
+        let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
+        let q = Mat::from_diagonal(&crate::linalg::Vector::from_column_slice(&[
+            100.0, 10.0, 1.0, 1.0,
+        ]));
+        skipped_step_is_negligible::<4>(&a, &b, &q, &Mat::identity(1, 1));
+        // Random LQ problems (Q = CᵀC/n + I/10, R = I).
+        fn random<const N: usize>(seed: u64, m: usize) {
+            let a = splitmix_matrix(N, N, seed);
+            let b = splitmix_matrix(N, m, seed + 1);
+            let c = splitmix_matrix(N, N, seed + 2);
+            let q = c.transpose() * &c * (1.0 / N as f64) + Mat::identity(N, N) * 0.1;
+            skipped_step_is_negligible::<N>(&a, &b, &q, &Mat::identity(m, m));
+        }
+        for seed in 0..10 {
+            random::<2>(seed * 7, 1);
+            random::<3>(seed * 7, 2);
+            random::<4>(seed * 7, 1);
+            random::<6>(seed * 7, 2);
+            random::<8>(seed * 7, 3);
+        }
+    }
 }
