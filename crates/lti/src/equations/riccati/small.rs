@@ -481,9 +481,12 @@ fn sda_iterate<const N: usize>(
 /// Eigenvalues of `f` in the order of [`sort_eigenvalues`](crate::linalg::sort_eigenvalues)
 /// by the fixed-size Hessenberg–Francis QR of [`eigenvalues_small`] (no allocation); `None`
 /// (non-finite entries, or no convergence) sends the problem to the general path.
+///
+/// `eigenvalues_small` reads a row-major array; the column arrays of `f`'s (column-major)
+/// storage are passed as its rows, so it works on `fᵀ`, which has the same eigenvalues, and
+/// its backward error `fᵀ + E` is the backward error `f + Eᵀ` of the same size.
 fn eigenvalues<const N: usize>(f: &Sq<N>) -> Option<[Complex64; N]> {
-    let rows: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| f[(i, j)]));
-    eigenvalues_small(&rows).ok()
+    eigenvalues_small(&f.data.0).ok()
 }
 
 /// Index of the unknown `Δ_ij = Δ_ji` in the packed upper triangle (column by column).
