@@ -4,9 +4,11 @@
 //! Householder reduction to upper Hessenberg form, then Francis' implicit double-shift QR
 //! iteration — but on a fixed-size `[[f64; N]; N]` array, for eigenvalues only, so a call
 //! performs no heap allocation and the compiler sees every loop bound. The QR stage follows
-//! LAPACK `dlahqr` (eigenvalues-only mode, `WANTT = WANTZ = .FALSE.`):
+//! LAPACK `dlahqr` (no Schur vectors, `WANTZ = .FALSE.`):
 //!
-//! - the active block is the unreduced trailing part `l..=i`; only it is updated;
+//! - the active block is the unreduced trailing part `l..=i`; the reflectors act on its rows
+//!   and columns, applied to whole rows and columns of the array as in `dlahqr`'s full Schur
+//!   form mode (`WANTT = .TRUE.`), which keeps every loop bound a compile-time constant;
 //! - deflation uses the conservative small-subdiagonal criterion of Ahues & Tisseur ("A new
 //!   deflation criterion for the QR algorithm", LAPACK Working Note 122, 1997);
 //! - the double shift is the eigenvalue pair of the trailing 2×2 block (two equal real
