@@ -4,9 +4,11 @@
 //! Householder reduction to upper Hessenberg form, then Francis' implicit double-shift QR
 //! iteration — but on a fixed-size `[[f64; N]; N]` array, for eigenvalues only, so a call
 //! performs no heap allocation and the compiler sees every loop bound. The QR stage follows
-//! LAPACK `dlahqr` (eigenvalues-only mode, `WANTT = WANTZ = .FALSE.`):
+//! LAPACK `dlahqr` (no Schur vectors, `WANTZ = .FALSE.`):
 //!
-//! - the active block is the unreduced trailing part `l..=i`; only it is updated;
+//! - the active block is the unreduced trailing part `l..=i`; the reflectors act on its rows
+//!   and columns, applied to whole rows and columns of the array as in `dlahqr`'s full Schur
+//!   form mode (`WANTT = .TRUE.`), which keeps every loop bound a compile-time constant;
 //! - deflation uses the conservative small-subdiagonal criterion of Ahues & Tisseur ("A new
 //!   deflation criterion for the QR algorithm", LAPACK Working Note 122, 1997);
 //! - the double shift is the eigenvalue pair of the trailing 2×2 block (two equal real
@@ -235,8 +237,13 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
                 }
                 m -= 1;
             }
-            // Double-shift sweep: chase the bulge from row m down to row i, updating the
-            // active block l..=i only (eigenvalues-only mode).
+            // Double-shift sweep: chase the bulge from row m down to row i. The reflectors
+            // act on rows and columns of the active block l..=i only, but each update runs over
+            // whole rows (columns 0..N) and whole columns (rows 0..N): outside the active
+            // block's rows and columns this is dlahqr's full-Schur-form update (WANTT), the
+            // same similarity, which leaves every deflated block and every zero below the
+            // subdiagonal unchanged (a reflector combines entries that are exact zeros there
+            // into exact zeros). Constant loop bounds let the compiler unroll and vectorise.
             for k in m..i {
                 let three = k + 2 <= i;
                 if k > m {
@@ -253,40 +260,54 @@ fn francis<const N: usize>(h: &mut [[f64; N]; N], ev: &mut [Complex64; N]) -> Re
                     let (beta, t1) = reflector(v[0], &mut x[..]);
                     (beta, t1, x[0], 0.0)
                 };
-                if k > m {
-                    h[k][k - 1] = beta;
-                    h[k + 1][k - 1] = 0.0;
-                    if three {
-                        h[k + 2][k - 1] = 0.0;
-                    }
+                // Column k − 1 of the rows k..k+2 is set explicitly after the row update.
+                let below = if k > m {
+                    beta
                 } else if m > l {
                     // dlahqr: equivalent to negating h[k][k-1], and robust when v2, v3
-                    // underflow.
-                    h[k][k - 1] *= 1.0 - t1;
-                }
+                    // underflow (the entries this would create below it are negligible by
+                    // the choice of m and are dropped).
+                    h[k][k - 1] * (1.0 - t1)
+                } else {
+                    // k = m = l: h[l][l-1] is zero (deflated, or l = 0).
+                    0.0
+                };
                 let t2 = t1 * v2;
                 let t3 = t1 * v3;
-                let rmax = (k + 3).min(i);
                 if three {
-                    for j in k..=i {
-                        let sum = h[k][j] + v2 * h[k + 1][j] + v3 * h[k + 2][j];
-                        h[k][j] -= sum * t1;
-                        h[k + 1][j] -= sum * t2;
-                        h[k + 2][j] -= sum * t3;
+                    let (top, rest) = h.split_at_mut(k + 1);
+                    let (r0, (r1, r2)) = (&mut top[k], rest.split_at_mut(1));
+                    let (r1, r2) = (&mut r1[0], &mut r2[0]);
+                    for j in 0..N {
+                        let sum = r0[j] + v2 * r1[j] + v3 * r2[j];
+                        r0[j] -= sum * t1;
+                        r1[j] -= sum * t2;
+                        r2[j] -= sum * t3;
                     }
-                    for row in h.iter_mut().take(rmax + 1).skip(l) {
+                    if k > 0 {
+                        r0[k - 1] = below;
+                        r1[k - 1] = 0.0;
+                        r2[k - 1] = 0.0;
+                    }
+                    for row in h.iter_mut() {
                         let sum = row[k] + v2 * row[k + 1] + v3 * row[k + 2];
                         row[k] -= sum * t1;
                         row[k + 1] -= sum * t2;
                         row[k + 2] -= sum * t3;
                     }
                 } else {
-                    for j in k..=i {
-                        let sum = h[k][j] + v2 * h[k + 1][j];
-                        h[k][j] -= sum * t1;
-                        h[k + 1][j] -= sum * t2;
+                    let (top, rest) = h.split_at_mut(k + 1);
+                    let (r0, r1) = (&mut top[k], &mut rest[0]);
+                    for j in 0..N {
+                        let sum = r0[j] + v2 * r1[j];
+                        r0[j] -= sum * t1;
+                        r1[j] -= sum * t2;
                     }
-                    for row in h.iter_mut().take(i + 1).skip(l) {
+                    if k > 0 {
+                        r0[k - 1] = below;
+                        r1[k - 1] = 0.0;
+                    }
+                    for row in h.iter_mut() {
                         let sum = row[k] + v2 * row[k + 1];
                         row[k] -= sum * t1;
                         row[k + 1] -= sum * t2;

@@ -72,21 +72,22 @@ pub(crate) fn care_small(
     }
 }
 
-/// `A·B` by the plain triple loop (column-major `j, k, i` order). For the fixed orders used
-/// here the compiler unrolls and vectorises it completely, which nalgebra's generic product
-/// (a `gemm` call with run-time strides) does not.
+/// `A·B` by the plain triple loop over the column arrays of nalgebra's storage (`j, k, i`
+/// order, each result column accumulated in a local array). For the fixed orders used here
+/// the compiler unrolls and vectorises it completely, which nalgebra's generic product (a
+/// `gemm` call with run-time strides) does not.
 #[inline(always)]
 fn mm<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let (ac, bc) = (&a.data.0, &b.data.0);
     let mut c = Sq::<N>::zeros();
-    let (av, bv) = (a.as_slice(), b.as_slice());
-    let cv = c.as_mut_slice();
-    for j in 0..N {
-        for k in 0..N {
-            let bkj = bv[k + j * N];
-            for i in 0..N {
-                cv[i + j * N] += av[i + k * N] * bkj;
+    for (cj, bj) in c.data.0.iter_mut().zip(bc) {
+        let mut col = [0.0f64; N];
+        for (ak, &bkj) in ac.iter().zip(bj) {
+            for (ci, &aik) in col.iter_mut().zip(ak) {
+                *ci += aik * bkj;
             }
         }
+        *cj = col;
     }
     c
 }
@@ -120,9 +121,32 @@ fn trace_of_product<const N: usize>(a: &Sq<N>, b: &Sq<N>) -> f64 {
     t
 }
 
-/// Symmetric part `(M + Mᵀ)/2`.
+/// Symmetric part `(M + Mᵀ)/2`, each off-diagonal pair formed once (the diagonal is kept:
+/// `(m_ii + m_ii)/2 = m_ii` exactly).
+#[inline(always)]
 fn sym<const N: usize>(m: &Sq<N>) -> Sq<N> {
-    (m + m.transpose()) * 0.5
+    let mut s = *m;
+    for j in 0..N {
+        for i in 0..j {
+            let v = (m[(i, j)] + m[(j, i)]) * 0.5;
+            s[(i, j)] = v;
+            s[(j, i)] = v;
+        }
+    }
+    s
+}
+
+/// Frobenius norm `sqrt(Σ m_ij²)` (the plain sum of squares, as nalgebra's `norm`), summed
+/// column-wise (one partial sum per row index) so that the compiler vectorises it.
+#[inline(always)]
+fn fro<const N: usize>(m: &Sq<N>) -> f64 {
+    let mut acc = [0.0f64; N];
+    for col in &m.data.0 {
+        for (a, &v) in acc.iter_mut().zip(col) {
+            *a += v * v;
+        }
+    }
+    acc.iter().sum::<f64>().sqrt()
 }
 
 /// Induced 1-norm (largest column sum).
@@ -156,8 +180,10 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
         if d == 0.0 || !d.is_finite() {
             return None;
         }
-        w.swap(piv, col);
-        inv.swap(piv, col);
+        if piv != col {
+            w.swap(piv, col);
+            inv.swap(piv, col);
+        }
         let (wc, ic) = (w[col], inv[col]);
         // One division per pivot; the multipliers are formed with its reciprocal.
         let dinv = 1.0 / d;
@@ -182,14 +208,74 @@ fn inverse_rcond<const N: usize>(m: &Sq<N>) -> Option<(Sq<N>, f64)> {
 /// `true` if `M + δI` admits a Cholesky factorisation, `δ = tol·‖M‖_F`: `M` is positive
 /// semidefinite up to `tol` relative.
 fn is_psd<const N: usize>(m: &Sq<N>, tol: f64) -> bool {
-    let shifted = m + Sq::<N>::identity() * (tol * m.norm());
-    shifted.cholesky().is_some()
+    let shifted = m + Sq::<N>::identity() * (tol * fro(m));
+    cholesky(&shifted).is_some()
+}
+
+/// Lower Cholesky factor `L` of `M = LLᵀ` from the lower triangle of `M` (the
+/// column-by-column Cholesky–Banachiewicz recurrence, Golub & Van Loan, "Matrix
+/// Computations", 4th ed., Algorithm 4.2.2); `None` unless every pivot is positive and
+/// finite (`M` not numerically positive definite).
+fn cholesky<const N: usize>(m: &Sq<N>) -> Option<Sq<N>> {
+    let mut l = Sq::<N>::zeros();
+    for j in 0..N {
+        let mut d = m[(j, j)];
+        for k in 0..j {
+            d -= l[(j, k)] * l[(j, k)];
+        }
+        if !(d > 0.0 && d.is_finite()) {
+            return None;
+        }
+        let ljj = d.sqrt();
+        l[(j, j)] = ljj;
+        for i in j + 1..N {
+            let mut s = m[(i, j)];
+            for k in 0..j {
+                s -= l[(i, k)] * l[(j, k)];
+            }
+            l[(i, j)] = s / ljj;
+        }
+    }
+    Some(l)
+}
+
+/// `L⁻¹B` by forward substitution (`L` lower triangular with a nonzero diagonal, as
+/// [`cholesky`] returns it).
+fn solve_lower<const N: usize>(l: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let mut x = *b;
+    for c in 0..N {
+        for i in 0..N {
+            let mut s = x[(i, c)];
+            for k in 0..i {
+                s -= l[(i, k)] * x[(k, c)];
+            }
+            x[(i, c)] = s / l[(i, i)];
+        }
+    }
+    x
+}
+
+/// `L⁻ᵀB` by back substitution (`L` as in [`solve_lower`]).
+fn solve_lower_tr<const N: usize>(l: &Sq<N>, b: &Sq<N>) -> Sq<N> {
+    let mut x = *b;
+    for c in 0..N {
+        for i in (0..N).rev() {
+            let mut s = x[(i, c)];
+            for k in i + 1..N {
+                s -= l[(k, i)] * x[(k, c)];
+            }
+            x[(i, c)] = s / l[(i, i)];
+        }
+    }
+    x
 }
 
 /// Data of the problem with the cross term removed (module docs, step 1).
 struct Data<const N: usize> {
     /// `A` as given.
     a: Sq<N>,
+    /// `Aᵀ`.
+    a_tr: Sq<N>,
     /// `B` padded with zero columns to `n × n`.
     b: Sq<N>,
     /// `Q` (symmetric part).
@@ -225,12 +311,12 @@ impl<const N: usize> Data<N> {
                 0.0
             }
         });
-        let l = r_f.cholesky()?.l();
-        let w0 = l.solve_lower_triangular(&b_f.transpose())?;
+        let l = cholesky(&r_f)?;
+        let w0 = solve_lower(&l, &b_f.transpose());
         let v = match nc {
             Some(nm) => {
                 let nt = Sq::<N>::from_fn(|i, j| if i < m { nm[(j, i)] } else { 0.0 });
-                l.solve_lower_triangular(&nt)?
+                solve_lower(&l, &nt)
             }
             None => Sq::<N>::zeros(),
         };
@@ -239,6 +325,7 @@ impl<const N: usize> Data<N> {
         let qt = sym(&(q_f - mtm(&v, &v)));
         Some(Self {
             a: a_f,
+            a_tr: a_f.transpose(),
             b: b_f,
             q: q_f,
             q_norm: q.norm(),
@@ -254,26 +341,27 @@ impl<const N: usize> Data<N> {
     /// Gain `K = R⁻¹(BᵀX + Nᵀ) = L⁻ᵀ(W₀X + V)` (rows `≥ m` zero) and `Z = W₀X + V`.
     fn gain(&self, x: &Sq<N>) -> Option<(Sq<N>, Sq<N>)> {
         let z = mm(&self.w0, x) + self.v;
-        let k = self.l.tr_solve_lower_triangular(&z)?;
+        let k = solve_lower_tr(&self.l, &z);
         Some((k, z))
     }
 
     /// Residual matrix `AᵀX + XA − (XB+N)R⁻¹(BᵀX+Nᵀ) + Q` (with `(XB+N)R⁻¹(BᵀX+Nᵀ) = ZᵀZ`)
-    /// and the relative residual (sum of the four terms' Frobenius norms in the denominator).
+    /// and the relative residual (sum of the four terms' Frobenius norms in the denominator;
+    /// `‖XA‖_F = ‖(AᵀX)ᵀ‖_F = ‖AᵀX‖_F` for symmetric `X`).
     fn residual(&self, x: &Sq<N>, z: &Sq<N>) -> (Sq<N>, f64) {
-        let atx = mtm(&self.a, x);
+        let atx = mm(&self.a_tr, x);
         let xa = atx.transpose();
-        let g = mtm(z, z);
+        let g = mm(&z.transpose(), z);
         let res = sym(&(atx + xa - g + self.q));
-        let s = atx.norm() + xa.norm() + g.norm() + self.q_norm;
-        let rn = res.norm();
+        let s = 2.0 * fro(&atx) + fro(&g) + self.q_norm;
+        let rn = fro(&res);
         (res, if s > 0.0 { rn / s } else { rn })
     }
 }
 
 /// Scale factor `sqrt(‖Q̃‖_F / ‖G‖_F)` (the general path's step 3).
 fn scale_factor<const N: usize>(d: &Data<N>, scaling: bool) -> f64 {
-    let (qn, gn) = (d.qt.norm(), d.g.norm());
+    let (qn, gn) = (fro(&d.qt), fro(&d.g));
     if scaling && qn > 0.0 && gn > 0.0 && (qn / gn).is_finite() {
         (qn / gn).sqrt()
     } else {
@@ -283,6 +371,13 @@ fn scale_factor<const N: usize>(d: &Data<N>, scaling: bool) -> f64 {
 
 /// Doubling after a Cayley transform (same shift choice as the general path), unrefined.
 fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
+    let (e0, g0, h0) = cayley_start(d, s)?;
+    sda_iterate(e0, g0, h0).map(|(_, _, h)| h * s)
+}
+
+/// The starting pencil `(E₀, G₀, H₀)` of the doubling iteration for the data scaled by `s`
+/// (`G·s`, `Q̃/s`): the Cayley transform with shift `γ` (Chu, Fan & Lin 2005).
+fn cayley_start<const N: usize>(d: &Data<N>, s: f64) -> Option<(Sq<N>, Sq<N>, Sq<N>)> {
     let g = d.g * s;
     let q = d.qt * (1.0 / s);
     let eye = Sq::<N>::identity();
@@ -296,7 +391,7 @@ fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
     let mut gamma = if rms.is_finite() && rms > 1e-3 {
         rms
     } else {
-        (d.at.norm().max((g.norm() * q.norm()).sqrt()) / (N as f64).sqrt()).max(1e-3)
+        (fro(&d.at).max((fro(&g) * fro(&q)).sqrt()) / (N as f64).sqrt()).max(1e-3)
     };
     for _ in 0..4 {
         let ag = d.at - eye * gamma;
@@ -314,43 +409,71 @@ fn doubling<const N: usize>(d: &Data<N>, s: f64) -> Option<Sq<N>> {
         let e0 = eye + (agi - mm(&agi_g, &wi_q_agi)) * (2.0 * gamma);
         let g0 = sym(&(mm(&agi_g, &wi) * (2.0 * gamma)));
         let h0 = sym(&(wi_q_agi * (2.0 * gamma)));
-        return sda_iterate(e0, g0, h0).map(|h| h * s);
+        return Some((e0, g0, h0));
     }
     None
 }
 
-/// The doubling iteration on a symplectic pencil in first standard form (Chu, Fan, Lin, Wang
-/// 2004), with the general path's stopping rules.
-fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Option<Sq<N>> {
-    let eye = Sq::<N>::identity();
+/// One doubling step on the symplectic pencil `(E, G, H)` in first standard form (Chu, Fan,
+/// Lin, Wang 2004), in place; returns `‖ΔH‖_F`, or `None` if `I + GH` is numerically singular
+/// (reciprocal condition number below `ε`).
+///
+/// With `W = I + GH` and `[Y₁ Y₂] = W⁻¹[E G]` (the arrangement of the general path's
+/// `sda_iterate`, eight `n × n` products): `E₊ = E Y₁`, `G₊ = G + (E Y₂) Eᵀ`,
+/// `H₊ = H + Eᵀ(H Y₁)` (`H W⁻¹ = W⁻ᵀH`, so this is the textbook `H + Eᵀ(I + HG)⁻¹HE`); `G₊`
+/// and `H₊` are symmetrised.
+#[inline(always)]
+fn sda_step<const N: usize>(e: &mut Sq<N>, g: &mut Sq<N>, h: &mut Sq<N>) -> Option<f64> {
+    let w = Sq::<N>::identity() + mm(g, h);
+    let (wi, rc) = inverse_rcond(&w)?;
+    if rc < f64::EPSILON {
+        return None;
+    }
+    let y1 = mm(&wi, e);
+    let y2 = mm(&wi, g);
+    let et = e.transpose();
+    let delta_h = mm(&et, &mm(h, &y1));
+    *h = sym(&(*h + delta_h));
+    *g = sym(&(*g + mm(&mm(e, &y2), &et)));
+    *e = mm(e, &y1);
+    Some(fro(&delta_h))
+}
+
+/// The doubling iteration ([`sda_step`]) with the general path's stopping rules; returns the
+/// final pencil `(E, G, H)`, `H` the approximation of the solution.
+///
+/// Stopping: `‖ΔH‖ ≤ 4√n·ε‖H‖`, `‖E‖ ≤ ε`, the general path's prediction of the next
+/// increment `‖ΔH‖·(‖E₊‖/‖E‖)² ≤ ε‖H‖` (in the quadratic phase `ΔH_{k+1} = O(‖E_{k+1}‖²)`,
+/// so the confirming step that would change `H` below rounding level is not taken), or
+/// rounding-level stagnation.
+fn sda_iterate<const N: usize>(
+    mut e: Sq<N>,
+    mut g: Sq<N>,
+    mut h: Sq<N>,
+) -> Option<(Sq<N>, Sq<N>, Sq<N>)> {
+    let tol = 4.0 * f64::EPSILON * (N as f64).sqrt();
     let mut last_dh = f64::INFINITY;
+    let mut e_norm = fro(&e);
     for _ in 0..60 {
-        let w = eye + mm(&g, &h);
-        let (wi, rc) = inverse_rcond(&w)?;
-        if rc < f64::EPSILON {
+        let dh = sda_step(&mut e, &mut g, &mut h)?;
+        let hn = fro(&h);
+        let e_new = fro(&e);
+        if !hn.is_finite() || !e_new.is_finite() {
             return None;
         }
-        let wi_e = mm(&wi, &e);
-        let wi_g = mm(&wi, &g);
-        let wit_he = mtm(&wi, &mm(&h, &e));
-        let e_new = mm(&e, &wi_e);
-        let g_new = sym(&(g + mm(&mm(&e, &wi_g), &e.transpose())));
-        let h_new = sym(&(h + mtm(&e, &wit_he)));
-        let dh = (h_new - h).norm();
-        let hn = h_new.norm();
-        e = e_new;
-        g = g_new;
-        h = h_new;
-        if !hn.is_finite() {
-            return None;
-        }
-        if dh <= 4.0 * f64::EPSILON * (N as f64).sqrt() * hn || e.norm() <= f64::EPSILON {
-            return Some(h);
+        let predicted = if e_norm > 0.0 {
+            dh * (e_new / e_norm).powi(2)
+        } else {
+            0.0
+        };
+        if dh <= tol * hn || predicted <= f64::EPSILON * hn || e_new <= f64::EPSILON {
+            return Some((e, g, h));
         }
         if dh <= 1e-10 * hn && dh >= 0.5 * last_dh {
-            return Some(h);
+            return Some((e, g, h));
         }
         last_dh = dh;
+        e_norm = e_new;
     }
     None
 }
@@ -358,9 +481,12 @@ fn sda_iterate<const N: usize>(mut e: Sq<N>, mut g: Sq<N>, mut h: Sq<N>) -> Opti
 /// Eigenvalues of `f` in the order of [`sort_eigenvalues`](crate::linalg::sort_eigenvalues)
 /// by the fixed-size Hessenberg–Francis QR of [`eigenvalues_small`] (no allocation); `None`
 /// (non-finite entries, or no convergence) sends the problem to the general path.
+///
+/// `eigenvalues_small` reads a row-major array; the column arrays of `f`'s (column-major)
+/// storage are passed as its rows, so it works on `fᵀ`, which has the same eigenvalues, and
+/// its backward error `fᵀ + E` is the backward error `f + Eᵀ` of the same size.
 fn eigenvalues<const N: usize>(f: &Sq<N>) -> Option<[Complex64; N]> {
-    let rows: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| f[(i, j)]));
-    eigenvalues_small(&rows).ok()
+    eigenvalues_small(&f.data.0).ok()
 }
 
 /// Index of the unknown `Δ_ij = Δ_ji` in the packed upper triangle (column by column).
@@ -476,4 +602,154 @@ fn solve<const N: usize>(
         method: RiccatiMethod::Doubling,
         refinement_steps: steps,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::testing::splitmix_matrix;
+
+    const EPS: f64 = f64::EPSILON;
+
+    fn sq<const N: usize>(m: &Mat) -> Sq<N> {
+        Sq::<N>::from_fn(|i, j| m[(i, j)])
+    }
+
+    /// `γ_n = nε/(1 − nε)`, the rounding-error constant of an `n`-term sum (Higham,
+    /// "Accuracy and Stability of Numerical Algorithms", 2nd ed., §3.1).
+    fn gamma(n: usize) -> f64 {
+        n as f64 * EPS / (1.0 - n as f64 * EPS)
+    }
+
+    /// The helpers against their definitions and nalgebra's own routines, for one order.
+    fn helpers_for<const N: usize>(seed: u64) {
+        let a = sq::<N>(&splitmix_matrix(N, N, seed));
+        let b = sq::<N>(&splitmix_matrix(N, N, seed + 1000));
+        // `mm`: each entry is an inner product of length N, within γ_N (|A||B|)_ij of the
+        // exact one (Higham §3.5), so it differs from nalgebra's product (another summation
+        // order) by at most 2γ_N (|A||B|)_ij.
+        let got = mm(&a, &b);
+        let want = a * b;
+        let bound = a.abs() * b.abs() * (2.0 * gamma(N));
+        for (i, j) in (0..N).flat_map(|i| (0..N).map(move |j| (i, j))) {
+            assert!(
+                (got[(i, j)] - want[(i, j)]).abs() <= bound[(i, j)],
+                "mm ({i},{j})"
+            );
+        }
+        // `sym` is (M + Mᵀ)/2 entry by entry: the same two roundings in either order.
+        assert_eq!(sym(&a), (a + a.transpose()) * 0.5);
+        // `fro`: a sum of N² squares in another order, then a square root: relative
+        // difference at most N²ε (γ_{N²}) plus the root's half ulp.
+        let (f, n) = (fro(&a), a.norm());
+        assert!(
+            (f - n).abs() <= (N * N) as f64 * EPS * n + EPS * n,
+            "fro {f} vs {n}"
+        );
+
+        // Cholesky of an SPD matrix M = CᵀC + I/10: backward stable, |LLᵀ − M| ≤
+        // γ_{N+1}|L||Lᵀ| (Higham Thm 10.3), and ‖|L||Lᵀ|‖_F ≤ ‖L‖_F²; a factor 2 spare.
+        let m = a.transpose() * a + Sq::<N>::identity() * 0.1;
+        let l = cholesky(&m).expect("SPD");
+        for i in 0..N {
+            for j in i + 1..N {
+                assert_eq!(l[(i, j)], 0.0, "L not lower triangular");
+            }
+        }
+        let tol = 2.0 * gamma(N + 1) * l.norm_squared();
+        assert!((l * l.transpose() - m).norm() <= tol, "LLᵀ ≠ M");
+        // Indefinite: a negative pivot appears, no factor.
+        let mut ind = m;
+        ind[(N - 1, N - 1)] = -1.0 - m.norm();
+        assert!(cholesky(&ind).is_none());
+        // Triangular solves: backward stable (Higham Thm 8.5, |ΔL| ≤ γ_N|L|), so the
+        // residual is at most γ_N‖|L||X|‖_F ≤ γ_N‖L‖_F‖X‖_F; a factor 2 spare.
+        let x = solve_lower(&l, &b);
+        let tol = 2.0 * gamma(N) * l.norm() * x.norm();
+        assert!((l * x - b).norm() <= tol, "L X ≠ B");
+        let x = solve_lower_tr(&l, &b);
+        let tol = 2.0 * gamma(N) * l.norm() * x.norm();
+        assert!((l.transpose() * x - b).norm() <= tol, "Lᵀ X ≠ B");
+
+        // Inverse: residual of Gauss–Jordan with partial pivoting, ‖MX − I‖ ≤ c_N ε‖M‖‖X‖
+        // with a modest c_N for these random matrices (Higham §14.4; growth factor small);
+        // c_N = 20N allows for it. The rcond is the definition 1/(‖M‖₁‖M⁻¹‖₁), compared with
+        // the one from nalgebra's LU inverse: the two inverses differ by O(κ₁ Nε) relatively
+        // (first-order perturbation of the inverse), so the rconds by O(κ₁ Nε)·rcond; the
+        // constant 100 covers c_N for both routines.
+        let (inv, rc) = inverse_rcond(&a).expect("nonsingular");
+        let tol = 20.0 * N as f64 * EPS * a.norm() * inv.norm();
+        assert!((a * inv - Sq::<N>::identity()).norm() <= tol, "M M⁻¹ ≠ I");
+        let reference = a.try_inverse().expect("nonsingular");
+        let rc_ref = 1.0 / (norm1(&a) * norm1(&reference));
+        let kappa = 1.0 / rc_ref;
+        assert!(
+            (rc - rc_ref).abs() <= 100.0 * N as f64 * EPS * kappa * rc_ref,
+            "rcond {rc} vs {rc_ref}"
+        );
+        assert!(inverse_rcond(&Sq::<N>::zeros()).is_none());
+    }
+
+    #[test]
+    fn helpers_satisfy_their_defining_equations() {
+        for seed in 0..20 {
+            helpers_for::<1>(seed);
+            helpers_for::<2>(seed);
+            helpers_for::<3>(seed);
+            helpers_for::<4>(seed);
+            helpers_for::<5>(seed);
+            helpers_for::<8>(seed);
+        }
+    }
+
+    /// Runs the doubling to its stop on the given data, then takes the step the predictive
+    /// test skipped: it must change `H` by no more than the rounding-level convergence bound
+    /// `4√n·ε‖H‖` (the rule that would have stopped the iteration after it).
+    fn skipped_step_is_negligible<const N: usize>(a: &Mat, b: &Mat, q: &Mat, r: &Mat) {
+        let d = Data::<N>::new(a, b, q, r, None).expect("data");
+        let s = scale_factor(&d, true);
+        let (e0, g0, h0) = cayley_start(&d, s).expect("Cayley transform");
+        let (mut e, mut g, mut h) = sda_iterate(e0, g0, h0).expect("converges");
+        let h_stop = h;
+        let dh = sda_step(&mut e, &mut g, &mut h).expect("step");
+        let bound = 4.0 * (N as f64).sqrt() * EPS * fro(&h_stop);
+        assert!(
+            dh <= bound,
+            "n = {N}: skipped step changes H by {dh:e} > {bound:e}"
+        );
+    }
+
+    #[test]
+    fn predicted_stop_only_skips_a_rounding_level_step() {
+        // The cart pendulum of `care-n4` (SPEC.md §1.1 parameters, table 3.5).
+        let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
+        let j = jp + mp * lp * lp;
+        #[rustfmt::skip]
+        let a = Mat::from_row_slice(4, 4, &[
+            0.0, 0.0, 1.0, 0.0,
+            0.0, 0.0, 0.0, 1.0,
+            0.0, 0.0, -ac, 0.0,
+            0.0, mp * g * lp / j, ac * mp * lp / j, -mup / j,
+        ]);
+        let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
+        let q = Mat::from_diagonal(&crate::linalg::Vector::from_column_slice(&[
+            100.0, 10.0, 1.0, 1.0,
+        ]));
+        skipped_step_is_negligible::<4>(&a, &b, &q, &Mat::identity(1, 1));
+        // Random LQ problems (Q = CᵀC/n + I/10, R = I).
+        fn random<const N: usize>(seed: u64, m: usize) {
+            let a = splitmix_matrix(N, N, seed);
+            let b = splitmix_matrix(N, m, seed + 1);
+            let c = splitmix_matrix(N, N, seed + 2);
+            let q = c.transpose() * &c * (1.0 / N as f64) + Mat::identity(N, N) * 0.1;
+            skipped_step_is_negligible::<N>(&a, &b, &q, &Mat::identity(m, m));
+        }
+        for seed in 0..10 {
+            random::<2>(seed * 7, 1);
+            random::<3>(seed * 7, 2);
+            random::<4>(seed * 7, 1);
+            random::<6>(seed * 7, 2);
+            random::<8>(seed * 7, 3);
+        }
+    }
 }
