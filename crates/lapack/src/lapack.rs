@@ -10,8 +10,12 @@
 //! Computations*, 4th ed., Alg. 4.2.2); LU is Gaussian elimination with partial pivoting
 //! (Alg. 3.4.1, the unblocked LAPACK `xGETF2` organisation, row interchanges recorded as in
 //! `IPIV`); the symmetric eigenproblem uses nalgebra's Householder tridiagonalisation with
-//! implicit symmetric QR steps and Wilkinson shifts (Alg. 8.3.3); the SVD uses nalgebra's
-//! Golub–Kahan bidiagonalisation with implicit-shift QR sweeps (Alg. 8.6.2).
+//! implicit symmetric QR steps and Wilkinson shifts (Alg. 8.3.3); the SVD of matrices with a
+//! side above `jacobi::MAX_SIDE` uses nalgebra's Golub–Kahan bidiagonalisation with
+//! implicit-shift QR sweeps (Alg. 8.6.2); smaller ones never reach this module (see
+//! `crate::jacobi`). Caveat: nalgebra's SVD can return wrong singular values when vectors
+//! are requested (nalgebra issue #1172, e.g. the all-ones 3 × 5 matrix), which is one more
+//! reason the small sizes take the Jacobi path.
 
 use crate::Real;
 use crate::blas::Uplo;

@@ -48,12 +48,16 @@
 //! ## Layout
 //! - [`ffi`]: the exported symbols (the only `unsafe` code), argument validation;
 //! - `blas`, `lapack` (private): the safe kernels, on nalgebra where nalgebra has the
-//!   algorithm (matrix product, symmetric eigensolver, SVD).
+//!   algorithm (symmetric eigenvectors, SVD of matrices with a side above 16);
+//! - `jacobi` (private): the SVD of matrices with both sides ≤ 16 (all of Clarabel's PSD
+//!   cones on pendulab's problems) by one-sided Jacobi, allocation-free and more accurate
+//!   than bidiagonal QR on graded matrices.
 
 #![warn(missing_docs)]
 
 mod blas;
 pub mod ffi;
+mod jacobi;
 mod lapack;
 
 /// The two floating-point types the routines exist for (`f64` → `d…`, `f32` → `s…`).
