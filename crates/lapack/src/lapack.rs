@@ -360,8 +360,9 @@ pub(crate) fn gesv<T: Real>(
 /// Computations*, 4th ed., Alg. 8.3.1, the rank-2 update `A ← A − v wᵀ − w vᵀ` of LAPACK's
 /// `xSYTD2`; on a full symmetric copy on the stack for `n ≤ 16`, on the stored triangle
 /// otherwise), then implicit symmetric QR steps with the Wilkinson shift on the
-/// tridiagonal matrix (Alg. 8.3.2), deflating where `|e_i| ≤ ε (|d_i| + |d_{i+1}|)`. Both
-/// stages are backward stable: the eigenvalues are exact for a matrix within `O(ε)‖A‖`.
+/// tridiagonal matrix (Alg. 8.3.2) in the root-free Pal–Walker–Kahan form of LAPACK's
+/// `xSTERF`, deflating where `|e_i| ≤ ε (|d_i| + |d_{i+1}|)`. Both stages are backward
+/// stable: the eigenvalues are exact for a matrix within `O(ε)‖A‖`.
 pub(crate) fn syevr_values<T: Real>(
     range: EigRange<T>,
     uplo: Uplo,
@@ -608,33 +609,57 @@ fn fast_hypot<T: Real>(x: T, y: T) -> T {
 }
 
 /// Eigenvalues of the symmetric tridiagonal matrix with diagonal `d` and off-diagonal
-/// `e[..n−1]` (`e[n−1]` is scratch), overwriting `d` (unordered): implicit symmetric QR
-/// steps with the Wilkinson shift (Golub & Van Loan, Alg. 8.3.2) on the trailing unreduced
-/// block, the bulge chased by Givens rotations. False if `cap` sweeps did not suffice.
+/// `e[..n−1]` (`e[n−1]` is scratch), overwriting `d` (unordered; `e` is destroyed): implicit
+/// QR steps with the Wilkinson shift on the trailing unreduced block, in the root-free form
+/// of Pal, Walker and Kahan (B. N. Parlett, *The Symmetric Eigenvalue Problem*, SIAM 1998,
+/// §8.15; the QR branch of LAPACK's `xSTERF`), which carries the squares `e_i²` and needs no
+/// square root inside the bulge chase (about half the operations of the Givens form, Golub
+/// & Van Loan Alg. 8.3.2). Off-diagonals with `e_i² ≤ ε² (|d_i| + |d_{i+1}|)²` are
+/// deflated. The matrix is first scaled into `[1e-100, 1e100]` so that the squares neither
+/// overflow nor underflow harmfully. False if `cap` sweeps did not suffice.
 fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> bool {
     let n = d.len();
     if n < 2 {
         return true;
     }
+    let e = &mut e[..n - 1];
+    let amax = d
+        .iter()
+        .chain(e.iter())
+        .fold(T::zero(), |m, x| m.max(x.abs()));
+    if amax == T::zero() {
+        return true;
+    }
+    let (big, small): (T, T) = (nalgebra::convert(1e100), nalgebra::convert(1e-100));
+    let scale = if amax > big || amax < small {
+        amax
+    } else {
+        T::one()
+    };
+    if scale != T::one() {
+        d.iter_mut().for_each(|x| *x /= scale);
+        e.iter_mut().for_each(|x| *x /= scale);
+    }
+    e.iter_mut().for_each(|x| *x = *x * *x);
     let eps = T::default_epsilon();
+    let eps2 = eps * eps;
     let two: T = nalgebra::convert(2.0);
+    let negligible = |e2: T, a: T, b: T| {
+        let s = a.abs() + b.abs();
+        e2 <= eps2 * s * s
+    };
     let mut hi = n - 1;
     let mut sweeps = 0;
     loop {
-        // Deflate negligible off-diagonals; find the trailing unreduced block lo..=hi.
-        for i in 0..hi {
-            if e[i].abs() <= eps * (d[i].abs() + d[i + 1].abs()) {
-                e[i] = T::zero();
-            }
-        }
-        while hi > 0 && e[hi - 1] == T::zero() {
+        // Deflate at the bottom, then find the top `lo` of the unreduced block lo..=hi.
+        while hi > 0 && negligible(e[hi - 1], d[hi - 1], d[hi]) {
             hi -= 1;
         }
         if hi == 0 {
-            return true;
+            break;
         }
         let mut lo = hi - 1;
-        while lo > 0 && e[lo - 1] != T::zero() {
+        while lo > 0 && !negligible(e[lo - 1], d[lo - 1], d[lo]) {
             lo -= 1;
         }
         sweeps += 1;
@@ -642,37 +667,44 @@ fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> boo
             return false;
         }
         // Wilkinson shift: the eigenvalue of the trailing 2 × 2 closer to d[hi].
-        let b = e[hi - 1];
-        let delta = (d[hi - 1] - d[hi]) / two;
-        let r = fast_hypot(delta, b);
-        let mu = if delta >= T::zero() {
-            d[hi] - b * b / (delta + r)
-        } else {
-            d[hi] - b * b / (delta - r)
-        };
-        let mut x = d[lo] - mu;
-        let mut z = e[lo];
-        for k in lo..hi {
-            // Givens rotation G = [c s; −s c] with G [x; z] = [r; 0].
-            let r = fast_hypot(x, z);
-            let (c, s) = if r == T::zero() {
-                (T::one(), T::zero())
+        let rte = e[hi - 1].sqrt();
+        let delta = (d[hi - 1] - d[hi]) / (two * rte);
+        let r = fast_hypot(delta, T::one());
+        let sigma = d[hi]
+            - rte
+                / if delta >= T::zero() {
+                    delta + r
+                } else {
+                    delta - r
+                };
+        // Root-free chase: c = cos², s = sin² of the implicit rotations.
+        let (mut c, mut s) = (T::one(), T::zero());
+        let mut gamma = d[lo] - sigma;
+        let mut p = gamma * gamma;
+        for i in lo..hi {
+            let bb = e[i];
+            let r = p + bb;
+            if i > lo {
+                e[i - 1] = s * r;
+            }
+            let old_c = c;
+            c = p / r;
+            s = bb / r;
+            let old_gamma = gamma;
+            let alpha = d[i + 1];
+            gamma = c * (alpha - sigma) - s * old_gamma;
+            d[i] = old_gamma + (alpha - gamma);
+            p = if c != T::zero() {
+                gamma * gamma / c
             } else {
-                (x / r, z / r)
+                old_c * bb
             };
-            if k > lo {
-                e[k - 1] = r;
-            }
-            let (dk, ek, dk1) = (d[k], e[k], d[k + 1]);
-            let cs = c * s;
-            d[k] = c * c * dk + two * cs * ek + s * s * dk1;
-            d[k + 1] = s * s * dk - two * cs * ek + c * c * dk1;
-            e[k] = cs * (dk1 - dk) + (c * c - s * s) * ek;
-            if k + 1 < hi {
-                x = e[k];
-                z = s * e[k + 1];
-                e[k + 1] *= c;
-            }
         }
+        e[hi - 1] = s * p;
+        d[hi] = sigma + gamma;
     }
+    if scale != T::one() {
+        d.iter_mut().for_each(|x| *x *= scale);
+    }
+    true
 }

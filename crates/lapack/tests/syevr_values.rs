@@ -266,3 +266,39 @@ fn values_only_on_every_small_side_and_the_packed_path() {
         }
     }
 }
+
+/// The Clement (Kac) matrix: zero diagonal, off-diagonal `√(i (n − i))`, `i = 1..n−1`, has
+/// the eigenvalues `−(n−1), −(n−3), …, n−1` exactly (M. Kac, *Amer. Math. Monthly* 54, 1947;
+/// P. A. Clement, *SIAM Rev.* 1, 1959). It is already tridiagonal and its zero diagonal
+/// makes every relative deflation test hinge on the off-diagonals. Scaled by `2^±600`, the
+/// squares the root-free QR carries would over- or underflow without the scaling step; the
+/// eigenvalues must scale exactly with the matrix. Tolerance 1e-12 ‖A‖_F as above.
+#[test]
+fn clement_matrix_closed_form_also_at_extreme_scales() {
+    for n in 1..=17usize {
+        for factor in [1.0, 2f64.powi(600), 2f64.powi(-600)] {
+            let mut full = vec![0.0; n * n];
+            for i in 1..n {
+                let v = factor * ((i * (n - i)) as f64).sqrt();
+                full[(i - 1) + i * n] = v;
+                full[i + (i - 1) * n] = v;
+            }
+            let scale = full
+                .iter()
+                .map(|v| (v / factor).powi(2))
+                .sum::<f64>()
+                .sqrt()
+                .max(1.0);
+            for uplo in [b'U', b'L'] {
+                let mut a = stored(&full, n, n, uplo);
+                let (info, w, _) = call(b'N', b'A', uplo, n, &mut a, n, (0.0, 0.0), (0, 0));
+                assert_eq!(info, 0);
+                for (k, x) in w.iter().enumerate() {
+                    let exact = -((n - 1) as f64) + 2.0 * k as f64;
+                    let err = (x / factor - exact).abs();
+                    assert!(err <= TOL * scale, "n = {n}, ×{factor:e}: λ_{k} = {x:e}");
+                }
+            }
+        }
+    }
+}
