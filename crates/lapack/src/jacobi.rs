@@ -194,12 +194,11 @@ fn sweep<T: Real, const R: usize>(
             }
         }
     }
-    // Entries far from 1 would over- or underflow in the squared norms: scale W by 1/amax
-    // (a relative perturbation of ε per entry, harmless for the SVD) and undo it on Σ.
-    let big: T = nalgebra::convert(1e100);
-    let small: T = nalgebra::convert(1e-100);
-    let scale = if amax > big || (amax < small && amax > T::zero()) {
-        amax
+    // Scale W exactly (by a power of two) so that its largest entry is near 1: the squared
+    // norms then neither overflow nor underflow except for columns negligible next to ‖A‖
+    // (see `negligible` below); Σ is scaled back at the end.
+    let scale = if amax > T::zero() {
+        T::power_of_two_near(amax)
     } else {
         T::one()
     };
@@ -217,8 +216,9 @@ fn sweep<T: Real, const R: usize>(
     let tol = eps * nalgebra::convert::<f64, T>(R as f64).sqrt();
     let cancelled: T = nalgebra::convert(1.0 / 16.0);
     // A column whose squared norm is below this has lost its direction to underflow and
-    // cannot be orthogonalised: it is set to zero (a perturbation below 1e-46 ‖A‖ for the
-    // scaled W) and completed at the end like an exactly zero column.
+    // cannot be orthogonalised: it is set to zero (a perturbation below √(MIN_POSITIVE/ε)
+    // ≈ 1e-146 ‖A‖ in f64, 3e-16 ‖A‖ in f32, W being scaled to max |w_ij| ≈ 1) and
+    // completed at the end like an exactly zero column.
     let negligible = T::MIN_POSITIVE / eps;
     let big_zeta = T::one() / eps;
     let half: T = nalgebra::convert(0.5);

@@ -615,8 +615,8 @@ fn fast_hypot<T: Real>(x: T, y: T) -> T {
 /// §8.15; the QR branch of LAPACK's `xSTERF`), which carries the squares `e_i²` and needs no
 /// square root inside the bulge chase (about half the operations of the Givens form, Golub
 /// & Van Loan Alg. 8.3.2). Off-diagonals with `e_i² ≤ ε² (|d_i| + |d_{i+1}|)²` are
-/// deflated. The matrix is first scaled into `[1e-100, 1e100]` so that the squares neither
-/// overflow nor underflow harmfully. False if `cap` sweeps did not suffice.
+/// deflated. A matrix whose largest entry lies outside `Real::square_safe_range` is first
+/// scaled by it, so that the squares neither overflow nor underflow harmfully. False if `cap` sweeps did not suffice.
 fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> bool {
     let n = d.len();
     if n < 2 {
@@ -630,7 +630,7 @@ fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> boo
     if amax == T::zero() {
         return true;
     }
-    let (big, small): (T, T) = (nalgebra::convert(1e100), nalgebra::convert(1e-100));
+    let (small, big) = T::square_safe_range();
     let scale = if amax > big || amax < small {
         amax
     } else {

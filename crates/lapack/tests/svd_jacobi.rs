@@ -328,7 +328,8 @@ fn repeated_singular_values() {
 }
 
 /// Entries near the ends of the exponent range are scaled before the squared column norms
-/// are formed: the residual and orthonormality hold and the values scale exactly with `A`.
+/// are formed: the residual and orthonormality hold and the values scale exactly with `A`
+/// (`2^1020` would overflow the squares, `2^-1000` underflow them, without that scaling).
 #[test]
 fn extreme_scales_neither_overflow_nor_underflow() {
     for (m, n) in [(5, 5), (6, 4), (4, 6), (10, 10)] {
@@ -337,17 +338,15 @@ fn extreme_scales_neither_overflow_nor_underflow() {
         for factor in [
             2f64.powi(600),
             2f64.powi(-600),
-            2f64.powi(1000),
+            2f64.powi(1020),
             2f64.powi(-1000),
         ] {
             let b: Vec<f64> = a.iter().map(|x| x * factor).collect();
             let s = check_contract(&b, (m, n), "scaled");
+            // The kernel scales W by the power of two nearest max |a_ij|: scaled by a power
+            // of two, the matrix runs through bit-identical arithmetic.
             for (x, y) in s.iter().zip(&s1) {
-                // Scaling by 1/max|a_ij| perturbs each entry by ≤ ε relatively.
-                assert!(
-                    (x / factor - y).abs() <= 8.0 * 10.0 * EPS * s1[0],
-                    "{x:e} vs {y:e}"
-                );
+                assert_eq!(*x, y * factor, "values scale exactly");
             }
         }
     }
@@ -398,5 +397,55 @@ fn full_jobs_give_square_orthogonal_factors() {
                 }
             }
         }
+    }
+}
+
+/// Single precision (`sgesdd_`), where squares overflow already beyond `2^64`: a matrix
+/// scaled by `2^100` gives exactly `2^100` times the singular values of the unscaled one,
+/// and those agree with the double-precision values to single-precision accuracy
+/// (`8 n ε_f32 σ₁`, as for the double tolerance above).
+#[test]
+fn single_precision_path_scales_too() {
+    use pendulab_lapack::ffi::sgesdd_;
+    let (m, n) = (6usize, 5usize);
+    let a = lcg_entries(m * n, 5);
+    let s64 = check_contract(&a, (m, n), "f64");
+    let run = |factor: f32| -> Vec<f32> {
+        let mut a32: Vec<f32> = a.iter().map(|x| *x as f32 * factor).collect();
+        let mut s = vec![0f32; n];
+        let mut u = vec![0f32; m * n];
+        let mut vt = vec![0f32; n * n];
+        let mut work = vec![0f32; 1000];
+        let mut iwork = vec![0 as c_int; 8 * n];
+        let mut info: c_int = -77;
+        unsafe {
+            sgesdd_(
+                &(b'S' as c_char),
+                &(m as c_int),
+                &(n as c_int),
+                a32.as_mut_ptr(),
+                &(m as c_int),
+                s.as_mut_ptr(),
+                u.as_mut_ptr(),
+                &(m as c_int),
+                vt.as_mut_ptr(),
+                &(n as c_int),
+                work.as_mut_ptr(),
+                &1000,
+                iwork.as_mut_ptr(),
+                &mut info,
+            )
+        };
+        assert_eq!(info, 0);
+        s
+    };
+    let s1 = run(1.0);
+    let big = 2f32.powi(100);
+    let sb = run(big);
+    for ((x, y), z) in sb.iter().zip(&s1).zip(&s64) {
+        assert!(x.is_finite());
+        assert_eq!(*x, y * big, "values scale exactly");
+        let tol = 8.0 * 6.0 * f32::EPSILON as f64 * s64[0];
+        assert!((*y as f64 - z).abs() <= tol, "f32 {y} vs f64 {z}");
     }
 }
