@@ -264,9 +264,10 @@ fn rank_deficient_and_zero_matrices_keep_orthonormal_factors() {
 /// Graded matrices `A = Q D` (`m ≥ n`) or `D Qᵀ` (`m < n`), `Q` a Householder reflector
 /// `I − 2 v vᵀ/(vᵀv)` (orthogonal), `D = diag(d_j)` with `d_j` from 1 down to 1e-15: the
 /// singular values are exactly the `d_j`. One-sided Jacobi finds even the smallest to a
-/// relative error `O(√n ε κ(Q))` (Demmel & Veselić 1992, Theorem 4.2; `κ(Q) = 1` up to the
-/// rounding of `Q`), hence the relative tolerance `1e-13` on *each* value, which
-/// bidiagonal QR (accurate only to `ε σ_max` in absolute terms) does not promise.
+/// relative error `O(√n ε κ(Q))` (Demmel & Veselić 1992, their bound for one-sided Jacobi;
+/// `κ(Q) = 1` up to the rounding of `Q`), hence the relative tolerance `1e-13` on *each*
+/// value, which bidiagonal QR (accurate only to `ε σ_max` in absolute terms) does not
+/// promise.
 #[test]
 fn graded_matrices_have_relatively_accurate_small_singular_values() {
     for m in 1..=12 {
