@@ -1072,7 +1072,7 @@ macro_rules! symbols {
         /// `JOBZ` `'A'` (full `U`, `Vᵀ`), `'S'` (the `min(m, n)` leading vectors), `'O'`
         /// (leading vectors overwrite `A`: `U` if `m ≥ n`, else `Vᵀ`) or `'N'` (values only).
         /// A workspace query (`LWORK = −1`) reports LAPACK's documented minimum in `WORK[0]`.
-        /// Matrices with both sides ≤ 16 are decomposed by one-sided Jacobi (no allocation;
+        /// Matrices with both sides ≤ 32 are decomposed by one-sided Jacobi (no allocation;
         /// small singular values of graded matrices to high relative accuracy), larger ones
         /// by bidiagonal QR; `WORK` is not used beyond `WORK[0]`. `IWORK` is not used. `INFO = 1`: non-finite input or no convergence;
         /// `INFO = −i`: argument `i` invalid.
@@ -1109,7 +1109,7 @@ macro_rules! symbols {
         /// `JOBU`/`JOBVT` `'A'`, `'S'`, `'O'` (overwrite `A`; not both) or `'N'`, as in
         /// LAPACK. A workspace query (`LWORK = −1`) reports the documented minimum
         /// `max(1, 3 min(m,n) + max(m,n), 5 min(m,n))`. The algorithm is chosen as for the
-        /// `GESDD` routine (one-sided Jacobi up to side 16). `INFO = 1`: non-finite input or no
+        /// `GESDD` routine (one-sided Jacobi up to side 32). `INFO = 1`: non-finite input or no
         /// convergence; `INFO = −i`: argument `i` invalid.
         ///
         /// # Safety

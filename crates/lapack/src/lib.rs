@@ -48,8 +48,8 @@
 //! ## Layout
 //! - [`ffi`]: the exported symbols (the only `unsafe` code), argument validation;
 //! - `blas`, `lapack` (private): the safe kernels, on nalgebra where nalgebra has the
-//!   algorithm (symmetric eigenvectors, SVD of matrices with a side above 16);
-//! - `jacobi` (private): the SVD of matrices with both sides ≤ 16 (all of Clarabel's PSD
+//!   algorithm (symmetric eigenvectors, SVD of matrices with a side above 32);
+//! - `jacobi` (private): the SVD of matrices with both sides ≤ 32 (all of Clarabel's PSD
 //!   cones on pendulab's problems) by one-sided Jacobi, allocation-free and more accurate
 //!   than bidiagonal QR on graded matrices.
 

@@ -7,7 +7,7 @@
 //! the high relative accuracy on graded matrices `Q D` whose singular values are known in
 //! closed form (the `|d_i|`, for orthogonal `Q`).
 //!
-//! Tolerances, with `ε = 2.2e-16` and sides up to 12:
+//! Tolerances, with `ε = 2.2e-16` and sides `n` up to 32:
 //! - orthonormality `|UᵀU − I|`, `|VᵀV − I|` ≤ `4 n ε` entrywise: `U`'s columns are
 //!   orthogonal to `√m ε` by the stopping rule and normalised in one rounding, `V` is a
 //!   product of plane rotations, each orthogonal to a few ε;
@@ -448,5 +448,27 @@ fn single_precision_path_scales_too() {
         assert_eq!(*x, y * big, "values scale exactly");
         let tol = 8.0 * 6.0 * f32::EPSILON as f64 * s64[0];
         assert!((*y as f64 - z).abs() <= tol, "f32 {y} vs f64 {z}");
+    }
+}
+
+/// The Jacobi path up to side 32 (Clarabel's PSD cones on the textbook's SOS design have
+/// sides up to 30): dense matrices against the Gram eigenvalues, and the all-ones matrices
+/// `1_m 1_nᵀ` (rank one, `σ₁ = √(mn)`, the family on which nalgebra's SVD returns wrong
+/// values once vectors are requested, nalgebra issue #1172), with the contract checks above.
+#[test]
+fn larger_sides_up_to_32() {
+    for (m, n) in [(20, 20), (30, 30), (32, 17), (17, 32), (32, 32), (25, 3)] {
+        let a = lcg_entries(m * n, (m * 37 + n) as u64);
+        let s = check_contract(&a, (m, n), "dense");
+        check_against_gram(&a, (m, n), &s, "dense");
+        let ones = vec![1.0; m * n];
+        let s = check_contract(&ones, (m, n), "ones");
+        let exact = ((m * n) as f64).sqrt();
+        assert!(
+            (s[0] - exact).abs() <= 8.0 * 32.0 * EPS * exact,
+            "{m}x{n}: {}",
+            s[0]
+        );
+        assert!(s[1..].iter().all(|v| *v <= 8.0 * 32.0 * EPS * exact));
     }
 }
