@@ -231,20 +231,44 @@ struct SmallGemm<'a, T> {
     beta: T,
 }
 
-/// [`gemm`] for `op(A)` of exactly `M` rows. A transposed `A` is first copied column by
-/// column into a `[[T; M]; SMALL_K]` (so `k ≤ SMALL_K`); then [`small_gemm_columns`].
+/// [`gemm`] for `op(A)` of exactly `M` rows: the columns of `op(A)` are handed to
+/// [`small_gemm_columns`] as `[T; M]` arrays — in place when `A` is untransposed and tightly
+/// stored (`lda = M`, Clarabel's case), otherwise copied into a `[[T; M]; SMALL_K]` (a
+/// transposed `A` column by column, so `k ≤ SMALL_K`), or, for an untransposed `A` with
+/// `k > SMALL_K`, borrowed column by column.
 fn small_gemm<T: Real, const M: usize>(g: &SmallGemm<'_, T>, c: (&mut [T], usize)) {
     let (a, lda) = g.a;
     match g.ta {
-        Trans::No => small_gemm_columns::<T, M>(
-            g,
-            |l| {
-                a[l * lda..]
-                    .first_chunk::<M>()
-                    .expect("validated: A holds m rows per column")
-            },
-            c,
-        ),
+        Trans::No if lda == M => {
+            let (cols, _) = a[..g.k * M].as_chunks::<M>();
+            small_gemm_columns::<T, M>(g, cols, c);
+        }
+        Trans::No if g.k <= SMALL_K => {
+            let mut at = [[T::zero(); M]; SMALL_K];
+            for (col, l) in at.iter_mut().zip(0..g.k) {
+                col.copy_from_slice(&a[l * lda..l * lda + M]);
+            }
+            small_gemm_columns::<T, M>(g, &at[..g.k], c);
+        }
+        Trans::No => {
+            for j in 0..g.n {
+                let bj = |l: usize| match g.tb {
+                    Trans::No => g.b.0[l + j * g.b.1],
+                    Trans::Yes => g.b.0[j + l * g.b.1],
+                };
+                let mut acc = [T::zero(); M];
+                for l in 0..g.k {
+                    let blj = bj(l);
+                    let al = a[l * lda..]
+                        .first_chunk::<M>()
+                        .expect("validated: A holds m rows per column");
+                    for (s, &x) in acc.iter_mut().zip(al) {
+                        *s += blj * x;
+                    }
+                }
+                store_column(g, acc, &mut c.0[j * c.1..j * c.1 + M]);
+            }
+        }
         Trans::Yes => {
             let mut at = [[T::zero(); M]; SMALL_K];
             for (i, ai) in a.chunks(lda).take(M).enumerate() {
@@ -252,18 +276,33 @@ fn small_gemm<T: Real, const M: usize>(g: &SmallGemm<'_, T>, c: (&mut [T], usize
                     col[i] = v;
                 }
             }
-            small_gemm_columns::<T, M>(g, |l| &at[l], c);
+            small_gemm_columns::<T, M>(g, &at[..g.k], c);
         }
     }
 }
 
-/// `C ← α op(A) op(B) + β C` with `op(A)(:, l) = col(l)`: each column `C(:, j)` is accumulated
-/// as `Σ_l op(B)(l, j) op(A)(:, l)` in a `[T; M]` (fully unrolled), then scaled by `α` and
-/// added to `β C(:, j)` (`C` not read when `β = 0`). Same operation as the general loops of
-/// [`gemm`]; only the association of the sums differs (`α Σ` instead of `Σ α`).
-fn small_gemm_columns<'a, T: Real, const M: usize>(
+/// `C(:, j) ← α acc + β C(:, j)` (`C` not read when `β = 0`).
+#[inline(always)]
+fn store_column<T: Real, const M: usize>(g: &SmallGemm<'_, T>, acc: [T; M], cj: &mut [T]) {
+    if g.beta == T::zero() {
+        for (cij, s) in cj.iter_mut().zip(acc) {
+            *cij = g.alpha * s;
+        }
+    } else {
+        for (cij, s) in cj.iter_mut().zip(acc) {
+            *cij = g.alpha * s + g.beta * *cij;
+        }
+    }
+}
+
+/// `C ← α op(A) op(B) + β C` with `op(A)(:, l) = cols[l]` (`k` columns): each column `C(:, j)`
+/// is accumulated as `Σ_l op(B)(l, j) op(A)(:, l)` in a `[T; M]` (fully unrolled), then
+/// scaled by `α` and added to `β C(:, j)` (`C` not read when `β = 0`). Same operation as the
+/// general loops of [`gemm`]; only the association of the sums differs (`α Σ` instead of
+/// `Σ α`).
+fn small_gemm_columns<T: Real, const M: usize>(
     g: &SmallGemm<'_, T>,
-    col: impl Fn(usize) -> &'a [T; M],
+    cols: &[[T; M]],
     (c, ldc): (&mut [T], usize),
 ) {
     let (b, ldb) = g.b;
@@ -271,31 +310,22 @@ fn small_gemm_columns<'a, T: Real, const M: usize>(
         let mut acc = [T::zero(); M];
         match g.tb {
             Trans::No => {
-                for (l, &blj) in b[j * ldb..j * ldb + g.k].iter().enumerate() {
-                    for (s, &x) in acc.iter_mut().zip(col(l)) {
+                for (&blj, col) in b[j * ldb..j * ldb + g.k].iter().zip(cols) {
+                    for (s, &x) in acc.iter_mut().zip(col) {
                         *s += blj * x;
                     }
                 }
             }
             Trans::Yes => {
-                for l in 0..g.k {
+                for (l, col) in cols.iter().enumerate() {
                     let blj = b[j + l * ldb];
-                    for (s, &x) in acc.iter_mut().zip(col(l)) {
+                    for (s, &x) in acc.iter_mut().zip(col) {
                         *s += blj * x;
                     }
                 }
             }
         }
-        let cj = &mut c[j * ldc..j * ldc + M];
-        if g.beta == T::zero() {
-            for (cij, s) in cj.iter_mut().zip(acc) {
-                *cij = g.alpha * s;
-            }
-        } else {
-            for (cij, s) in cj.iter_mut().zip(acc) {
-                *cij = g.alpha * s + g.beta * *cij;
-            }
-        }
+        store_column(g, acc, &mut c[j * ldc..j * ldc + M]);
     }
 }
 

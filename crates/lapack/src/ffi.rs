@@ -17,6 +17,7 @@
 
 use crate::Real;
 use crate::blas::{self, Trans, Uplo, matrix_len, strided_len};
+use crate::jacobi;
 use crate::lapack::{self, EigRange};
 use core::ffi::{c_char, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -571,6 +572,76 @@ unsafe fn svd_store<T: Real>(
 ) -> Result<c_int, c_int> {
     let [pa, ps, pu, pvt] = positions;
     let mn = m.min(n);
+    // Thin jobs on small matrices (Clarabel's PSD-cone scalings): allocation-free one-sided
+    // Jacobi. Its only failure, no convergence within the sweep limit, falls through to the
+    // bidiagonal QR below (as does non-finite input, which that path reports).
+    // Small matrices (Clarabel's PSD-cone scalings): allocation-free one-sided Jacobi. Its
+    // only failure, no convergence within the sweep limit, falls through to the bidiagonal
+    // QR below (as does non-finite input, which that path reports).
+    if m.max(n) <= jacobi::MAX_SIDE {
+        // The working matrix is A (m ≥ n) or Aᵀ: its right factor is V or U, its left
+        // factor U or V, completed to a square matrix for an 'A' job on that side.
+        let (want_v, full) = if m >= n {
+            (jobvt != Job::None, jobu == Job::All)
+        } else {
+            (jobu != Job::None, jobvt == Job::All)
+        };
+        let (ucols, vtrows) = (
+            if jobu == Job::All { m } else { mn },
+            if jobvt == Job::All { n } else { mn },
+        );
+        // The outputs (A itself for the 'O' jobs) are borrowed only after the input was
+        // read into the working array, inside the sink.
+        let mut result = Ok(0);
+        let sink = |f: jacobi::Factors<'_, T>| {
+            result = (|| {
+                unsafe { slice_mut(s, mn, ps)? }.copy_from_slice(f.s);
+                if jobu != Job::None {
+                    let (target, ld) = if jobu == Job::Overwrite {
+                        (unsafe { slice_mut(a, matrix_len(m, n, lda), pa)? }, lda)
+                    } else {
+                        (unsafe { slice_mut(u, matrix_len(m, ucols, ldu), pu)? }, ldu)
+                    };
+                    for j in 0..ucols {
+                        for (i, x) in target[j * ld..j * ld + m].iter_mut().enumerate() {
+                            *x = f.u(i, j);
+                        }
+                    }
+                }
+                if jobvt != Job::None {
+                    let (target, ld) = if jobvt == Job::Overwrite {
+                        (unsafe { slice_mut(a, matrix_len(m, n, lda), pa)? }, lda)
+                    } else {
+                        (
+                            unsafe { slice_mut(vt, matrix_len(vtrows, n, ldvt), pvt)? },
+                            ldvt,
+                        )
+                    };
+                    for j in 0..n {
+                        for (i, x) in target[j * ld..j * ld + vtrows].iter_mut().enumerate() {
+                            *x = f.vt(i, j);
+                        }
+                    }
+                }
+                Ok(0)
+            })();
+        };
+        let a_in = unsafe { slice(a as *const T, matrix_len(m, n, lda), pa)? };
+        let done = if jobu == Job::Overwrite || jobvt == Job::Overwrite {
+            // The sink writes over A: hand the kernel a copy, so that no borrow of A is
+            // alive while it is written.
+            let mut copy = [T::zero(); jacobi::MAX_SIDE * jacobi::MAX_SIDE];
+            for j in 0..n {
+                copy[j * m..(j + 1) * m].copy_from_slice(&a_in[j * lda..j * lda + m]);
+            }
+            jacobi::jacobi_svd((m, n), (&copy[..m * n], m), (want_v, full), sink)
+        } else {
+            jacobi::jacobi_svd((m, n), (a_in, lda), (want_v, full), sink)
+        };
+        if done {
+            return result;
+        }
+    }
     let dec = {
         let a = unsafe { slice(a as *const T, matrix_len(m, n, lda), pa)? };
         lapack::svd(
@@ -1001,7 +1072,9 @@ macro_rules! symbols {
         /// `JOBZ` `'A'` (full `U`, `Vᵀ`), `'S'` (the `min(m, n)` leading vectors), `'O'`
         /// (leading vectors overwrite `A`: `U` if `m ≥ n`, else `Vᵀ`) or `'N'` (values only).
         /// A workspace query (`LWORK = −1`) reports LAPACK's documented minimum in `WORK[0]`.
-        /// `IWORK` is not used. `INFO = 1`: non-finite input or no convergence;
+        /// Matrices with both sides ≤ 32 are decomposed by one-sided Jacobi (no allocation;
+        /// small singular values of graded matrices to high relative accuracy), larger ones
+        /// by bidiagonal QR; `WORK` is not used beyond `WORK[0]`. `IWORK` is not used. `INFO = 1`: non-finite input or no convergence;
         /// `INFO = −i`: argument `i` invalid.
         ///
         /// # Safety
@@ -1035,7 +1108,8 @@ macro_rules! symbols {
         ///
         /// `JOBU`/`JOBVT` `'A'`, `'S'`, `'O'` (overwrite `A`; not both) or `'N'`, as in
         /// LAPACK. A workspace query (`LWORK = −1`) reports the documented minimum
-        /// `max(1, 3 min(m,n) + max(m,n), 5 min(m,n))`. `INFO = 1`: non-finite input or no
+        /// `max(1, 3 min(m,n) + max(m,n), 5 min(m,n))`. The algorithm is chosen as for the
+        /// `GESDD` routine (one-sided Jacobi up to side 32). `INFO = 1`: non-finite input or no
         /// convergence; `INFO = −i`: argument `i` invalid.
         ///
         /// # Safety

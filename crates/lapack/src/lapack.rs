@@ -10,8 +10,12 @@
 //! Computations*, 4th ed., Alg. 4.2.2); LU is Gaussian elimination with partial pivoting
 //! (Alg. 3.4.1, the unblocked LAPACK `xGETF2` organisation, row interchanges recorded as in
 //! `IPIV`); the symmetric eigenproblem uses nalgebra's Householder tridiagonalisation with
-//! implicit symmetric QR steps and Wilkinson shifts (Alg. 8.3.3); the SVD uses nalgebra's
-//! Golub–Kahan bidiagonalisation with implicit-shift QR sweeps (Alg. 8.6.2).
+//! implicit symmetric QR steps and Wilkinson shifts (Alg. 8.3.3); the SVD of matrices with a
+//! side above `jacobi::MAX_SIDE` uses nalgebra's Golub–Kahan bidiagonalisation with
+//! implicit-shift QR sweeps (Alg. 8.6.2); smaller ones never reach this module (see
+//! `crate::jacobi`). Caveat: nalgebra's SVD can return wrong singular values when vectors
+//! are requested (nalgebra issue #1172, e.g. the all-ones 3 × 5 matrix), which is one more
+//! reason the small sizes take the Jacobi path.
 
 use crate::Real;
 use crate::blas::Uplo;
@@ -347,15 +351,18 @@ pub(crate) fn gesv<T: Real>(
 /// Eigenvalues only of the symmetric matrix given by its `uplo` triangle (xSYEVR with
 /// `JOBZ = 'N'`), without allocating: the selected eigenvalues go ascending into `w` and
 /// their number is returned; `None` if the input is not finite or the iteration did not
-/// converge (LAPACK's `INFO > 0`). As in LAPACK, the `uplo` triangle of `a` is destroyed
-/// (it holds the Householder reduction); the other triangle is neither read nor written.
-/// `work` needs `3n` entries.
+/// converge (LAPACK's `INFO > 0`). For `n ≤ 16` the `uplo` triangle of `a` is only read
+/// (the reduction runs on a copy); for larger `n` it is destroyed, as in LAPACK (it holds the
+/// Householder reduction). The other triangle is neither read nor written. `work` needs
+/// `3n` entries.
 ///
-/// Algorithm: Householder reduction to tridiagonal form on the stored triangle (Golub & Van
-/// Loan, *Matrix Computations*, 4th ed., Alg. 8.3.1, the rank-2 update `A ← A − v wᵀ − w vᵀ`
-/// of LAPACK's `xSYTD2`), then implicit symmetric QR steps with the Wilkinson shift on the
-/// tridiagonal matrix (Alg. 8.3.2), deflating where `|e_i| ≤ ε (|d_i| + |d_{i+1}|)`. Both
-/// stages are backward stable: the eigenvalues are exact for a matrix within `O(ε)‖A‖`.
+/// Algorithm: Householder reduction to tridiagonal form (Golub & Van Loan, *Matrix
+/// Computations*, 4th ed., Alg. 8.3.1, the rank-2 update `A ← A − v wᵀ − w vᵀ` of LAPACK's
+/// `xSYTD2`; on a full symmetric copy on the stack for `n ≤ 16`, on the stored triangle
+/// otherwise), then implicit symmetric QR steps with the Wilkinson shift on the
+/// tridiagonal matrix (Alg. 8.3.2) in the root-free Pal–Walker–Kahan form of LAPACK's
+/// `xSTERF`, deflating where `|e_i| ≤ ε (|d_i| + |d_{i+1}|)`. Both stages are backward
+/// stable: the eigenvalues are exact for a matrix within `O(ε)‖A‖`.
 pub(crate) fn syevr_values<T: Real>(
     range: EigRange<T>,
     uplo: Uplo,
@@ -364,6 +371,60 @@ pub(crate) fn syevr_values<T: Real>(
     w: &mut [T],
     work: &mut [T],
 ) -> Option<usize> {
+    let (d, rest) = work[..3 * n].split_at_mut(n);
+    let (e, v) = rest.split_at_mut(n);
+    // Small matrices (Clarabel's PSD step lengths): a full symmetric copy on the stack with
+    // a compile-time side, where the Householder steps run on contiguous columns.
+    macro_rules! dispatch {
+        ($($size:literal)*) => {
+            match n {
+                $($size => tridiagonalise_small::<T, $size>(uplo, (&*a, lda), d, e),)*
+                _ => tridiagonalise_packed(uplo, n, (a, lda), (d, e, v)),
+            }
+        };
+    }
+    if !dispatch!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16) {
+        return None;
+    }
+    if !tridiagonal_eigenvalues(&mut d[..n], &mut e[..n], iteration_cap(n)) {
+        return None;
+    }
+    // Insertion sort (n is small; no allocation).
+    for i in 1..n {
+        let x = d[i];
+        let mut j = i;
+        while j > 0 && d[j - 1] > x {
+            d[j] = d[j - 1];
+            j -= 1;
+        }
+        d[j] = x;
+    }
+    let mut found = 0;
+    for (i, &x) in d[..n].iter().enumerate() {
+        let keep = match range {
+            EigRange::All => true,
+            EigRange::Values(vl, vu) => x > vl && x <= vu,
+            EigRange::Indices(il, iu) => i + 1 >= il && i < iu,
+        };
+        if keep {
+            w[found] = x;
+            found += 1;
+        }
+    }
+    Some(found)
+}
+
+/// Householder tridiagonalisation of the symmetric matrix given by its `uplo` triangle, in
+/// place on that triangle (Golub & Van Loan, Alg. 8.3.1, the rank-2 update
+/// `A ← A − v wᵀ − w vᵀ` of LAPACK's `xSYTD2`): the diagonal into `d`, the off-diagonal into
+/// `e[..n−1]` (`e[n−1] = 0`); `v` is scratch of length `n`. False if an entry of the
+/// triangle is not finite.
+fn tridiagonalise_packed<T: Real>(
+    uplo: Uplo,
+    n: usize,
+    (a, lda): (&mut [T], usize),
+    (d, e, v): (&mut [T], &mut [T], &mut [T]),
+) -> bool {
     // Element (i, j), i ≥ j, of the symmetric matrix in the stored triangle.
     let at = |i: usize, j: usize| match uplo {
         Uplo::Lower => i + j * lda,
@@ -372,12 +433,10 @@ pub(crate) fn syevr_values<T: Real>(
     for j in 0..n {
         for i in j..n {
             if !a[at(i, j)].is_finite() {
-                return None;
+                return false;
             }
         }
     }
-    let (d, rest) = work[..3 * n].split_at_mut(n);
-    let (e, v) = rest.split_at_mut(n);
     let half: T = nalgebra::convert(0.5);
     // Householder tridiagonalisation: step k annihilates A(k+2.., k).
     for k in 0..n.saturating_sub(2) {
@@ -441,32 +500,98 @@ pub(crate) fn syevr_values<T: Real>(
     if n > 0 {
         e[n - 1] = T::zero();
     }
-    if !tridiagonal_eigenvalues(&mut d[..n], &mut e[..n], iteration_cap(n)) {
-        return None;
-    }
-    // Insertion sort (n is small; no allocation).
-    for i in 1..n {
-        let x = d[i];
-        let mut j = i;
-        while j > 0 && d[j - 1] > x {
-            d[j] = d[j - 1];
-            j -= 1;
-        }
-        d[j] = x;
-    }
-    let mut found = 0;
-    for (i, &x) in d[..n].iter().enumerate() {
-        let keep = match range {
-            EigRange::All => true,
-            EigRange::Values(vl, vu) => x > vl && x <= vu,
-            EigRange::Indices(il, iu) => i + 1 >= il && i < iu,
+    true
+}
+
+/// [`tridiagonalise_packed`] for `n = R` on a full symmetric copy `F` on the stack (the
+/// caller's triangle is only read): step `k` forms `v`, `β` with `(I − β v vᵀ) x = σ e₁` for
+/// `x = F(k+1.., k)`, then `p = β F₂₂ v`, `w = p − (β pᵀv / 2) v` and
+/// `F₂₂ ← F₂₂ − v wᵀ − w vᵀ`, column by column on contiguous memory.
+fn tridiagonalise_small<T: Real, const R: usize>(
+    uplo: Uplo,
+    (a, lda): (&[T], usize),
+    d: &mut [T],
+    e: &mut [T],
+) -> bool {
+    let mut f = [[T::zero(); R]; R];
+    for j in 0..R {
+        let rows = match uplo {
+            Uplo::Upper => 0..j + 1,
+            Uplo::Lower => j..R,
         };
-        if keep {
-            w[found] = x;
-            found += 1;
+        for i in rows {
+            let x = a[i + j * lda];
+            if !x.is_finite() {
+                return false;
+            }
+            f[j][i] = x;
+            f[i][j] = x;
         }
     }
-    Some(found)
+    let half: T = nalgebra::convert(0.5);
+    for k in 0..R.saturating_sub(2) {
+        let (head, tail) = f.split_at_mut(k + 1);
+        let x = &head[k][k + 1..];
+        let x0 = x[0];
+        let scale = x.iter().fold(T::zero(), |s, xi| s.max(xi.abs()));
+        if scale == T::zero() {
+            e[k] = x0;
+            continue;
+        }
+        let inv = T::one() / scale;
+        let tail_sq = x[1..].iter().fold(T::zero(), |s, xi| {
+            let t = *xi * inv;
+            s + t * t
+        });
+        if tail_sq == T::zero() {
+            e[k] = x0;
+            continue;
+        }
+        let xs = x0 * inv;
+        let norm = (xs * xs + tail_sq).sqrt() * scale;
+        // H x = σ e₁ with H = I − β v vᵀ, v = x − σ e₁, vᵀv = 2σ(σ − x₀). `v` and `p` keep
+        // all R entries, zero above row k + 1, so that every loop below has the fixed length
+        // R (unrolled and vectorised); the zeros leave rows ≤ k of F untouched.
+        let sigma = if x0 > T::zero() { -norm } else { norm };
+        let mut v = [T::zero(); R];
+        v[k + 1..].copy_from_slice(x);
+        v[k + 1] = x0 - sigma;
+        let beta = T::one() / (sigma * (sigma - x0));
+        // p = β B v, B = F(k+1.., k+1..), as Σ_j v_j F(:, j).
+        let mut p = [T::zero(); R];
+        for (col, &vj) in tail.iter().zip(&v[k + 1..]) {
+            for i in 0..R {
+                p[i] += col[i] * vj;
+            }
+        }
+        // Rows ≤ k of p come from the rows of F above the trailing block: not part of B v.
+        p[..=k].iter_mut().for_each(|x| *x = T::zero());
+        let mut pv = T::zero();
+        for i in 0..R {
+            p[i] *= beta;
+            pv += p[i] * v[i];
+        }
+        let kk = half * beta * pv;
+        for i in 0..R {
+            p[i] -= kk * v[i];
+        }
+        for (col, (&vj, &wj)) in tail.iter_mut().zip(v[k + 1..].iter().zip(&p[k + 1..])) {
+            for i in 0..R {
+                col[i] -= v[i] * wj + p[i] * vj;
+            }
+        }
+        e[k] = sigma;
+    }
+    for k in 0..R {
+        d[k] = f[k][k];
+    }
+    if R >= 2 {
+        e[R - 2] = f[R - 2][R - 1];
+    }
+    if R > 0 {
+        e[R - 1] = T::zero();
+    }
+    true
 }
 
 /// `√(x² + y²)`: the plain formula where it neither overflows nor underflows (the common
@@ -484,33 +609,58 @@ fn fast_hypot<T: Real>(x: T, y: T) -> T {
 }
 
 /// Eigenvalues of the symmetric tridiagonal matrix with diagonal `d` and off-diagonal
-/// `e[..n−1]` (`e[n−1]` is scratch), overwriting `d` (unordered): implicit symmetric QR
-/// steps with the Wilkinson shift (Golub & Van Loan, Alg. 8.3.2) on the trailing unreduced
-/// block, the bulge chased by Givens rotations. False if `cap` sweeps did not suffice.
+/// `e[..n−1]` (`e[n−1]` is scratch), overwriting `d` (unordered; `e` is destroyed): implicit
+/// QR steps with the Wilkinson shift on the trailing unreduced block, in the root-free form
+/// of Pal, Walker and Kahan (B. N. Parlett, *The Symmetric Eigenvalue Problem*, SIAM 1998,
+/// ch. 8; the QR branch of LAPACK's `xSTERF`), which carries the squares `e_i²` and needs no
+/// square root inside the bulge chase (about a third fewer instructions than the Givens form
+/// of Golub & Van Loan Alg. 8.3.2, measured with callgrind). Off-diagonals with
+/// `e_i² ≤ ε² (|d_i| + |d_{i+1}|)²` are deflated. A matrix whose largest entry lies outside
+/// `Real::square_safe_range` is first scaled by it, so that the squares neither overflow nor
+/// underflow harmfully. False if `cap` sweeps did not suffice.
 fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> bool {
     let n = d.len();
     if n < 2 {
         return true;
     }
+    let e = &mut e[..n - 1];
+    let amax = d
+        .iter()
+        .chain(e.iter())
+        .fold(T::zero(), |m, x| m.max(x.abs()));
+    if amax == T::zero() {
+        return true;
+    }
+    let (small, big) = T::square_safe_range();
+    let scale = if amax > big || amax < small {
+        amax
+    } else {
+        T::one()
+    };
+    if scale != T::one() {
+        d.iter_mut().for_each(|x| *x /= scale);
+        e.iter_mut().for_each(|x| *x /= scale);
+    }
+    e.iter_mut().for_each(|x| *x = *x * *x);
     let eps = T::default_epsilon();
+    let eps2 = eps * eps;
     let two: T = nalgebra::convert(2.0);
+    let negligible = |e2: T, a: T, b: T| {
+        let s = a.abs() + b.abs();
+        e2 <= eps2 * s * s
+    };
     let mut hi = n - 1;
     let mut sweeps = 0;
     loop {
-        // Deflate negligible off-diagonals; find the trailing unreduced block lo..=hi.
-        for i in 0..hi {
-            if e[i].abs() <= eps * (d[i].abs() + d[i + 1].abs()) {
-                e[i] = T::zero();
-            }
-        }
-        while hi > 0 && e[hi - 1] == T::zero() {
+        // Deflate at the bottom, then find the top `lo` of the unreduced block lo..=hi.
+        while hi > 0 && negligible(e[hi - 1], d[hi - 1], d[hi]) {
             hi -= 1;
         }
         if hi == 0 {
-            return true;
+            break;
         }
         let mut lo = hi - 1;
-        while lo > 0 && e[lo - 1] != T::zero() {
+        while lo > 0 && !negligible(e[lo - 1], d[lo - 1], d[lo]) {
             lo -= 1;
         }
         sweeps += 1;
@@ -518,37 +668,44 @@ fn tridiagonal_eigenvalues<T: Real>(d: &mut [T], e: &mut [T], cap: usize) -> boo
             return false;
         }
         // Wilkinson shift: the eigenvalue of the trailing 2 × 2 closer to d[hi].
-        let b = e[hi - 1];
-        let delta = (d[hi - 1] - d[hi]) / two;
-        let r = fast_hypot(delta, b);
-        let mu = if delta >= T::zero() {
-            d[hi] - b * b / (delta + r)
-        } else {
-            d[hi] - b * b / (delta - r)
-        };
-        let mut x = d[lo] - mu;
-        let mut z = e[lo];
-        for k in lo..hi {
-            // Givens rotation G = [c s; −s c] with G [x; z] = [r; 0].
-            let r = fast_hypot(x, z);
-            let (c, s) = if r == T::zero() {
-                (T::one(), T::zero())
+        let rte = e[hi - 1].sqrt();
+        let delta = (d[hi - 1] - d[hi]) / (two * rte);
+        let r = fast_hypot(delta, T::one());
+        let sigma = d[hi]
+            - rte
+                / if delta >= T::zero() {
+                    delta + r
+                } else {
+                    delta - r
+                };
+        // Root-free chase: c = cos², s = sin² of the implicit rotations.
+        let (mut c, mut s) = (T::one(), T::zero());
+        let mut gamma = d[lo] - sigma;
+        let mut p = gamma * gamma;
+        for i in lo..hi {
+            let bb = e[i];
+            let r = p + bb;
+            if i > lo {
+                e[i - 1] = s * r;
+            }
+            let old_c = c;
+            c = p / r;
+            s = bb / r;
+            let old_gamma = gamma;
+            let alpha = d[i + 1];
+            gamma = c * (alpha - sigma) - s * old_gamma;
+            d[i] = old_gamma + (alpha - gamma);
+            p = if c != T::zero() {
+                gamma * gamma / c
             } else {
-                (x / r, z / r)
+                old_c * bb
             };
-            if k > lo {
-                e[k - 1] = r;
-            }
-            let (dk, ek, dk1) = (d[k], e[k], d[k + 1]);
-            let cs = c * s;
-            d[k] = c * c * dk + two * cs * ek + s * s * dk1;
-            d[k + 1] = s * s * dk - two * cs * ek + c * c * dk1;
-            e[k] = cs * (dk1 - dk) + (c * c - s * s) * ek;
-            if k + 1 < hi {
-                x = e[k];
-                z = s * e[k + 1];
-                e[k + 1] *= c;
-            }
         }
+        e[hi - 1] = s * p;
+        d[hi] = sigma + gamma;
     }
+    if scale != T::one() {
+        d.iter_mut().for_each(|x| *x *= scale);
+    }
+    true
 }

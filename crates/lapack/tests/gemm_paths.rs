@@ -1,6 +1,7 @@
-//! `dgemm_` on both of its code paths: the fixed-size kernel for `op(A)` of at most 16 rows
-//! (and, with a transposed `A`, an inner dimension of at most 16) and the general loops
-//! beyond, for every transposition pair, `β ∈ {0, 1, −0.7}` and padded leading dimensions.
+//! `dgemm_` on all of its code paths: the fixed-size kernel for `op(A)` of at most 16 rows
+//! (with `A` read in place when untransposed and tightly stored, copied otherwise, and, with
+//! a transposed `A`, an inner dimension of at most 16) and the general loops beyond, for
+//! every transposition pair, `β ∈ {0, 1, −0.7}` and tight or padded leading dimensions.
 //!
 //! Reference: the defining sum `C(i, j) = α Σ_l op(A)(i, l) op(B)(l, j) + β C(i, j)`
 //! evaluated term by term in the test. Both sides are sums of at most 20 products of numbers
@@ -32,14 +33,14 @@ fn small_and_general_paths_match_the_defining_sum() {
         (20, 19, 18),
     ];
     let mut seed = 1;
-    for &(m, n, k) in &shapes {
+    for (&(m, n, k), pad) in shapes.iter().flat_map(|s| [(s, 0), (s, PAD)]) {
         for ta in [b'N', b'T'] {
             for tb in [b'N', b'T'] {
                 for beta in [0.0, 1.0, -0.7] {
                     seed += 1;
                     let (ar, ac) = if ta == b'N' { (m, k) } else { (k, m) };
                     let (br, bc) = if tb == b'N' { (k, n) } else { (n, k) };
-                    let (lda, ldb, ldc) = (ar + PAD, br + PAD, m + PAD);
+                    let (lda, ldb, ldc) = (ar + pad, br + pad, m + pad);
                     let a = fill(lda * ac, seed);
                     let b = fill(ldb * bc, seed + 1000);
                     let opa = |i: usize, l: usize| {

@@ -218,3 +218,87 @@ fn closed_forms_diagonal_repeated_and_two_by_two() {
     let (info, _, _) = call(b'N', b'A', b'L', 2, &mut a, 2, (0.0, 0.0), (0, 0));
     assert!(info > 0, "info = {info}");
 }
+
+/// Every side 1..=17 — the sides ≤ 16 reduce a full copy on the stack, 17 the stored
+/// triangle — with a padded leading dimension, both triangles, on a dense matrix and on an
+/// arrow matrix whose columns below the subdiagonal are partly zero (the Householder steps
+/// that find nothing to annihilate): against the eigenvector path (nalgebra's QR with
+/// accumulated rotations) and the invariants `Σλ = tr A`, `Σλ² = ‖A‖_F²`. Same tolerances
+/// as above (both sides backward stable, O(n ε ‖A‖) ≈ 1e-14 here).
+#[test]
+fn values_only_on_every_small_side_and_the_packed_path() {
+    for n in 1..=17 {
+        let r = lcg(n * n, 40 + n as u64);
+        for arrow in [false, true] {
+            let full: Vec<f64> = (0..n * n)
+                .map(|k| {
+                    let (i, j) = (k % n, k / n);
+                    let s = r[i.min(j) + i.max(j) * n];
+                    // Arrow: diagonal, first row and column only.
+                    if arrow && i != j && i.min(j) != 0 {
+                        0.0
+                    } else {
+                        s
+                    }
+                })
+                .collect();
+            let scale = full.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let lda = n + 3;
+            for uplo in [b'U', b'L'] {
+                let mut a = stored(&full, n, lda, uplo);
+                let (info, w, _) = call(b'N', b'A', uplo, n, &mut a, lda, (0.0, 0.0), (0, 0));
+                assert_eq!(info, 0);
+                let mut b = stored(&full, n, lda, uplo);
+                let (info_v, w_v, _) = call(b'V', b'A', uplo, n, &mut b, lda, (0.0, 0.0), (0, 0));
+                assert_eq!(info_v, 0);
+                assert!(w.windows(2).all(|p| p[0] <= p[1]), "ascending");
+                let d = dist(&w, &w_v);
+                assert!(
+                    d <= TOL * scale,
+                    "n = {n} arrow {arrow}: {d:e} vs ‖A‖ {scale}"
+                );
+                let tr: f64 = (0..n).map(|i| full[i + i * n]).sum();
+                let sum: f64 = w.iter().sum();
+                assert!((sum - tr).abs() <= TOL * scale * n as f64);
+                let sq: f64 = w.iter().map(|x| x * x).sum();
+                assert!((sq - scale * scale).abs() <= TOL * scale * scale * n as f64);
+            }
+        }
+    }
+}
+
+/// The Clement (Kac) matrix: zero diagonal, off-diagonal `√(i (n − i))`, `i = 1..n−1`, has
+/// the eigenvalues `−(n−1), −(n−3), …, n−1` exactly (M. Kac, *Amer. Math. Monthly* 54, 1947;
+/// P. A. Clement, *SIAM Rev.* 1, 1959). It is already tridiagonal and its zero diagonal
+/// makes every relative deflation test hinge on the off-diagonals. Scaled by `2^±600`, the
+/// squares the root-free QR carries would over- or underflow without the scaling step; the
+/// eigenvalues must scale exactly with the matrix. Tolerance 1e-12 ‖A‖_F as above.
+#[test]
+fn clement_matrix_closed_form_also_at_extreme_scales() {
+    for n in 1..=17usize {
+        for factor in [1.0, 2f64.powi(600), 2f64.powi(-600)] {
+            let mut full = vec![0.0; n * n];
+            for i in 1..n {
+                let v = factor * ((i * (n - i)) as f64).sqrt();
+                full[(i - 1) + i * n] = v;
+                full[i + (i - 1) * n] = v;
+            }
+            let scale = full
+                .iter()
+                .map(|v| (v / factor).powi(2))
+                .sum::<f64>()
+                .sqrt()
+                .max(1.0);
+            for uplo in [b'U', b'L'] {
+                let mut a = stored(&full, n, n, uplo);
+                let (info, w, _) = call(b'N', b'A', uplo, n, &mut a, n, (0.0, 0.0), (0, 0));
+                assert_eq!(info, 0);
+                for (k, x) in w.iter().enumerate() {
+                    let exact = -((n - 1) as f64) + 2.0 * k as f64;
+                    let err = (x / factor - exact).abs();
+                    assert!(err <= TOL * scale, "n = {n}, ×{factor:e}: λ_{k} = {x:e}");
+                }
+            }
+        }
+    }
+}
