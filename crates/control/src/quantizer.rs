@@ -614,7 +614,7 @@ pub fn odq_analytic(sys: &StateSpace<Discrete>, step: f64) -> Result<OdqDesign> 
             reason: "every Markov parameter of the system is zero".into(),
         });
     };
-    let svd = mr.clone().svd(true, true);
+    let svd = pendulab_lti::linalg::svd::svd(&mr);
     let smax = svd.singular_values.max();
     let smin = if p <= m {
         svd.singular_values.min()
@@ -629,11 +629,7 @@ pub fn odq_analytic(sys: &StateSpace<Discrete>, step: f64) -> Result<OdqDesign> 
             ),
         });
     }
-    let pinv = svd
-        .pseudo_inverse(1e-12 * smax)
-        .map_err(|e| ControlError::NotApplicable {
-            reason: format!("pseudo-inverse of C A^(r-1) B failed: {e}"),
-        })?;
+    let pinv = svd.pseudo_inverse(1e-12 * smax);
     let car = &ca_r1 * sys.a();
     let cf = -(&pinv * car);
     let af = sys.a() + sys.b() * &cf;
@@ -874,15 +870,10 @@ fn ho_kalman(taps: &[Mat], m: usize, order: usize, step: f64) -> Result<DynamicQ
             hk.view_mut((i * m, j * m), (m, m)).copy_from(&taps[i + j]);
         }
     }
-    let svd = hk.svd(true, true);
-    let (Some(u), Some(vt)) = (svd.u, svd.v_t) else {
-        return Err(ControlError::Singular {
-            what: "SVD of the Hankel matrix".into(),
-            value: 0.0,
-        });
-    };
+    let svd = pendulab_lti::linalg::svd::svd(&hk);
+    let (u, vt) = (svd.u, svd.v_t);
     let s = &svd.singular_values;
-    // nalgebra returns singular values sorted in decreasing order.
+    // Singular values in decreasing order.
     let order = order.min(q * m);
     let mut sq = Mat::zeros(order, order);
     for i in 0..order {
@@ -904,13 +895,7 @@ fn ho_kalman(taps: &[Mat], m: usize, order: usize, step: f64) -> Result<DynamicQ
     let b = ctr.columns(0, m).clone_owned();
     let upper = obs.rows(0, (q - 1) * m).clone_owned();
     let lower = obs.rows(m, (q - 1) * m).clone_owned();
-    let pinv = upper
-        .svd(true, true)
-        .pseudo_inverse(1e-13 * s[0])
-        .map_err(|e| ControlError::Singular {
-            what: format!("shifted observability matrix of the Hankel factorisation ({e})"),
-            value: 0.0,
-        })?;
+    let pinv = pendulab_lti::linalg::svd::svd(&upper).pseudo_inverse(1e-13 * s[0]);
     let a = pinv * lower;
     DynamicQuantizer::new(a, b, c, step)
 }

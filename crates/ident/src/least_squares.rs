@@ -242,12 +242,12 @@ impl QrAccumulator {
         let sv = r.clone().svd(false, false).singular_values;
         let condition = sv.max() / sv.min();
         let scaled = DMatrix::from_fn(p, p, |i, j| r[(i, j)] / col_norms[j]);
-        let ssvd = scaled.svd(false, true);
+        let ssvd = pendulab_lti::linalg::svd::svd(&scaled);
         let (smax, smin) = (ssvd.singular_values.max(), ssvd.singular_values.min());
         let scaled_condition = smax / smin;
         let limit = rank_limit(n, p);
         if scaled_condition.is_nan() || scaled_condition > limit {
-            let vt = ssvd.v_t.as_ref().expect("requested V");
+            let vt = &ssvd.v_t;
             let k = ssvd.singular_values.imin();
             let involved: Vec<String> = (0..p)
                 .filter(|&j| vt[(k, j)].abs() > 0.05)

@@ -215,3 +215,26 @@ fn placement_errors() {
     ));
     assert!(acker(&a, &Mat::zeros(4, 2), &book_poles()).is_err());
 }
+
+#[test]
+fn rank_deficient_input_matrix_of_identical_columns() {
+    // B = ones(5, 3): three identical inputs, rank 1, so `place` compresses B to its range by
+    // an SVD with singular vectors — a shape on which nalgebra's SVD with vectors returns a
+    // wrong σ₁ (nalgebra issue #1172; σ₁ = √15 in closed form). With a controllable (A, b)
+    // (A a chain of integrators, b the all-ones column: controllability matrix triangular
+    // after elimination) the requested poles must come out as the eigenvalues of A − BK,
+    // recomputed independently.
+    let n = 5;
+    let a = Mat::from_fn(n, n, |i, j| if j == i + 1 { 1.0 } else { 0.0 });
+    let b = Mat::from_element(n, 3, 1.0);
+    let poles: Vec<Complex64> = [-1.0, -2.0, -3.0, -4.0, -5.0]
+        .iter()
+        .map(|&p| c(p, 0.0))
+        .collect();
+    let p = place(&a, &b, &poles).unwrap();
+    let ev = pendulab_lti::linalg::eigenvalues(&(&a - &b * &p.gain)).unwrap();
+    // Distinct real poles of a 5 × 5 companion-like closed loop: the eigenvalue condition
+    // numbers are O(10²–10³), so 1e-8 relative leaves a wide margin over ε·κ.
+    assert_same_poles(&ev, &poles, 1e-8 * 5.0);
+    assert!(p.max_relative_error < 1e-8, "{}", p.max_relative_error);
+}

@@ -56,7 +56,7 @@ pub(crate) fn lq_scaling(a: &Mat, b: &Mat, q: &Mat, r: &Mat) -> Option<Vec<f64>>
         .copy_from(&(-(z.view((0, 0), (n, n)) + &id)));
     rhs.view_mut((n, 0), (n, n))
         .copy_from(&(-z.view((n, 0), (n, n))));
-    let p = lhs.svd(true, true).solve(&rhs, 1e-12).ok()?;
+    let p = pendulab_lti::linalg::svd::svd(&lhs).solve(&rhs, 1e-12);
     let p = (&p + p.transpose()) * 0.5;
     let x = p.cholesky()?.inverse();
     let t: Vec<f64> = (0..n).map(|i| x[(i, i)].sqrt()).collect();

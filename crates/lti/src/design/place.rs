@@ -260,8 +260,8 @@ pub fn place(a: &Mat, b: &Mat, poles: &[Complex64]) -> Result<PolePlacement> {
     }
     require_controllable(a, b)?;
     // Compress B to its range: B = U_r Σ_r V_rᵀ, place with B' = U_r Σ_r, K = V_r K'.
-    let svd = b.clone().svd(true, true);
-    let (u, vt) = (svd.u.expect("u requested"), svd.v_t.expect("v requested"));
+    let svd = crate::linalg::svd::svd(b);
+    let (u, vt) = (&svd.u, &svd.v_t);
     let sv = &svd.singular_values;
     let tol = b.nrows().max(b.ncols()) as f64 * f64::EPSILON * sv.max();
     let r = sv.iter().filter(|&&s| s > tol).count();
@@ -360,8 +360,7 @@ fn knv0(a: &Mat, b: &Mat, poles: &[Complex64]) -> Result<(Mat, f64, usize)> {
             // right singular vectors of the m smallest singular values.
             let mut sq = CMat::zeros(n, n);
             sq.view_mut((0, 0), (n - m, n)).copy_from(&mm);
-            let svd = sq.svd(false, true);
-            let vt = svd.v_t.expect("v requested");
+            let vt = crate::linalg::svd::svd(&sq).v_t;
             vt.rows(n - m, m).adjoint()
         };
         bases.push(s);
@@ -472,8 +471,7 @@ fn orthogonal_to_others(x: &CMat, j: usize) -> nalgebra::DVector<Complex64> {
             r += 1;
         }
     }
-    let svd = others.svd(false, true);
-    let vt = svd.v_t.expect("v requested");
+    let vt = crate::linalg::svd::svd(&others).v_t;
     vt.row(n - 1).adjoint()
 }
 

@@ -6,11 +6,14 @@
 //! workspace's typed errors), Frobenius norms, symmetrisation and eigenvalue sorting.
 //!
 //! The dense eigen-kernel that nalgebra does not provide lives in a submodule: [`schur`] (real
-//! Schur form with reordering).
+//! Schur form with reordering). [`svd`] is the workspace's SVD with singular vectors: nalgebra's,
+//! checked by its defining residual, with a one-sided Jacobi fallback where nalgebra's result
+//! is wrong.
 
 pub(crate) mod dense;
 pub mod schur;
 pub(crate) mod small_eig;
+pub mod svd;
 
 use crate::error::LtiError;
 
