@@ -56,8 +56,8 @@ const ACCEPT: f64 = 100.0;
 
 /// Thin SVD of `m` with singular vectors: nalgebra's when it reproduces `m` (residual within
 /// `100·max(m, n)·ε·‖M‖_F`, singular values in descending order), otherwise one-sided Jacobi
-/// (module documentation). Non-finite input gives non-finite output (callers check their data
-/// first).
+/// (module documentation). Non-finite input gives non-finite output after a bounded number
+/// of Jacobi sweeps (callers check their data first).
 pub fn svd<T: ComplexField<RealField = f64>>(m: &DMatrix<T>) -> Svd<T> {
     let (rows, cols) = m.shape();
     if rows == 0 || cols == 0 {
@@ -67,6 +67,11 @@ pub fn svd<T: ComplexField<RealField = f64>>(m: &DMatrix<T>) -> Svd<T> {
             singular_values: DVector::zeros(k),
             v_t: DMatrix::zeros(k, cols),
         };
+    }
+    if !m.iter().all(|v| v.clone().is_finite()) {
+        // nalgebra's iteration has no iteration limit by default; Jacobi's sweeps are
+        // bounded and carry the NaN through.
+        return jacobi(m);
     }
     let norm = m.norm();
     let d = m.clone().svd(true, true);
@@ -272,6 +277,14 @@ mod tests {
             let zero = Mat::zeros(r, c);
             check(&zero, &jacobi(&zero));
         }
+    }
+
+    #[test]
+    fn non_finite_input_returns_promptly() {
+        let mut m = Mat::from_element(4, 3, 1.0);
+        m[(2, 1)] = f64::NAN;
+        let d = svd(&m);
+        assert!(d.singular_values.iter().any(|v| v.is_nan()));
     }
 
     #[test]
