@@ -67,6 +67,19 @@ pub fn symmetrize(m: &Mat) -> Mat {
     (m + m.transpose()) * 0.5
 }
 
+/// `M ← (M + Mᵀ)/2` for a square `m`, without allocating (each off-diagonal pair formed once;
+/// the diagonal is kept, as `(m_ii + m_ii)/2 = m_ii` exactly).
+pub(crate) fn symmetrize_in_place(m: &mut Mat) {
+    let n = m.nrows();
+    for j in 0..n {
+        for i in j + 1..n {
+            let v = 0.5 * (m[(i, j)] + m[(j, i)]);
+            m[(i, j)] = v;
+            m[(j, i)] = v;
+        }
+    }
+}
+
 /// Checks that every entry of `m` is finite.
 ///
 /// # Errors

@@ -7,9 +7,9 @@ use super::{
     solution_and_factor_from_subspace, solve_with_fallback_prior, validate,
 };
 use crate::error::{LtiError, Result};
-use crate::linalg::Mat;
 use crate::linalg::dense::Lu;
 use crate::linalg::schur::real_schur;
+use crate::linalg::{Mat, symmetrize_in_place};
 
 /// Solves the CARE `AᵀX + XA − (XB + N)R⁻¹(BᵀX + Nᵀ) + Q = 0` for its stabilising solution
 /// (MATLAB `icare`/`care`).
@@ -281,18 +281,6 @@ pub(crate) fn care_doubling(red: &Reduced, scaling: bool, attempt: bool) -> Resu
         what: "Cayley-transformed Hamiltonian in the doubling method".into(),
         rcond: 0.0,
     })
-}
-
-/// `M ← (M + Mᵀ)/2` without allocating.
-fn symmetrize_in_place(m: &mut Mat) {
-    let n = m.nrows();
-    for j in 0..n {
-        for i in j + 1..n {
-            let v = 0.5 * (m[(i, j)] + m[(j, i)]);
-            m[(i, j)] = v;
-            m[(j, i)] = v;
-        }
-    }
 }
 
 /// The structure-preserving doubling iteration on a symplectic pencil in first standard form

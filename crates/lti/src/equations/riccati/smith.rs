@@ -38,7 +38,7 @@
 
 use crate::error::{LtiError, Result};
 use crate::linalg::dense::Lu;
-use crate::linalg::{Mat, check_finite};
+use crate::linalg::{Mat, check_finite, symmetrize_in_place};
 
 /// Bound on the relative truncation error `‖Δ − Δ_j‖_F/‖Δ‖_F ≤ ‖S_j‖_F²` at which the Smith
 /// iteration stops. The new Riccati residual after a step with a relative error `e` in `Δ` is
@@ -101,7 +101,7 @@ impl CayleySmith {
         let mut next = Mat::zeros(n, n);
         for doubling in 0..SMITH_MAX_DOUBLINGS {
             // Δ ← Δ + Sᵀ Δ S (with Sᵀ kept as a copy so both products run as plain gemm).
-            st.copy_from(&s.transpose());
+            s.transpose_to(&mut st);
             work.gemm(1.0, &delta, &s, 0.0);
             delta.gemm(1.0, &st, &work, 1.0);
             // Truncation error of the sum so far: ‖S_{j+1}‖_F² with S_{j+1} = S_j², bounded
@@ -132,14 +132,7 @@ impl CayleySmith {
 
 /// Symmetrises the sum (it is symmetric up to rounding) and checks it is finite.
 fn finish(mut delta: Mat) -> Result<Mat> {
-    let n = delta.nrows();
-    for j in 0..n {
-        for i in j + 1..n {
-            let v = 0.5 * (delta[(i, j)] + delta[(j, i)]);
-            delta[(i, j)] = v;
-            delta[(j, i)] = v;
-        }
-    }
+    symmetrize_in_place(&mut delta);
     check_finite("Newton correction from the Smith iteration", &delta)?;
     Ok(delta)
 }
