@@ -35,7 +35,9 @@
 //!   `extern "C"` boundary (each body runs under `catch_unwind`).
 //!
 //! ## Use
-//! The crate has no Rust API worth calling; it exists for its symbols. A crate that links
+//! The crate exists for its symbols; [`kernels`] also offers safe Rust entry points to the
+//! same dense kernels (gemm, Cholesky, symmetric eigenvalues, SVD) for pendulab's own small
+//! dense linear algebra. A crate that links
 //! Clarabel with its `sdp`, `blas-src` and `lapack-src` features (no backend selected) must
 //! mention this crate so that it is linked:
 //!
@@ -47,6 +49,7 @@
 //!
 //! ## Layout
 //! - [`ffi`]: the exported symbols (the only `unsafe` code), argument validation;
+//! - [`kernels`]: the safe Rust entry points;
 //! - `blas`, `lapack` (private): the safe kernels, on nalgebra where nalgebra has the
 //!   algorithm (symmetric eigenvectors, SVD of matrices with a side above 32);
 //! - `jacobi` (private): the SVD of matrices with both sides ≤ 32 (all of Clarabel's PSD
@@ -58,6 +61,7 @@
 mod blas;
 pub mod ffi;
 mod jacobi;
+pub mod kernels;
 mod lapack;
 
 /// The two floating-point types the routines exist for (`f64` → `d…`, `f32` → `s…`).

@@ -1,0 +1,180 @@
+//! Safe Rust entry points to this crate's dense kernels, for pendulab's own small dense
+//! linear algebra (the dense interior-point method of `pendulab-lmi`): the same code the
+//! exported symbols run, on column-major `f64` arrays with a tight leading dimension (the
+//! number of rows), without the Fortran calling convention.
+
+use crate::blas::{self, Trans, Uplo};
+use crate::{jacobi, lapack};
+
+/// `C ← α op(A) op(B) + β C` (xGEMM) with `op(X) = Xᵀ` when `trans_x`: `C` is `m × n`,
+/// `op(A)` is `m × k`, `op(B)` is `k × n`; `a`, `b`, `c` hold their matrices column-major
+/// with leading dimensions the row counts of the stored `A` (`m`, or `k` transposed), `B`
+/// (`k`, or `n` transposed) and `C` (`m`). With `β = 0`, `C` is not read.
+///
+/// # Panics
+/// If a slice is shorter than its matrix (a programming error of the caller).
+#[allow(clippy::too_many_arguments)]
+pub fn gemm(
+    (trans_a, trans_b): (bool, bool),
+    (m, n, k): (usize, usize, usize),
+    alpha: f64,
+    a: &[f64],
+    b: &[f64],
+    beta: f64,
+    c: &mut [f64],
+) {
+    let op = |t: bool| if t { Trans::Yes } else { Trans::No };
+    let lda = if trans_a { k } else { m }.max(1);
+    let ldb = if trans_b { n } else { k }.max(1);
+    assert!(a.len() >= m * k && b.len() >= k * n && c.len() >= m * n);
+    blas::gemm(
+        op(trans_a),
+        op(trans_b),
+        (m, n, k),
+        alpha,
+        (a, lda),
+        (b, ldb),
+        beta,
+        (c, m.max(1)),
+    );
+}
+
+/// Cholesky factorisation `A = L Lᵀ` (xPOTRF, lower) of the `n × n` symmetric matrix whose
+/// lower triangle `a` holds; `L` overwrites that triangle, the strict upper triangle is not
+/// touched. `Err(j)` (1-based) if the leading minor of order `j` is not positive definite
+/// (or holds NaN).
+///
+/// # Panics
+/// If `a` has fewer than `n²` entries.
+pub fn cholesky_lower(n: usize, a: &mut [f64]) -> Result<(), usize> {
+    assert!(a.len() >= n * n);
+    match lapack::potrf(Uplo::Lower, n, a, n.max(1)) {
+        0 => Ok(()),
+        j => Err(j as usize),
+    }
+}
+
+/// Eigenvalues, ascending, of the `n × n` symmetric matrix whose lower triangle `a` holds
+/// (xSYEVR with `JOBZ = 'N'`: Householder tridiagonalisation and the root-free implicit QR,
+/// backward stable), into `w[..n]`. `a` is overwritten for `n > 16`; `work` needs `3n`
+/// entries. False if an entry is not finite or the iteration did not converge.
+///
+/// # Panics
+/// If a slice is too short.
+pub fn symmetric_eigenvalues(n: usize, a: &mut [f64], w: &mut [f64], work: &mut [f64]) -> bool {
+    assert!(a.len() >= n * n && w.len() >= n && work.len() >= 3 * n);
+    if n == 0 {
+        return true;
+    }
+    lapack::syevr_values(lapack::EigRange::All, Uplo::Lower, n, (a, n), w, work) == Some(n)
+}
+
+/// The SVD `A = U diag(s) Vᵀ` of the square `n × n` matrix `a`: `u` and `vt` (`n × n`,
+/// orthogonal), `s` descending. One-sided Jacobi for `n ≤ 32` (as `dgesvd_`), nalgebra's
+/// bidiagonal QR beyond. False if an entry is not finite or the iteration did not converge.
+///
+/// # Panics
+/// If a slice is too short.
+pub fn svd_square(n: usize, a: &[f64], u: &mut [f64], s: &mut [f64], vt: &mut [f64]) -> bool {
+    assert!(a.len() >= n * n && u.len() >= n * n && vt.len() >= n * n && s.len() >= n);
+    if n == 0 {
+        return true;
+    }
+    if n <= jacobi::MAX_SIDE {
+        let done = jacobi::jacobi_svd((n, n), (a, n), (true, false), |f| {
+            s[..n].copy_from_slice(f.s);
+            for j in 0..n {
+                for i in 0..n {
+                    u[i + j * n] = f.u(i, j);
+                    vt[i + j * n] = f.vt(i, j);
+                }
+            }
+        });
+        if done {
+            return true;
+        }
+    }
+    let Some(dec) = lapack::svd((n, n), (a, n), (true, false), (true, false)) else {
+        return false;
+    };
+    let (Some(uf), Some(vf)) = (&dec.u, &dec.vt) else {
+        return false;
+    };
+    s[..n].copy_from_slice(&dec.s);
+    u[..n * n].copy_from_slice(uf.as_slice());
+    vt[..n * n].copy_from_slice(vf.as_slice());
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kernels against their defining equations on a small SPD matrix.
+    #[test]
+    fn kernels_satisfy_their_defining_equations() {
+        let n = 4;
+        // A = BᵀB + I with a fixed B: symmetric positive definite.
+        let b: Vec<f64> = (0..n * n)
+            .map(|k| ((k * 7 + 3) % 11) as f64 - 5.0)
+            .collect();
+        let mut a = vec![0.0; n * n];
+        gemm((true, false), (n, n, n), 1.0, &b, &b, 0.0, &mut a);
+        for i in 0..n {
+            a[i + i * n] += 1.0;
+        }
+        // Cholesky: L Lᵀ = A to rounding.
+        let mut l = a.clone();
+        cholesky_lower(n, &mut l).unwrap();
+        for j in 0..n {
+            for i in 0..j {
+                l[i + j * n] = 0.0;
+            }
+        }
+        let mut llt = vec![0.0; n * n];
+        gemm((false, true), (n, n, n), 1.0, &l, &l, 0.0, &mut llt);
+        let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for k in 0..n * n {
+            assert!((llt[k] - a[k]).abs() <= 1e-13 * scale);
+        }
+        // Eigenvalues: their sum is the trace and each makes A − λI singular (det via
+        // the Cholesky of A − (λ − δ)I succeeding just below and failing just above).
+        let mut copy = a.clone();
+        let (mut w, mut work) = (vec![0.0; n], vec![0.0; 3 * n]);
+        assert!(symmetric_eigenvalues(n, &mut copy, &mut w, &mut work));
+        let trace: f64 = (0..n).map(|i| a[i + i * n]).sum();
+        assert!((w.iter().sum::<f64>() - trace).abs() <= 1e-12 * trace);
+        assert!(w.windows(2).all(|p| p[0] <= p[1]));
+        let shifted = |mu: f64| {
+            let mut m = a.clone();
+            for i in 0..n {
+                m[i + i * n] -= mu;
+            }
+            cholesky_lower(n, &mut m).is_ok()
+        };
+        assert!(shifted(w[0] * (1.0 - 1e-9)) && !shifted(w[0] * (1.0 + 1e-9)));
+        // SVD: U diag(s) Vᵀ = B, U and V orthogonal.
+        let (mut u, mut s, mut vt) = (vec![0.0; n * n], vec![0.0; n], vec![0.0; n * n]);
+        assert!(svd_square(n, &b, &mut u, &mut s, &mut vt));
+        let mut us = u.clone();
+        for j in 0..n {
+            for i in 0..n {
+                us[i + j * n] *= s[j];
+            }
+        }
+        let mut usv = vec![0.0; n * n];
+        gemm((false, false), (n, n, n), 1.0, &us, &vt, 0.0, &mut usv);
+        let bscale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for k in 0..n * n {
+            assert!((usv[k] - b[k]).abs() <= 1e-13 * bscale * n as f64);
+        }
+        let mut utu = vec![0.0; n * n];
+        gemm((true, false), (n, n, n), 1.0, &u, &u, 0.0, &mut utu);
+        for j in 0..n {
+            for i in 0..n {
+                let id = if i == j { 1.0 } else { 0.0 };
+                assert!((utu[i + j * n] - id).abs() <= 1e-14 * n as f64);
+            }
+        }
+    }
+}
