@@ -1,7 +1,12 @@
 //! # pendulab-lmi — linear matrix inequalities and sums of squares for control design
 //!
-//! A modelling layer a control engineer can read, on the Clarabel interior-point solver
-//! (pure Rust; its semidefinite path runs on the BLAS/LAPACK symbols of `pendulab-lapack`).
+//! A modelling layer a control engineer can read, on two interior-point methods
+//! ([`Backend`]): pendulab's own dense primal–dual method for the small LMIs of control
+//! design (homogeneous self-dual embedding, Nesterov–Todd scaling, Schur-complement normal
+//! equations), and the Clarabel solver (pure Rust; its semidefinite path runs on the
+//! BLAS/LAPACK symbols of `pendulab-lapack`) for larger and sparser problems such as SOS
+//! programs. [`Backend::Auto`] picks by size and falls back to Clarabel whenever the dense
+//! method's answer does not pass its rechecks.
 //!
 //! - [`Problem`]: matrix decision variables ([`Problem::symmetric`], [`Problem::matrix`],
 //!   [`Problem::scalar`]), scalar parameters ([`Problem::parameter`]), constraints
@@ -19,6 +24,8 @@
 //!   [`Solution::value_at`]), the recheck of every constraint on the returned values
 //!   ([`ConstraintCheck`]: smallest eigenvalue against the margin, equality residuals), the
 //!   residual of every SOS decomposition ([`SosCheck`]), iterations, timing and problem size.
+//! - [`planted::planted_sdp`]: semidefinite programs with an optimum known by construction,
+//!   for tests and benchmarks of the solvers.
 //! - [`synthesis`]: ready designs with their problem statements — α-stability and decay rate,
 //!   LMI LQ (guaranteed-cost) state feedback, pole regions (Chilali–Gahinet), polytopic robust
 //!   design, input-saturation design, and the gain-scheduled servo with SOS multipliers.
@@ -51,25 +58,30 @@
 //! Clarabel, e.g. to solve the same problem with another build of Clarabel
 //! (`tools/reference/lmi_clarabel_python.py`).
 //!
-//! Exactly one file (`backend.rs`) knows Clarabel's data layout (the `svec` of the PSD
-//! triangle cone: upper triangle column by column, off-diagonals × √2).
+//! Layout: `conic.rs` puts a [`Problem`] in conic form (`A x + s = b`, `s` in zero,
+//! nonnegative and PSD cones, the PSD rows as the `svec` of the upper triangle column by
+//! column with off-diagonals × √2) and maps answers back; `dense.rs` is the dense method;
+//! exactly one file (`clarabel_backend.rs`) knows Clarabel's interface.
 
 #![warn(missing_docs)]
 
-mod backend;
+mod clarabel_backend;
+mod conic;
+mod dense;
 pub mod error;
 pub mod expr;
 mod linalg;
+pub mod planted;
 pub mod problem;
 pub mod solution;
 pub mod sos;
 pub mod synthesis;
 
-pub use backend::{ConicProblem, capture_conic_problems};
+pub use clarabel_backend::{ConicProblem, capture_conic_problems};
 pub use error::{LmiError, Result};
 pub use expr::{Expr, Monomial};
 pub use problem::{ConstraintId, Multiplier, Origin, Problem, Relation, Sense, SosId};
 pub use solution::{
-    Certificate, ConstraintCheck, Dims, KktSolver, Solution, SolveOptions, SosCheck, Status,
-    Tolerances,
+    Backend, Certificate, ConstraintCheck, DenseAttempt, Dims, KktSolver, Solution, SolveOptions,
+    SosCheck, Status, Tolerances,
 };

@@ -1,16 +1,20 @@
 //! Solving: options, status, the recheck of every constraint, SOS residuals and
 //! infeasibility certificates.
 
-pub use crate::backend::Dims;
-use crate::backend::{self, RawSolution, RawStatus, Settings};
+use crate::clarabel_backend;
+pub use crate::conic::Dims;
+use crate::conic::{ConicData, RawSolution, RawStatus, Settings};
+use crate::dense;
 use crate::error::{LmiError, Result};
 use crate::expr::{Affine, Expr};
 use crate::problem::{Cone, ConstraintId, Origin, Problem, Relation, SosId};
 use crate::sos;
 use pendulab_lti::Mat;
+use std::time::Instant;
 
-/// Stopping tolerances of the interior-point solver (Clarabel's meaning; all relative to the
-/// problem data after scaling).
+/// Stopping tolerances of the interior-point methods (Clarabel's meaning, which the dense
+/// method follows: see the `dense` module docs; all relative to the problem data as the
+/// solver receives it).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerances {
     /// Absolute duality gap. Default 1e-8.
@@ -48,7 +52,8 @@ pub struct SolveOptions {
     /// false: on the textbook's LQ-type LMIs this extra scaling made Clarabel stop with
     /// numerical errors where the unscaled data solve cleanly.
     pub scale_rows: bool,
-    /// Let Clarabel decompose sparse PSD cones along their chordal sparsity. Default true.
+    /// Let Clarabel decompose sparse PSD cones along their chordal sparsity (Clarabel only).
+    /// Default true.
     /// Even the textbook's LMI LQ servo profits: its 11 × 11 cost LMI has an arrow pattern
     /// (the constant `−I` blocks are diagonal), which Clarabel splits into cones of sides 10
     /// and 6 (35 variables, 91 cone rows instead of 20 and 81); the solve then takes 12
@@ -58,14 +63,16 @@ pub struct SolveOptions {
     /// (six cones of side 6, or 9 + 6 + 6) but none of those orders solved faster.
     pub chordal_decomposition: bool,
     /// With `chordal_decomposition`, let Clarabel merge the cliques of the decomposition
-    /// (its `chordal_decomposition_merge_method = "clique_graph"`) instead of keeping one
+    /// (Clarabel only; its `chordal_decomposition_merge_method = "clique_graph"`) instead of
+    /// keeping one
     /// PSD cone per maximal clique (`"none"`). Default false: on the textbook's LMI LQ servo
     /// the unmerged cliques took 12 instead of 13 interior-point iterations and about 12 %
     /// less solve time to the same residuals, and the gain-scheduling SOS program solved in
     /// comparable time either way.
     pub merge_cliques: bool,
     /// Most iterative-refinement steps Clarabel takes after each solve with its LDLᵀ factor
-    /// of the KKT matrix (its `iterative_refinement_max_iter`; 0 turns refinement off).
+    /// of the KKT matrix (Clarabel only, its `iterative_refinement_max_iter`; 0 turns
+    /// refinement off; the dense method refines by its own rule).
     /// Default 1: one step of refinement in working precision already makes the solve
     /// componentwise backward stable (Skeel, "Iterative refinement implies numerical
     /// stability for Gaussian elimination", Math. Comp. 35, 1980; Higham, *Accuracy and
@@ -78,9 +85,11 @@ pub struct SolveOptions {
     /// unaffected. A solve that ends in numerical trouble with fewer than 10 steps is
     /// repeated once with Clarabel's default (see [`Solution::refinement_retry`]).
     pub refinement_steps: u32,
-    /// Which sparse LDLᵀ factorisation Clarabel uses for its KKT systems. Default
-    /// [`KktSolver::Auto`].
+    /// Which sparse LDLᵀ factorisation Clarabel uses for its KKT systems (Clarabel only).
+    /// Default [`KktSolver::Auto`].
     pub kkt_solver: KktSolver,
+    /// Which interior-point method solves the problem. Default [`Backend::Auto`].
+    pub backend: Backend,
     /// Relative tolerance of the recheck: a constraint counts as satisfied when its
     /// violation is at most `check_tolerance` times the magnitude of the numbers summed to
     /// form it (at least 1). Default 1e-7 (the solver's 1e-8 accuracy with a margin for
@@ -103,6 +112,7 @@ impl Default for SolveOptions {
             merge_cliques: false,
             refinement_steps: 1,
             kkt_solver: KktSolver::Auto,
+            backend: Backend::Auto,
             check_tolerance: 1e-7,
             sos_tolerance: 1e-6,
         }
@@ -144,12 +154,78 @@ impl KktSolver {
     }
 }
 
+/// The interior-point method that solves a [`Problem`].
+///
+/// Both solve the conic form of the problem (see the `conic` module docs) to the same
+/// [`Tolerances`]; every solution is rechecked on the problem's own constraints either way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Backend {
+    /// [`Backend::Dense`] for problems within [`Backend::dense_suits`], with
+    /// [`Backend::Clarabel`] as the fallback whenever the dense method does not end with a
+    /// solution that passes every recheck or an infeasibility certificate that checks out
+    /// ([`Solution::dense_attempt`] then tells what it reported); Clarabel for larger
+    /// problems.
+    #[default]
+    Auto,
+    /// Clarabel, the sparse homogeneous interior-point solver (its semidefinite path on
+    /// `pendulab-lapack`): any size, chordal decomposition of sparse PSD cones.
+    Clarabel,
+    /// pendulab's dense primal–dual interior-point method (homogeneous self-dual embedding,
+    /// Nesterov–Todd scaling, Mehrotra predictor–corrector, Schur-complement normal
+    /// equations): for small problems, several times faster there than a sparse
+    /// factorisation of the KKT matrix with its dense PSD blocks. No fallback.
+    Dense,
+}
+
+impl Backend {
+    /// Most scalar variables [`Backend::Auto`] hands the dense method: its normal equations
+    /// are a dense `n × n` Cholesky factorisation per iteration, formed in `O(n² · rows)`.
+    /// On SDPs with dense coefficient matrices (one to three PSD cones of side 5–40, 4–300
+    /// variables, `crates/lmi/tests/dense_backend.rs`'s planted problems) the dense method
+    /// took 1.5–11× less time than Clarabel for the same iteration counts; on the book's
+    /// gain-scheduling SOS program (1081 variables, each Gram entry entering one row) it is
+    /// far slower than Clarabel's sparse factorisation.
+    pub const DENSE_MAX_VARIABLES: usize = 200;
+    /// Largest PSD cone side [`Backend::Auto`] hands the dense method.
+    pub const DENSE_MAX_SIDE: usize = 40;
+    /// Most constraint rows [`Backend::Auto`] hands the dense method (the scaled coefficient
+    /// matrix `W⁻ᵀG` is formed densely, rows × variables, each iteration).
+    pub const DENSE_MAX_ROWS: usize = 2000;
+
+    /// Whether [`Backend::Auto`] tries the dense method on a problem of these dimensions:
+    /// at most [`Backend::DENSE_MAX_VARIABLES`] variables and as many equalities, PSD sides
+    /// and rows within the other two limits, and at least one inequality (cone) row.
+    pub fn dense_suits(dims: &Dims) -> bool {
+        let rows = dims.kkt_dimension() - dims.variables;
+        let cone_rows = rows - dims.equalities;
+        dims.variables <= Self::DENSE_MAX_VARIABLES
+            && dims.equalities <= Self::DENSE_MAX_VARIABLES
+            && dims.psd_sizes.iter().all(|&d| d <= Self::DENSE_MAX_SIDE)
+            && rows <= Self::DENSE_MAX_ROWS
+            && cone_rows > 0
+    }
+}
+
+/// What the dense method reported when [`Backend::Auto`] fell back to Clarabel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DenseAttempt {
+    /// Its status.
+    pub status: Status,
+    /// Whether its solution passed every recheck (for a solved status).
+    pub checks_passed: bool,
+    /// Its iterations.
+    pub iterations: u32,
+    /// Its seconds.
+    pub seconds: f64,
+}
+
 /// Outcome of a solve.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Status {
     /// Solved to the requested tolerances.
     Solved,
-    /// Solved to reduced accuracy (Clarabel's relaxed tolerances).
+    /// Solved to reduced accuracy (Clarabel's relaxed tolerances; the dense method's best
+    /// iterate within the same).
     AlmostSolved,
     /// The constraints have no common solution; the certificate proves it.
     Infeasible {
@@ -286,6 +362,12 @@ pub struct Solution {
     /// iterative refinement (up to 10 steps per KKT solve); the other fields then describe
     /// the repeated solve, with both solves' seconds added.
     pub refinement_retry: bool,
+    /// The method that produced this solution ([`Backend::Dense`] or
+    /// [`Backend::Clarabel`]).
+    pub backend: Backend,
+    /// With [`Backend::Auto`]: what the dense method reported before the problem was handed
+    /// to Clarabel (None when the dense method's answer was kept or was not tried).
+    pub dense_attempt: Option<DenseAttempt>,
     x: Vec<f64>,
     owner: u64,
 }
@@ -494,16 +576,25 @@ pub(crate) fn solve(problem: &Problem, options: &SolveOptions) -> Result<Solutio
     if let Some(tl) = options.time_limit {
         positive("time_limit", tl)?;
     }
-    solve_with(problem, options, backend::solve)
+    solve_with(problem, options, clarabel_backend::solve)
 }
 
 /// Clarabel's own default of iterative-refinement steps per KKT solve
 /// (`iterative_refinement_max_iter`), used for the repeated solve of [`solve_with`].
 pub(crate) const FULL_REFINEMENT_STEPS: u32 = 10;
 
-/// [`solve`] with the backend as a parameter (tests substitute one that fails on demand).
+/// Relative tolerance of [`Certificate::is_valid`] for keeping the dense method's
+/// infeasibility certificate under [`Backend::Auto`].
+const DENSE_CERTIFICATE_TOL: f64 = 1e-6;
+
+/// [`solve`] with the Clarabel backend as a parameter (tests substitute one that fails on
+/// demand).
 ///
-/// When the first solve ends in numerical trouble (Clarabel's `NumericalError` or
+/// The problem is put in conic form once. [`SolveOptions::backend`] decides who solves it:
+/// the dense method (kept under [`Backend::Auto`] only when its solution passes every
+/// recheck or its infeasibility certificate checks out), Clarabel otherwise.
+///
+/// When a Clarabel solve ends in numerical trouble (its `NumericalError` or
 /// `InsufficientProgress`) with fewer than [`FULL_REFINEMENT_STEPS`] refinement steps per
 /// KKT solve, the problem is solved once more with Clarabel's default refinement: the
 /// shortened refinement of [`SolveOptions::refinement_steps`] is a speed setting and must not
@@ -513,7 +604,7 @@ pub(crate) const FULL_REFINEMENT_STEPS: u32 = 10;
 pub(crate) fn solve_with(
     problem: &Problem,
     options: &SolveOptions,
-    backend: impl Fn(&Problem, &Settings) -> Result<RawSolution>,
+    clarabel: impl Fn(&Problem, &ConicData, &Settings) -> Result<RawSolution>,
 ) -> Result<Solution> {
     let t = &options.tolerances;
     let settings = Settings {
@@ -529,7 +620,49 @@ pub(crate) fn solve_with(
         kkt_solver: options.kkt_solver,
         refinement_steps: options.refinement_steps,
     };
-    let mut raw = backend(problem, &settings)?;
+    let build_start = Instant::now();
+    let data = ConicData::build(problem, settings.scale_rows);
+    let build_seconds = build_start.elapsed().as_secs_f64();
+    let try_dense = match options.backend {
+        Backend::Dense => true,
+        Backend::Auto => Backend::dense_suits(&data.dims),
+        Backend::Clarabel => false,
+    };
+    let mut dense_attempt = None;
+    if try_dense {
+        let start = Instant::now();
+        let out = dense::solve(&data, &settings);
+        let seconds = start.elapsed().as_secs_f64();
+        let solved = matches!(out.status, RawStatus::Solved | RawStatus::AlmostSolved);
+        let raw = RawSolution {
+            status: out.status,
+            x: data.user_x(&out.x),
+            duals: data.duals(problem, &out.z),
+            objective: (solved && problem.objective.is_some())
+                .then(|| data.user_objective(out.objective)),
+            iterations: out.iterations,
+            solver_seconds: seconds,
+            setup_seconds: build_seconds,
+            primal_residual: out.primal_residual,
+            dual_residual: out.dual_residual,
+            dims: data.dims.clone(),
+        };
+        let sol = finish(problem, options, raw, false, Backend::Dense, None);
+        let keep = sol.all_checks_pass()
+            || matches!(&sol.status, Status::Infeasible { certificate, reduced_accuracy: false }
+                if certificate.is_valid(DENSE_CERTIFICATE_TOL));
+        if keep || options.backend == Backend::Dense {
+            return Ok(sol);
+        }
+        dense_attempt = Some(DenseAttempt {
+            checks_passed: sol.all_checks_pass(),
+            status: sol.status,
+            iterations: sol.iterations,
+            seconds,
+        });
+    }
+    let mut raw = clarabel(problem, &data, &settings)?;
+    raw.setup_seconds += build_seconds;
     let mut refinement_retry = false;
     if matches!(
         raw.status,
@@ -537,8 +670,9 @@ pub(crate) fn solve_with(
     ) && settings.refinement_steps < FULL_REFINEMENT_STEPS
     {
         let first_seconds = (raw.solver_seconds, raw.setup_seconds);
-        raw = backend(
+        raw = clarabel(
             problem,
+            &data,
             &Settings {
                 refinement_steps: FULL_REFINEMENT_STEPS,
                 ..settings
@@ -548,6 +682,25 @@ pub(crate) fn solve_with(
         raw.setup_seconds += first_seconds.1;
         refinement_retry = true;
     }
+    Ok(finish(
+        problem,
+        options,
+        raw,
+        refinement_retry,
+        Backend::Clarabel,
+        dense_attempt,
+    ))
+}
+
+/// The [`Solution`] of a solver's raw answer: status, rechecks, SOS residuals.
+fn finish(
+    problem: &Problem,
+    options: &SolveOptions,
+    raw: RawSolution,
+    refinement_retry: bool,
+    backend: Backend,
+    dense_attempt: Option<DenseAttempt>,
+) -> Solution {
     let status = match raw.status {
         RawStatus::Solved => Status::Solved,
         RawStatus::AlmostSolved => Status::AlmostSolved,
@@ -599,7 +752,7 @@ pub(crate) fn solve_with(
     } else {
         (Vec::new(), Vec::new())
     };
-    Ok(Solution {
+    Solution {
         status,
         objective: raw.objective,
         iterations: raw.iterations,
@@ -611,15 +764,18 @@ pub(crate) fn solve_with(
         checks,
         sos_checks,
         refinement_retry,
+        backend,
+        dense_attempt,
         x: raw.x,
         owner: problem.id(),
-    })
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{FULL_REFINEMENT_STEPS, KktSolver, SolveOptions, Status, solve_with};
-    use crate::backend::{self, RawStatus};
+    use super::{Backend, FULL_REFINEMENT_STEPS, KktSolver, SolveOptions, Status, solve_with};
+    use crate::clarabel_backend;
+    use crate::conic::RawStatus;
     use crate::{Expr, Problem};
     use pendulab_lti::Mat;
     use std::cell::RefCell;
@@ -656,11 +812,12 @@ mod tests {
             let calls = RefCell::new(Vec::new());
             let options = SolveOptions {
                 refinement_steps: steps,
+                backend: Backend::Clarabel,
                 ..SolveOptions::default()
             };
-            let sol = solve_with(&p, &options, |prob, settings| {
+            let sol = solve_with(&p, &options, |prob, data, settings| {
                 calls.borrow_mut().push(settings.refinement_steps);
-                let mut raw = backend::solve(prob, settings)?;
+                let mut raw = clarabel_backend::solve(prob, data, settings)?;
                 if settings.refinement_steps < fail_below {
                     raw.status = RawStatus::NumericalError;
                 }

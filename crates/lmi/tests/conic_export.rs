@@ -18,23 +18,30 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SupportedConeT};
 use pendulab_lmi::synthesis::gain_scheduled_lq;
 use pendulab_lmi::synthesis::lq_state_feedback;
-use pendulab_lmi::{ConicProblem, SolveOptions, capture_conic_problems};
+use pendulab_lmi::{Backend, ConicProblem, SolveOptions, capture_conic_problems};
+
+/// Clarabel for every solve (under `Backend::Auto` the small servo LMI is solved by the
+/// dense method, which records nothing).
+fn clarabel() -> SolveOptions {
+    SolveOptions {
+        backend: Backend::Clarabel,
+        ..SolveOptions::default()
+    }
+}
 use serde_json::json;
 
 fn servo_problems() -> Vec<ConicProblem> {
     let (a, b) = common::arm(common::A1, common::B1, 0.0);
     let (at, bt) = common::augment(&a, &b);
     let (q, r) = common::servo_weights();
-    let (d, got) =
-        capture_conic_problems(|| lq_state_feedback(&at, &bt, &q, &r, &SolveOptions::default()));
+    let (d, got) = capture_conic_problems(|| lq_state_feedback(&at, &bt, &q, &r, &clarabel()));
     assert!(d.unwrap().solution.all_checks_pass());
     got
 }
 
 fn gain_schedule_problems() -> Vec<ConicProblem> {
     let (spec, plant) = common::book_gain_schedule();
-    let (gs, got) =
-        capture_conic_problems(|| gain_scheduled_lq(&plant, &spec, &SolveOptions::default()));
+    let (gs, got) = capture_conic_problems(|| gain_scheduled_lq(&plant, &spec, &clarabel()));
     assert!(gs.unwrap().schedule.is_some());
     got
 }
