@@ -25,8 +25,8 @@
 //! dual infeasibility. Each iteration takes one infeasible-start Newton step towards the
 //! central path `s ∘ z = μe`, `τκ = μ`, `μ = (sᵀz + τκ)/(ν + 1)` (ν the cone degree), with
 //! Mehrotra's predictor–corrector: an affine step `σ = 0`, then `σ = (1 − α_aff)³` and the
-//! second-order term `Δs_aff ∘ Δz_aff`, the residuals scaled by `1 − σ` and the step 0.99 of
-//! the way to the boundary.
+//! second-order term `Δs_aff ∘ Δz_aff`, the residuals scaled by `1 − σ` and the step
+//! [`STEP`] of the way to the boundary.
 //!
 //! **Scaling.** Nesterov–Todd: `W` with `W⁻ᵀ s = W z = λ`; on a PSD cone `W(U) = RᵀUR`,
 //! `S = RΛRᵀ`, `Z = R⁻ᵀΛR⁻¹` with `Λ = diag(λ)`, so the scaled point is diagonal and the
@@ -102,12 +102,14 @@ pub(crate) struct Outcome {
     pub(crate) dual_residual: f64,
 }
 
-/// Fraction of the way to the cone's boundary of each combined step.
-const STEP: f64 = 0.99;
+/// Fraction of the way to the cone's boundary of each combined step. Over the book's four
+/// state-feedback designs and 80 planted SDPs (sides 5–25), 0.97 took 10 % fewer iterations
+/// in all than CVXOPT's 0.99 (936 against 1038), 0.95 and 0.98 about as few as 0.97.
+const STEP: f64 = 0.97;
 /// Exponent of Mehrotra's centring heuristic `σ = (1 − α_aff)^EXPON`.
 const EXPON: i32 = 3;
 /// Most refinement steps on the unreduced KKT system after each reduced solve.
-pub(crate) const MAX_REFINEMENT: usize = 4;
+const MAX_REFINEMENT: usize = 4;
 /// A solve is refined only when its residual exceeds this fraction of the magnitude of the
 /// terms it sums (about 4500 ε: a direction accurate to twelve digits needs no refinement).
 const REFINE_BELOW: f64 = 1e-12;
@@ -124,9 +126,9 @@ const NO_PROGRESS: usize = 8;
 /// The factor by which a ratio must fall below its best value to count as progress.
 const PROGRESS: f64 = 0.8;
 /// Reduced feasibility tolerance as a multiple of the requested one.
-pub(crate) const REDUCED_FEASIBILITY: f64 = 1e4;
+const REDUCED_FEASIBILITY: f64 = 1e4;
 /// Reduced gap tolerances as a multiple of the requested ones.
-pub(crate) const REDUCED_GAP: f64 = 5e3;
+const REDUCED_GAP: f64 = 5e3;
 
 // ---------------------------------------------------------------------------------------
 // Small dense helpers on column-major arrays with tight leading dimension.
