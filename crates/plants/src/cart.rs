@@ -38,7 +38,8 @@
 
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
-use pendulab_sim::lanes::{Trig, sin_cos_offset, sin_cos_small};
+use pendulab_sim::fixed::{MulAdd, Separate};
+use pendulab_sim::lanes::{ROTATE_LIMIT, Trig, rotate_small, sin_cos_near_zero, sin_cos_offset};
 
 use crate::drive::Drive;
 use crate::error::{PlantError, Requirement, check, check_point};
@@ -304,14 +305,17 @@ impl CartPendulum {
     /// of libm for `|θ| ≤ 10⁵` (libm beyond), so `θ̈` differs from the libm plant's by a
     /// few ulp of its terms (see [`Trig`]); simulations are then not bit-identical to
     /// libm-based references. [`Trig::Anchored`] changes only the RK4 step of the
-    /// fixed-size closed-loop kernel (`pendulab_sim::fixed`, e.g. `SampledLoop::fixed`): the
-    /// step's later stages take their sines from the first stage's (about 250 fewer
-    /// instructions per step, each within 2 ulp + 6·10⁻¹⁷ of libm for steps of at most
-    /// 2⁻⁸ s, 2 ulp + 1.1·10⁻¹⁶ for longer ones), the first stage's from a series near
-    /// upright (within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] for the longer steps), and the
-    /// pendulum's constants are divided by `J` beforehand; every other evaluation
-    /// of this plant uses libm. Jacobians, linearisations, energy and geometry always use
-    /// libm.
+    /// fixed-size closed-loop kernel (`pendulab_sim::fixed`, e.g. `SampledLoop::fixed`) and
+    /// of `pendulab_sim::env::FixedEnv`: the stages share their sines and cosines — series
+    /// near upright (within [`CartPendulum::ANCHORED_ANGLE_LIMIT`]) for the angles fixed by
+    /// the step's start, the addition theorem for what the later stages add — each within
+    /// 2 ulp + 6·10⁻¹⁷ of libm for steps of at most 2⁻⁸ s (whose step uses fused
+    /// multiply–adds where the kernel's FMA-compiled loop runs it), 2 ulp + 1.1·10⁻¹⁶ for
+    /// longer ones, and the pendulum's constants are divided by `J` beforehand. In the 1 ms
+    /// loop of the `sim-rk4` bench that is about 270 (FMA-compiled loop) or 370 (baseline
+    /// loop) instructions per step instead of 610 to 630 with libm (callgrind, loop and
+    /// recording included). Every other evaluation of this plant uses libm; Jacobians,
+    /// linearisations, energy and geometry always do.
     pub fn with_trig(mut self, trig: Trig) -> Self {
         self.trig = trig;
         self
@@ -475,23 +479,28 @@ impl Dynamics for CartPendulum {
 /// The right-hand side on arrays for the fixed-size closed-loop kernel
 /// ([`pendulab_sim::fixed`]): the operations of [`CartPendulum::derivative_array`], which the
 /// [`Dynamics`] implementation also evaluates, so the kernel reproduces `SampledLoop` bit for
-/// bit — except with [`Trig::Anchored`], whose RK4 step evaluates the step's first sine and
-/// cosine by a series near upright and takes the later stages' from them for the stages'
-/// offsets by the addition theorem (see `anchored_step`): about 250 fewer instructions per
-/// step than libm's four, and a shorter dependency chain. Two variants, by the step length:
+/// bit — except with [`Trig::Anchored`], whose RK4 step evaluates its sines and cosines by
+/// series near upright and shares work between the stages, with the pendulum's constants
+/// divided by `J` beforehand. Two variants, by the step length:
 ///
-/// - steps of at most 2⁻⁸ s (the 1 ms loops): [`pendulab_sim::lanes::sin_cos_small`] for the
-///   first angle and [`pendulab_sim::lanes::sin_cos_offset`] for the stages, series within
-///   1/32 rad, libm beyond; each within 2 ulp + 6·10⁻¹⁷ of libm's;
+/// - steps of at most 2⁻⁸ s (the 1 ms loops): `narrow_anchored_step`, written once for both
+///   multiply–adds of [`FixedDynamics::rk4_step_fixed_with`](pendulab_sim::fixed::FixedDynamics::rk4_step_fixed_with)
+///   (the kernel's FMA-compiled loop takes it with fused multiply–adds): series sines and
+///   cosines at three angles fixed by the step's start, the third and fourth stages'
+///   accelerations by a rotation through the small offsets their angles add, and every
+///   stage's θ̇-dependence folded into one multiply–add; each sine and cosine within
+///   1.5 ulp + 2.5·10⁻¹⁷ of libm's at its angle, the rotations within 1.5 ulp of theirs
+///   (see there);
 /// - longer steps (e.g. the 20 ms of the CartPole-v1 environment,
 ///   `pendulab_sim::env::FixedEnv`, whose angles up to 12° and stage offsets `(h/2)·θ̇`,
-///   `h·θ̇` mostly exceed 1/32): one series each over the whole range,
-///   `wide_angle_series` within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] of upright and
-///   `wide_shift_series` for offsets up to [`CartPendulum::ANCHORED_SHIFT_LIMIT`] (libm
-///   beyond), within 2 ulp + 6·10⁻¹⁷ and 2 ulp + 1.1·10⁻¹⁶ of libm's. One series rather than
-///   tiers, because an episode's random angles would mispredict the choice between tiers
-///   about every third step (measured: 52 against 60 ns per environment step); and not for
-///   the 1 ms loops, which run ~10 % slower with the wide series' code (measured).
+///   `h·θ̇` mostly exceed 1/32): `anchored_step`, the first angle's sine and cosine by one
+///   series within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] of upright (`wide_angle_series`)
+///   and the later stages' from them by the addition theorem with `wide_shift_series` for
+///   offsets up to [`CartPendulum::ANCHORED_SHIFT_LIMIT`] (libm beyond), within
+///   2 ulp + 6·10⁻¹⁷ and 2 ulp + 1.1·10⁻¹⁶ of libm's. One series rather than tiers,
+///   because an episode's random angles would mispredict the choice between tiers about
+///   every third step (measured: 52 against 60 ns per environment step). This variant
+///   always uses separate multiplications and additions.
 impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
     #[inline(always)]
     fn derivative_fixed(&self, x: &[f64; 4], u: f64) -> [f64; 4] {
@@ -501,27 +510,33 @@ impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
         [x[2], x[3], ddz, self.pendulum.acceleration(s, c, x[3], ddz)]
     }
 
-    /// The operations of [`pendulab_sim::fixed::rk4_fixed`], the sines and cosines aside —
-    /// and with [`Trig::Anchored`] the pendulum's constants divided by `J` beforehand.
+    /// The operations of [`pendulab_sim::fixed::rk4_fixed`], the sines and cosines aside;
+    /// with [`Trig::Anchored`] the anchored step with separate multiplications and additions.
     #[inline(always)]
     fn rk4_step_fixed(&self, x: &mut [f64; 4], u: f64, h: f64) {
+        self.rk4_step_fixed_with::<Separate>(x, u, h);
+    }
+
+    /// As [`pendulab_sim::fixed::FixedDynamics::rk4_step_fixed`]; with [`Trig::Anchored`]
+    /// and steps of at most 2⁻⁸ s, the multiply–adds of the anchored step by `F`.
+    #[inline(always)]
+    fn rk4_step_fixed_with<F: MulAdd>(&self, x: &mut [f64; 4], u: f64, h: f64) {
         if self.trig != Trig::Anchored {
             return pendulab_sim::fixed::rk4_fixed(self, x, u, h);
         }
-        let theta = x[1];
         if h <= NARROW_STEP_LIMIT {
-            let (s, c) = sin_cos_small(theta);
-            *x = self.anchored_step(x, u, h, (s, c), |d| sin_cos_offset(theta, d, s, c));
+            *x = self.narrow_anchored_step::<F>(x, u, h);
         } else {
+            let theta = x[1];
             let (s, c) = anchor_sin_cos(theta);
             *x = self.anchored_step(x, u, h, (s, c), |d| stage_sin_cos(theta, d, s, c));
         }
     }
 }
 
-/// Steps up to this length (s) take the anchored step with the 1/32 rad series of
-/// `pendulab_sim::lanes` (their stage offsets `h·θ̇` exceed 1/32 only beyond |θ̇| = 8 rad/s);
-/// longer ones the wide series (see the `FixedDynamics` implementation).
+/// Steps up to this length (s) take `narrow_anchored_step` (its stage offsets stay within
+/// the rotation's range for accelerations up to `2⁻¹⁴/(h²/2)`, 122 rad/s² at 1 ms); longer
+/// ones `anchored_step` with the wide series (see the `FixedDynamics` implementation).
 const NARROW_STEP_LIMIT: f64 = 1.0 / 256.0;
 
 const WIDE_ANGLE_LIMIT: f64 = CartPendulum::ANCHORED_ANGLE_LIMIT;
@@ -605,12 +620,105 @@ fn wide_shift_series(d: f64) -> (f64, f64) {
 }
 
 impl CartPendulum {
-    /// One RK4 step of [`Trig::Anchored`] (the operations of
+    /// One classic RK4 step of [`Trig::Anchored`] for steps of at most 2⁻⁸ s, with the
+    /// multiply–adds `a·b + c` of `F`. With `x = [z, θ, v, ω]` (`v = ż`, `ω = θ̇`),
+    /// `G = m_p g l_p/J`, `M = μ_p/J`, `L = m_p l_p/J`, `α = a_c`, `β = b_c` and the stage
+    /// values of RK4 (`v_k`, `ω_k`, `θ_k` the stage states, `a_k = z̈`, `b_k = θ̈` their
+    /// derivatives), the stages substituted into one another give
+    ///
+    /// ```text
+    /// a₁ = βu − αv,        a₂ = a₁ − α(h/2)a₁,   a₃ = a₁ − α(h/2)a₂,   a₄ = a₁ − αh·a₃
+    /// b₁ = G sin θ − Mω − L cos θ · a₁
+    /// b₂ = (G sin θ₂ − Mω − L cos θ₂ · a₂) − M(h/2)·b₁,               θ₂ = θ + (h/2)ω
+    /// b₃ = (G sin θ₃ − Mω − L cos θ₃ · a₃) − M(h/2)·b₂,   θ₃ = θ₂ + e₃,  e₃ = (h²/4)·b₁
+    /// b₄ = (G sin θ₄ − Mω − L cos θ₄ · a₄) − Mh·b₃,       θ₄ = θ₄' + e₄, e₄ = (h²/2)·b₂,
+    ///                                                      θ₄' = θ + hω
+    /// z' = (z + hv) + (h²/6)·(a₁ + a₂ + a₃),   θ' = θ₄' + (h²/6)·(b₁ + b₂ + b₃)
+    /// v' = v + (h/6)·((a₁ + a₄) + 2(a₂ + a₃)),  ω' = (ω + (h/6)·(b₁ + 2b₂ + 2b₃)) + (h/6)·b₄
+    /// ```
+    ///
+    /// (the damping `−Mω_k = −Mω − M·c_k h·b_{k−1}` folded into one multiply–add per stage;
+    /// `v_k`, `ω_k` never formed). The sines and cosines of the three angles fixed by the
+    /// step's start, `θ`, `θ₂` and `θ₄'` (each rounded once with [`Fused`](pendulab_sim::fixed::Fused), twice
+    /// with [`Separate`] — as the general loop rounds `θ₂`), come from
+    /// [`sin_cos_near_zero`] (series within 1/4 rad of upright, libm beyond), each within
+    /// 1.5 ulp + 2.5·10⁻¹⁷ of libm's, off the chain that runs through `u` and `θ̈`. The third
+    /// and fourth stages' angles add `e = e₃, e₄` (|e| ~ 10⁻⁵ at 1 ms), and by the addition
+    /// theorem `G sin(θ_b + e) − L a cos(θ_b + e) = P cos e + Q sin e` with
+    /// `P = G sin θ_b − L a cos θ_b`, `Q = G cos θ_b + L a sin θ_b`, so their accelerations are
+    /// [`rotate_small`]`(P, Q, e, −Mω)`: three operations after `e` instead of a stage sine
+    /// and cosine and the products after them. It is within 1.5 ulp + 6·10⁻¹⁹·(|P| + |Q|) of
+    /// the exact rotation for `|e| ≤` [`ROTATE_LIMIT`] (2⁻¹⁴); larger offsets (|θ̈| above
+    /// 244 or 122 rad/s² at 1 ms) and NaN take the stage sine and cosine from
+    /// [`sin_cos_offset`] instead. Every stage's acceleration is thus that of sines and
+    /// cosines within 1.5 ulp + 2.5·10⁻¹⁷ of libm's at the stage angle (up to the rounding of
+    /// the base angle, half an ulp of `θ` or two), plus a few roundings of its terms.
+    #[inline(always)]
+    fn narrow_anchored_step<F: MulAdd>(&self, x: &[f64; 4], u: f64, h: f64) -> [f64; 4] {
+        let ma = F::mul_add;
+        let [z, theta, v, w] = *x;
+        let (alpha, beta) = (self.drive.a(), self.drive.b());
+        let (g, m, l) = (self.pendulum.mgl_j, self.pendulum.mu_j, self.pendulum.ml_j);
+        let h2 = 0.5 * h;
+        let hq = h2 * h2;
+        let hh = hq + hq;
+        let h6 = h * (1.0 / 6.0);
+        let hs = h * h6;
+        let (ah2, mh2) = (alpha * h2, m * h2);
+        // The three angles fixed by the step's start (off the chain through `u`).
+        let (s1, c1) = sin_cos_near_zero::<F>(theta);
+        let theta2 = ma(h2, w, theta);
+        let (s2, c2) = sin_cos_near_zero::<F>(theta2);
+        let theta4 = ma(h, w, theta);
+        let (s4, c4) = sin_cos_near_zero::<F>(theta4);
+        let mw = m * w;
+        // Stages 1 and 2.
+        let a1 = ma(beta, u, -(alpha * v));
+        let b1 = ma(-(l * c1), a1, ma(g, s1, -mw));
+        let a2 = ma(-ah2, a1, a1);
+        let (gs2, lc2) = (g * s2, l * c2);
+        let b2 = ma(-mh2, b1, ma(-lc2, a2, gs2 - mw));
+        // Stage 3: the acceleration at θ₂ rotated by e₃.
+        let a3 = ma(-ah2, a2, a1);
+        let e3 = hq * b1;
+        let k3 = if e3.abs() <= ROTATE_LIMIT {
+            let p = ma(-lc2, a3, gs2);
+            let q = ma(l * s2, a3, g * c2);
+            rotate_small::<F>(p, q, e3, -mw)
+        } else {
+            let (s3, c3) = sin_cos_offset(theta2, e3, s2, c2);
+            ma(-(l * c3), a3, ma(g, s3, -mw))
+        };
+        let b3 = ma(-mh2, b2, k3);
+        // Stage 4: the acceleration at θ + hω rotated by e₄.
+        let a4 = ma(-(ah2 + ah2), a3, a1);
+        let e4 = hh * b2;
+        let k4 = if e4.abs() <= ROTATE_LIMIT {
+            let p = ma(-(l * c4), a4, g * s4);
+            let q = ma(l * s4, a4, g * c4);
+            rotate_small::<F>(p, q, e4, -mw)
+        } else {
+            let (s4e, c4e) = sin_cos_offset(theta4, e4, s4, c4);
+            ma(-(l * c4e), a4, ma(g, s4e, -mw))
+        };
+        let b4 = ma(-(mh2 + mh2), b3, k4);
+        // The four updates in different shapes: alike ones would be paired into vector
+        // registers, which makes z wait for θ (measured: the controller's sum, which starts
+        // with z, then sits on the chain).
+        [
+            ma(h, v, z) + hs * ((a1 + a2) + a3),
+            ma(hs, (b1 + b2) + b3, theta4),
+            ma(h6, (a1 + a4) + 2.0 * (a2 + a3), v),
+            ma(h6, b4, ma(h6, (b1 + 2.0 * b2) + 2.0 * b3, w)),
+        ]
+    }
+
+    /// One RK4 step of [`Trig::Anchored`] for steps longer than 2⁻⁸ s (the operations of
     /// [`pendulab_sim::fixed::rk4_fixed`] with the pendulum's constants divided by `J`
     /// beforehand and the last stage's term added last), given `(s, c)`, the sine and cosine
-    /// of the step's first angle `θ` ([`sin_cos_small`] or [`anchor_sin_cos`] near upright,
-    /// libm beyond); `shift(d)` returns those of a stage angle `θ + d` ([`sin_cos_offset`] or
-    /// [`stage_sin_cos`]) for the offsets
+    /// of the step's first angle `θ` ([`anchor_sin_cos`]: a series near upright, libm
+    /// beyond); `shift(d)` returns those of a stage angle `θ + d` ([`stage_sin_cos`]) for the
+    /// offsets
     /// themselves, `d = (h/2)·θ̇₁, (h/2)·θ̇₂, h·θ̇₃` — never recovered from a rounded angle,
     /// which keeps the round trip `(θ + d) − θ` off the step's dependency chain. The later
     /// offsets are formed as `(h/2)·x₃ + (h/2)²·k₁` and `h·x₃ + (h²/2)·k₂` (`k` the stages'
@@ -902,11 +1010,13 @@ mod tests {
 
     /// The fixed-size kernel reproduces the general sampled-data loop bit for bit with this
     /// plant (the reference is `SampledLoop::run`, which evaluates `Dynamics::derivative`),
-    /// with either sine/cosine, under a stabilising feedback (the LQR gain of the book's
+    /// with either sine/cosine and on either multiply–add path (the provided RK4 step has no
+    /// multiply–adds to fuse), under a stabilising feedback (the LQR gain of the book's
     /// `cdip_lqr_sim` design, Q = diag(10, 10, 0, 0), R = 1) from 15°.
     #[test]
     fn fixed_kernel_runs_are_bit_identical_to_the_general_loop() {
         use pendulab_sim::controllers::StaticStateFeedback;
+        use pendulab_sim::fixed::MulAddPath;
         use pendulab_sim::{SampledLoop, SampledOptions};
         for trig in [Trig::Libm, Trig::Polynomial] {
             let plant = CartPendulum::book().with_trig(trig);
@@ -915,25 +1025,117 @@ mod tests {
             let mut g =
                 SampledLoop::new(plant, StaticStateFeedback::new(k).unwrap(), opts).unwrap();
             let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
-            let a = g.fixed::<4>().unwrap().run(&x0).unwrap();
-            assert_eq!(a, g.run(&x0).unwrap(), "{trig:?}");
-            assert!(a.diagnostics.final_state[1].abs() < 1e-6);
+            let b = g.run(&x0).unwrap();
+            for path in [MulAddPath::Fused, MulAddPath::Separate] {
+                let mut f = g.fixed::<4>().unwrap().with_multiply_add(path);
+                let a = f.run(&x0).unwrap();
+                assert_eq!(a, b, "{trig:?}, {path:?}");
+                assert!(a.diagnostics.final_state[1].abs() < 1e-6);
+            }
         }
     }
 
-    /// With `Trig::Anchored` the kernel's RK4 step takes the stage sines from the step's
-    /// first one (for the exact stage offsets) and divides the pendulum's constants by J
-    /// beforehand; the general loop (which evaluates the plain right-hand side, libm for this
-    /// variant) is the reference. Each stage's sine/cosine is within 2 ulp + 6·10⁻¹⁷ of
-    /// libm's at the stage angle (plus half an ulp of the angle for the unrounded offset),
-    /// and the prescaled constants change θ̈ by a few roundings, which together move θ̈ by at
-    /// most (m_p g l_p + m_p l_p |z̈|)/J · 5·10⁻¹⁶ ≈ 4·10⁻¹⁴ here
-    /// (|z̈| < 50 m/s²) and the state by h times that per step: 10⁴ steps of 1 ms add up to
-    /// at most 4·10⁻¹³ without any help from the loop's damping; 1e-13 is asserted on the
-    /// ~0.26 rad swing (the stable loop keeps the sum near one step's worth).
+    /// The narrow anchored step (`h ≤ 2⁻⁸ s`) with either multiply–add against the classic
+    /// RK4 step of the libm plant (`rk4_fixed`: the generic stage code on the plain right-hand
+    /// side, an independent implementation) from the same state, over random states
+    /// (|θ| ≤ 0.6 — every series tier and libm beyond 1/4 —, |θ̇| ≤ 5, |ż| ≤ 1, |v| ≤ 10 V,
+    /// so |z̈| ≤ a_c|ż| + b_c|v| < 50 m/s²) and step lengths 0.25 ms, 1 ms and 2⁻⁸ s (where
+    /// |θ̈| > 16 rad/s² puts the third stage's offset beyond the rotation's range).
+    ///
+    /// Bound. Each stage's θ̈ differs from the libm step's by: its sine and cosine, within
+    /// 1.5 ulp + 2.5·10⁻¹⁷ of libm's (≤ 1.9·10⁻¹⁶) at an angle that differs from the libm
+    /// step's stage angle by their roundings (≤ 3 ulp of |θ| < 1, 3.3·10⁻¹⁶); the rotation
+    /// (1.5 ulp of its result) and a few roundings of the terms on either side (≤ 4·2⁻⁵³ of
+    /// their sum); the cart's stage accelerations a few roundings of b_c|v| + a_c|ż|, which
+    /// enter through L cos θ. Altogether at most (G + L|z̈|)·10⁻¹⁵ with G = m_p g l_p/J,
+    /// L = m_p l_p/J, i.e. 2.0·10⁻¹³ 1/s² here; RK4's weights sum to one, so the velocities
+    /// move by at most h times that (the positions by h² times). Both steps round their
+    /// updates a few times at the size of the state: 4 ulp of it. So each component within
+    /// 4 ulp(x'_i) + h·2·10⁻¹³. Not vacuous: the worst difference uses a sizeable part of it;
+    /// both the rotation and its fallback (`sin_cos_offset`) run.
+    #[test]
+    fn narrow_anchored_step_is_within_rounding_of_the_libm_step() {
+        use pendulab_sim::fixed::{FixedDynamics, Fused, MulAdd, Separate, rk4_fixed};
+        fn run<F: MulAdd>() {
+            let anchored = CartPendulum::book().with_trig(Trig::Anchored);
+            let libm = CartPendulum::book();
+            let mut state = 3u64;
+            let mut worst = 0.0f64;
+            let (mut rotated, mut fallback) = (0usize, 0usize);
+            for i in 0..200_000 {
+                let h = [2.5e-4, 1e-3, 1.0 / 256.0][i % 3];
+                let x = [
+                    uniform(&mut state, -0.5, 0.5),
+                    uniform(&mut state, -0.6, 0.6),
+                    uniform(&mut state, -1.0, 1.0),
+                    uniform(&mut state, -5.0, 5.0),
+                ];
+                let u = uniform(&mut state, -10.0, 10.0);
+                let (mut a, mut b) = (x, x);
+                anchored.rk4_step_fixed_with::<F>(&mut a, u, h);
+                rk4_fixed(&libm, &mut b, u, h);
+                for j in 0..4 {
+                    let tol = 4.0 * ulp(b[j]) + h * 2e-13;
+                    let d = (a[j] - b[j]).abs();
+                    assert!(
+                        d <= tol,
+                        "{:?}: h = {h}, x = {x:?}, u = {u}: state {j}, {d:e}",
+                        F::PATH
+                    );
+                    worst = worst.max(d / tol);
+                }
+                // Which way the third stage went: e₃ = (h²/4)·θ̈₁.
+                let e3 = 0.25 * h * h * libm.derivative_array(&x, u)[3];
+                if e3.abs() <= ROTATE_LIMIT * 0.99 {
+                    rotated += 1;
+                } else if e3.abs() > ROTATE_LIMIT * 1.01 {
+                    fallback += 1;
+                }
+            }
+            eprintln!(
+                "{:?}: worst difference / tolerance {worst}; rotated {rotated}, fallback {fallback}",
+                F::PATH
+            );
+            assert!(worst > 0.05, "{worst}");
+            assert!(rotated > 10_000 && fallback > 1000, "{rotated} {fallback}");
+        }
+        run::<Fused>();
+        run::<Separate>();
+        // The two strategies do round differently (the fused one once per multiply–add),
+        // which shows in some steps' results (most differences in θ̈ stay below half an ulp
+        // of the state after the factor h: 35 of these 1000 steps differ).
+        let anchored = CartPendulum::book().with_trig(Trig::Anchored);
+        let mut state = 4u64;
+        let differ = (0..1000)
+            .filter(|_| {
+                let x = [
+                    0.1,
+                    uniform(&mut state, -0.3, 0.3),
+                    0.2,
+                    uniform(&mut state, -2.0, 2.0),
+                ];
+                let (mut a, mut b) = (x, x);
+                anchored.rk4_step_fixed_with::<Fused>(&mut a, 1.5, 1e-3);
+                anchored.rk4_step_fixed_with::<Separate>(&mut b, 1.5, 1e-3);
+                a != b
+            })
+            .count();
+        assert!(differ > 10, "{differ}");
+    }
+
+    /// With `Trig::Anchored` the kernel runs `narrow_anchored_step` (1 ms steps) on either
+    /// multiply–add path; the general loop (which evaluates the plain right-hand side, libm
+    /// for this variant) is the reference. Each stage's θ̈ is within
+    /// (m_p g l_p + m_p l_p |z̈|)/J · 10⁻¹⁵ of the libm step's from the same state (derived in
+    /// `narrow_anchored_step_is_within_rounding_of_the_libm_step`), ≈ 10⁻¹³ here (|z̈| < 20
+    /// m/s²: |ż| < 0.8 m/s, |v| < 3.6 V), which moves the state by h times that per step, and
+    /// the updates round at a few ulp of the state (≤ 3·10⁻¹⁶ for |x| < 1): 10⁴ steps of 1 ms
+    /// add up to at most 4·10⁻¹² without any help from the loop's damping; 1e-13 is asserted
+    /// on the ~0.26 rad swing (the stable loop keeps the sum near a few steps' worth).
     #[test]
     fn anchored_trig_kernel_stays_within_rounding_of_the_libm_loop() {
         use pendulab_sim::controllers::StaticStateFeedback;
+        use pendulab_sim::fixed::MulAddPath;
         use pendulab_sim::{SampledLoop, SampledOptions};
         let plant = CartPendulum::book().with_trig(Trig::Anchored);
         let k = cdip_lqr_gain(&plant);
@@ -942,15 +1144,28 @@ mod tests {
         let g = SampledLoop::new(plant, feedback.clone(), opts.clone()).unwrap();
         let mut libm = SampledLoop::new(CartPendulum::book(), feedback, opts).unwrap();
         let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
-        let a = g.fixed::<4>().unwrap().run(&x0).unwrap();
         let b = libm.run(&x0).unwrap();
         // The plain right-hand side of the anchored plant is libm's.
         assert_eq!(g.clone().run(&x0).unwrap(), b);
-        let (xa, xb) = (a.trajectory.x(), b.trajectory.x());
-        assert_eq!(xa.shape(), xb.shape());
-        let dev = (xa - xb).abs().max();
-        assert!(dev < 1e-13, "max deviation {dev:e}");
-        assert!(a.diagnostics.final_state[1].abs() < 1e-6);
+        let mut runs = Vec::new();
+        for path in [MulAddPath::Fused, MulAddPath::Separate] {
+            let a = g
+                .fixed::<4>()
+                .unwrap()
+                .with_multiply_add(path)
+                .run(&x0)
+                .unwrap();
+            let (xa, xb) = (a.trajectory.x(), b.trajectory.x());
+            assert_eq!(xa.shape(), xb.shape());
+            let dev = (xa - xb).abs().max();
+            assert!(dev < 1e-13, "{path:?}: max deviation {dev:e}");
+            assert!(a.diagnostics.final_state[1].abs() < 1e-6);
+            runs.push(a);
+        }
+        // The two paths differ where the processor has FMA (the fused path then rounds
+        // differently), not otherwise.
+        let fused = g.fixed::<4>().unwrap().multiply_add() == MulAddPath::Fused;
+        assert_eq!(runs[0] != runs[1], fused);
     }
 
     /// The lane kernel with `AnchoredSinCos` (the cart's own lane RK4 step) against the

@@ -18,6 +18,16 @@
 //! `tests/fixed.rs` checks the identity, records included, with and without saturation,
 //! monitor stops, substeps and the LQ servo.
 //!
+//! **Fused multiply–add.** The loop is compiled twice: for the baseline target and, on
+//! x86-64, inside a function compiled for FMA that a run takes when the processor has it
+//! (detected at run time; [`FixedLoop::multiply_add`] tells which). The two differ only where
+//! the plant's step asks for it: [`FixedDynamics::rk4_step_fixed_with`] receives the
+//! multiply–add strategy ([`Fused`] or [`Separate`], see [`MulAdd`]), and a plant may
+//! evaluate its `a·b + c` by `F::mul_add` — the cart's opt-in
+//! [`Trig::Anchored`](crate::lanes::Trig::Anchored) step does. Rust never contracts
+//! `a * b + c` on its own, so every other operation rounds as in the baseline loop and the
+//! provided steps stay bit-identical on either path (`tests/fixed.rs` runs both).
+//!
 //! ```
 //! use pendulab_lti::Mat;
 //! use pendulab_sim::controllers::StaticStateFeedback;
@@ -78,6 +88,66 @@ pub trait FixedDynamics<const N: usize> {
     fn rk4_step_fixed(&self, x: &mut [f64; N], u: f64, h: f64) {
         rk4_fixed(self, x, u, h);
     }
+
+    /// [`FixedDynamics::rk4_step_fixed`] for a kernel that offers the multiply–add strategy
+    /// `F` ([`Fused`] inside [`FixedLoop`]'s FMA-compiled loop, [`Separate`] elsewhere):
+    /// a plant's own step may evaluate its `a·b + c` by `F::mul_add`. Provided: the plain
+    /// [`FixedDynamics::rk4_step_fixed`], which ignores `F` — a step that must stay
+    /// bit-identical to the general loop keeps it.
+    #[inline(always)]
+    fn rk4_step_fixed_with<F: MulAdd>(&self, x: &mut [f64; N], u: f64, h: f64) {
+        self.rk4_step_fixed(x, u, h);
+    }
+}
+
+/// How a plant's RK4 step evaluates `a·b + c` ([`FixedDynamics::rk4_step_fixed_with`]).
+///
+/// Rust never contracts `a * b + c` into a fused multiply–add, and the baseline x86-64
+/// target has no FMA instruction, so a step written once and generic over this strategy is
+/// compiled twice by [`FixedLoop`]: with [`Fused`] inside a function compiled for FMA and
+/// chosen at run time when the processor has it, with [`Separate`] otherwise.
+pub trait MulAdd {
+    /// Which strategy this is.
+    const PATH: MulAddPath;
+    /// `a·b + c`.
+    fn mul_add(a: f64, b: f64, c: f64) -> f64;
+}
+
+/// `a·b + c` rounded once ([`f64::mul_add`]): one instruction, with the latency of one
+/// operation instead of two, where FMA is enabled; in code compiled without it a call to the
+/// library's `fma` — correct but slow, so [`FixedLoop`] selects it only inside its
+/// FMA-compiled loop.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Fused;
+
+impl MulAdd for Fused {
+    const PATH: MulAddPath = MulAddPath::Fused;
+    #[inline(always)]
+    fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+        a.mul_add(b, c)
+    }
+}
+
+/// `a·b + c` as a product and a sum, each rounded (what Rust evaluates for `a * b + c`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Separate;
+
+impl MulAdd for Separate {
+    const PATH: MulAddPath = MulAddPath::Separate;
+    #[inline(always)]
+    fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+        a * b + c
+    }
+}
+
+/// Which multiply–add a [`FixedLoop`] run offers the plant's step ([`MulAdd`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MulAddPath {
+    /// [`Fused`]: the loop compiled for FMA (x86-64 processors with FMA, detected at run
+    /// time).
+    Fused,
+    /// [`Separate`]: the loop compiled for the baseline target.
+    Separate,
 }
 
 /// One classic RK4 step of `h` with `u` held, operation for operation the step of
@@ -156,6 +226,7 @@ pub struct FixedLoop<P, C, const N: usize> {
     samples: usize,
     nsub: usize,
     every: Option<usize>,
+    fused: bool,
 }
 
 impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C, N> {
@@ -203,6 +274,7 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
                 Record::Every(n) => Some(n),
                 Record::Off => None,
             },
+            fused: true,
         })
     }
 
@@ -214,6 +286,25 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         crate::Actuator::ideal().saturation_range(lo, hi)?;
         self.saturation = Some((lo, hi));
         Ok(self)
+    }
+
+    /// The multiply–add the runs may offer the plant's step: [`MulAddPath::Fused`] (the
+    /// default) runs the loop compiled for FMA where the processor has it (detected at run
+    /// time; elsewhere the baseline loop), [`MulAddPath::Separate`] always the baseline loop.
+    /// Only a plant that evaluates `a·b + c` by [`FixedDynamics::rk4_step_fixed_with`]'s
+    /// strategy sees a difference; with the provided steps the runs are the same either way.
+    pub fn with_multiply_add(mut self, path: MulAddPath) -> Self {
+        self.fused = path == MulAddPath::Fused;
+        self
+    }
+
+    /// The multiply–add a run takes on this processor ([`FixedLoop::with_multiply_add`]).
+    pub fn multiply_add(&self) -> MulAddPath {
+        if self.fused && fma_detected() {
+            MulAddPath::Fused
+        } else {
+            MulAddPath::Separate
+        }
     }
 
     /// The plant.
@@ -270,6 +361,37 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         monitor: &mut M,
         storage: Option<SampledRun>,
     ) -> Result<SampledRun> {
+        #[cfg(target_arch = "x86_64")]
+        if self.multiply_add() == MulAddPath::Fused {
+            // SAFETY: `multiply_add` returns `Fused` only if the processor supports FMA
+            // (detected at run time), the only requirement of calling a function compiled
+            // with `target_feature(enable = "fma")`.
+            return unsafe { self.run_fused(x0, monitor, storage) };
+        }
+        self.run_loop::<Separate, M>(x0, monitor, storage)
+    }
+
+    /// [`FixedLoop::run_loop`] with [`Fused`], compiled for FMA. Rust does not contract
+    /// `a * b + c`, so only the plant's `F::mul_add` differs from the baseline loop.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "fma")]
+    fn run_fused<M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+        storage: Option<SampledRun>,
+    ) -> Result<SampledRun> {
+        self.run_loop::<Fused, M>(x0, monitor, storage)
+    }
+
+    /// The loop itself, the plant's step with the multiply–add `F`.
+    #[inline(always)]
+    fn run_loop<F: MulAdd, M: Monitor + ?Sized>(
+        &mut self,
+        x0: &[f64],
+        monitor: &mut M,
+        storage: Option<SampledRun>,
+    ) -> Result<SampledRun> {
         check_initial_state(x0, N)?;
         self.controller.reset();
         let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
@@ -295,8 +417,11 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         let mut next_record = if self.every.is_some() { 0 } else { usize::MAX };
         let every = self.every.unwrap_or(0);
         let mut row = 0usize;
-        for k in 0..=n_samples {
-            let tk = t0 + k as f64 * ts;
+        // `t_k = t₀ + k·ts`, carried from one sample to the next (the value the general loop
+        // computes at each, one conversion and product per sample fewer). At most 10¹² + 1
+        // samples (`validate_options`), so the exclusive range cannot overflow.
+        let mut tk = t0;
+        for k in 0..n_samples + 1 {
             last_t = tk;
             samples_run += 1;
             let ucmd = self.controller.command(tk, &x);
@@ -340,18 +465,21 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
             if k == n_samples {
                 break;
             }
-            let tk1 = t0 + (k + 1) as f64 * ts;
+            // `k + 1 ≤ 10¹² + 1 < 2⁵³` converts exactly either way; the signed conversion is
+            // one instruction on x86-64 (the unsigned one takes several without AVX-512).
+            let tk1 = t0 + (k + 1) as i64 as f64 * ts;
             if nsub == 1 {
-                self.plant.rk4_step_fixed(&mut x, p, tk1 - tk);
+                self.plant.rk4_step_fixed_with::<F>(&mut x, p, tk1 - tk);
             } else {
                 let h = (tk1 - tk) / nsub as f64;
                 for _ in 0..nsub {
-                    self.plant.rk4_step_fixed(&mut x, p, h);
+                    self.plant.rk4_step_fixed_with::<F>(&mut x, p, h);
                 }
             }
             if !x.iter().sum::<f64>().is_finite() {
                 check_state(tk1, &x)?;
             }
+            tk = tk1;
         }
         bt.truncate(row);
         let trajectory = Trajectory::new(
@@ -414,6 +542,19 @@ impl<P: Dynamics + Clone, C: Controller + Clone> SampledLoop<P, C> {
             Some((lo, hi)) => me.with_saturation(lo, hi),
             None => Ok(me),
         }
+    }
+}
+
+/// Whether the processor has FMA (x86-64, detected at run time and cached by `std`); `false`
+/// elsewhere, where the kernel has no FMA-compiled loop.
+fn fma_detected() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }
 

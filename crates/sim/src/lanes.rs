@@ -41,6 +41,7 @@
 //! ```
 
 use crate::error::{Result, SimError, check_finite};
+use crate::fixed::MulAdd;
 use rayon::prelude::*;
 use std::f64::consts::FRAC_2_PI;
 
@@ -191,18 +192,18 @@ pub fn sin_cos_lanes<const L: usize>(x: &[f64; L]) -> ([f64; L], [f64; L]) {
 ///   a few ulp of its derivative times the step, far below the RK4 truncation error of any
 ///   practical step, but results are no longer bit-identical to libm-based references.
 /// - [`Trig::Anchored`]: for a plant's own RK4 step kernel (e.g. the
-///   [`crate::fixed::FixedDynamics::rk4_step_fixed`] of `pendulab_plants::CartPendulum`):
-///   the sine and cosine of the angle at the start of the step (libm's, or [`sin_cos_small`]
-///   within 1/32 rad of zero), and the three later stages'
-///   sines and cosines from it by the addition theorem for the stages' offsets
-///   ([`sin_cos_offset`]), about a quarter of libm's instructions each, within
-///   2 ulp + 6·10⁻¹⁷ of libm at the stage angle. A plant may widen these ranges for long
-///   steps: the cart's step for `h > 2⁻⁸ s` (the environment's 20 ms) takes the first angle
-///   from one series up to 0.25 rad and the offsets up to 1/8 rad, within 2 ulp + 1.1·10⁻¹⁶
-///   (`pendulab_plants::CartPendulum::ANCHORED_ANGLE_LIMIT`, `ANCHORED_SHIFT_LIMIT`). A
-///   single right-hand side
-///   evaluation outside such a step (the general sampled-data loop, linearisation, …) uses
-///   libm, as [`Trig::Libm`].
+///   [`crate::fixed::FixedDynamics::rk4_step_fixed_with`] of `pendulab_plants::CartPendulum`),
+///   which shares the sines and cosines between the stages: series about zero for the angles
+///   fixed by the step's start ([`sin_cos_near_zero`]) and the addition theorem for the small
+///   offsets the later stages add ([`sin_cos_offset`], or [`rotate_small`] applied to the
+///   stage's acceleration directly), each sine and cosine within 2 ulp + 6·10⁻¹⁷ of libm at
+///   its angle, a fraction of libm's instructions and a shorter dependency chain. The cart's
+///   step for `h ≤ 2⁻⁸ s` does this with fused multiply–adds where the fixed-size kernel's
+///   FMA-compiled loop runs it; for longer steps (the environment's 20 ms) it takes the first
+///   angle from one series up to 0.25 rad and the stage offsets up to 1/8 rad, within
+///   2 ulp + 1.1·10⁻¹⁶ (`pendulab_plants::CartPendulum::ANCHORED_ANGLE_LIMIT`,
+///   `ANCHORED_SHIFT_LIMIT`). A single right-hand side evaluation outside such a step (the
+///   general sampled-data loop, linearisation, …) uses libm, as [`Trig::Libm`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Trig {
     /// The platform's `f64::sin_cos`.
@@ -340,6 +341,112 @@ fn small_angle_series(d: f64) -> (f64, f64) {
     let sd = d + (d * z) * ((S1 + S2 * z) + S3 * z2);
     let cm1 = z * ((C1 + C2 * z) + C3 * z2);
     (sd, cm1)
+}
+
+/// Largest `|x|` [`sin_cos_near_zero`] serves by a series (beyond it: libm).
+pub const NEAR_ZERO_LIMIT: f64 = 0.25;
+
+/// `(sin x, cos x)` by Taylor series about the exact anchor 0, in three tiers by `|x|`, with
+/// the multiply–adds of `F` (Taylor's series; the tiers as [`sin_cos_small`] plus a wider one):
+///
+/// ```text
+/// |x| ≤ 2⁻⁸:  sin x = x + x·z·(−1/3! + z/5!),                 cos x = 1 + z·(−1/2! + z/4!)
+/// |x| ≤ 1/32: sin x = x + x·z·((−1/3! + z/5!) − z²/7!),        cos x = 1 + z·((−1/2! + z/4!) − z²/6!)
+/// |x| ≤ 1/4:  sin x = x + x·z·P(z) to x¹¹, cos x = 1 + z·Q(z) to x¹² (Estrin's pairing)
+/// ```
+///
+/// (`z = x²`), libm's `x.sin_cos()` beyond [`NEAR_ZERO_LIMIT`] and for NaN. The first omitted
+/// terms are below `7·10⁻¹⁹·|x|` and `5·10⁻¹⁸` (first tier), `3·10⁻¹⁸·|x|` and `2.3·10⁻¹⁷`
+/// (second), `2.5·10⁻¹⁸` and `5·10⁻²⁰` (third). The corrections `x·z·P` (at most
+/// `|x|³/6 ≤ 2.7·10⁻³`) and `z·Q` (at most `x²/2 ≤ 1/32`) are formed with a relative error
+/// of a few roundings (≤ 5·2⁻⁵³: `≤ 1.5·10⁻¹⁸` and `≤ 1.8·10⁻¹⁷`), and the final addition
+/// rounds to half an ulp: each result is within ½ ulp + 2.4·10⁻¹⁷ of the exact value, so
+/// within **1.5 ulp + 2.5·10⁻¹⁷ of libm's** (itself within 1 ulp), for [`Fused`](crate::fixed::Fused)
+/// and [`Separate`](crate::fixed::Separate) alike (checked in `tests/trig_shift.rs`). With
+/// [`Separate`](crate::fixed::Separate) the first two tiers perform the operations of
+/// [`sin_cos_small`]. About 7 to 15 floating-point operations: the first sine and cosine of
+/// the cart's anchored RK4 step for short steps, and those of its fixed stage angles.
+#[inline(always)]
+pub fn sin_cos_near_zero<F: MulAdd>(x: f64) -> (f64, f64) {
+    let m = x.abs();
+    if m <= SHORT_SHIFT_LIMIT {
+        const S: [f64; 2] = [-1.0 / 6.0, 1.0 / 120.0];
+        const C: [f64; 2] = [-0.5, 1.0 / 24.0];
+        let z = x * x;
+        let s = F::mul_add(x * z, F::mul_add(S[1], z, S[0]), x);
+        return (s, F::mul_add(z, F::mul_add(C[1], z, C[0]), 1.0));
+    }
+    if m <= SHIFT_LIMIT {
+        const S: [f64; 3] = [-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0];
+        const C: [f64; 3] = [-0.5, 1.0 / 24.0, -1.0 / 720.0];
+        let z = x * x;
+        let z2 = z * z;
+        let p = F::mul_add(S[2], z2, F::mul_add(S[1], z, S[0]));
+        let q = F::mul_add(C[2], z2, F::mul_add(C[1], z, C[0]));
+        return (F::mul_add(x * z, p, x), F::mul_add(z, q, 1.0));
+    }
+    // False for NaN, which goes to libm as well.
+    let in_range = m <= NEAR_ZERO_LIMIT;
+    if !in_range {
+        return x.sin_cos();
+    }
+    const S: [f64; 5] = [
+        -1.0 / 6.0,
+        1.0 / 120.0,
+        -1.0 / 5040.0,
+        1.0 / 362_880.0,
+        -1.0 / 39_916_800.0,
+    ];
+    const C: [f64; 6] = [
+        -0.5,
+        1.0 / 24.0,
+        -1.0 / 720.0,
+        1.0 / 40_320.0,
+        -1.0 / 3_628_800.0,
+        1.0 / 479_001_600.0,
+    ];
+    let z = x * x;
+    let z2 = z * z;
+    let p = F::mul_add(
+        z2,
+        F::mul_add(S[4], z2, F::mul_add(S[3], z, S[2])),
+        F::mul_add(S[1], z, S[0]),
+    );
+    let q = F::mul_add(
+        z2,
+        F::mul_add(z2, F::mul_add(C[5], z, C[4]), F::mul_add(C[3], z, C[2])),
+        F::mul_add(C[1], z, C[0]),
+    );
+    (F::mul_add(x * z, p, x), F::mul_add(z, q, 1.0))
+}
+
+/// Largest `|e|` (`2⁻¹⁴`) [`rotate_small`] is documented for.
+pub const ROTATE_LIMIT: f64 = 1.0 / 16384.0;
+
+/// `a + p·cos e + q·sin e` for a small angle `|e| ≤` [`ROTATE_LIMIT`], as
+/// `(a + p + e·q) + e²·(−p/2 − e·q/6)` with the multiply–adds of `F`: the rotation of the
+/// pair `(p, q)` by `e` (the addition theorem: with `p = sin θ`, `q = cos θ` it is
+/// `sin(θ + e)`, with `p = cos θ`, `q = −sin θ` it is `cos(θ + e)`, and with
+/// `p = G sin θ − L a cos θ`, `q = G cos θ + L a sin θ` it is `G sin(θ + e) − L a cos(θ + e)`,
+/// the form the cart's anchored RK4 step evaluates its later stages' accelerations in). The
+/// caller checks the range (no fallback here).
+///
+/// Error: the omitted terms of `cos e` and `sin e` (Taylor) are below `e⁴/24 ≤ 6·10⁻¹⁹`
+/// relative to `|p| + |q|`; the second-order part `e²·(…)` (at most `2⁻²⁹·(|p| + |q|)`)
+/// carries a few roundings of its own size (below `10⁻²³·(|p| + |q|)`); the sum `a + p` (one
+/// rounding, exact for `a = 0`), the first-order sum `fl(a + p) + e·q` (one rounding with
+/// [`Fused`](crate::fixed::Fused), plus one of `e·q ≤ 2⁻¹⁴|q|` with
+/// [`Separate`](crate::fixed::Separate)) and the final addition round to half an ulp each.
+/// The first-order sum `t` and the result `r` differ by at most `2⁻²⁹·(|p| + |q|)`, so
+/// `½ ulp(t) ≤ ulp(r)` (the two differ only where `r` crosses a power of two). Altogether
+/// within **1.5 ulp(r) + ½ ulp(fl(a + p)) + 6·10⁻¹⁹·(|p| + |q|)** of the exact value for
+/// the given `p`, `q`, `a` (1.5 ulp + 6·10⁻¹⁹·(|p| + |q|) for `a = 0`; checked in
+/// `tests/trig_shift.rs` against a double-double reference built on libm's `sin e`).
+/// Five multiply–adds and two products; three operations on the chain from `e`.
+#[inline(always)]
+pub fn rotate_small<F: MulAdd>(p: f64, q: f64, e: f64, a: f64) -> f64 {
+    let second = F::mul_add(e, q * (-1.0 / 6.0), -0.5 * p);
+    F::mul_add(e * e, second, F::mul_add(e, q, a + p))
 }
 
 /// A plant whose right-hand side is evaluated for `L` states at once (structure of arrays),

@@ -16,7 +16,7 @@
 //! | test signals | [`Signal`] | step, ramp, pulse, pulse train, sine, piecewise, sums |
 //! | per-sample summaries, safety stops | [`Monitor`], [`StayWithin`], [`MaxAbs`], [`SettlingTime`] | |
 //! | batch runs on all cores | [`batch`] | grids of initial states, seeded Monte Carlo, region-of-attraction maps |
-//! | one fixed-size closed loop (`[f64; N]` plant, static state feedback, ZOH, RK4, saturation), monomorphised | [`fixed`] | [`SampledLoop::fixed`]; bit-identical to the general loop |
+//! | one fixed-size closed loop (`[f64; N]` plant, static state feedback, ZOH, RK4, saturation), monomorphised | [`fixed`] | [`SampledLoop::fixed`]; bit-identical to the general loop; a second copy compiled for FMA, chosen at run time, for plant steps that fuse their multiply–adds |
 //! | SIMD lanes for batch studies of static feedback | [`lanes`] | `L` runs stepped together; bit-identical to the general loop with [`lanes::LibmSinCos`] |
 //! | a Gymnasium-style environment | [`Env`], [`EnvConfig`], [`FixedEnv`] | `reset(seed)`, `step(u)`; CartPole-v1 settings on the cart rig; `FixedEnv` steps a fixed-size plant with its own RK4 step |
 //! | errors | [`SimError`] | typed, naming what and where (and the time of a blow-up) |

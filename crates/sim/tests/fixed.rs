@@ -9,7 +9,7 @@ mod common;
 use common::CartPendulum;
 use pendulab_lti::Mat;
 use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
-use pendulab_sim::fixed::FixedDynamics;
+use pendulab_sim::fixed::{FixedDynamics, Fused, MulAdd, MulAddPath, Separate};
 use pendulab_sim::{
     Actuator, Delay, Dynamics, Integrator, Record, RunStatus, SampledLoop, SampledOptions,
     SensorChain, Signal, SimError, StayWithin,
@@ -41,19 +41,26 @@ fn general(
     SampledLoop::new(CartPendulum::default(), controller, options).unwrap()
 }
 
+/// Both multiply–add paths of the kernel (the FMA-compiled loop where the processor has FMA,
+/// the baseline loop forced), for a plant that keeps the provided RK4 step.
+const PATHS: [MulAddPath; 2] = [MulAddPath::Fused, MulAddPath::Separate];
+
 #[test]
 fn lqr_run_is_bit_identical_to_the_general_loop_for_every_recording_mode() {
     let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
-    for record in [Record::EverySample, Record::Every(7), Record::Off] {
+    for (record, path) in [Record::EverySample, Record::Every(7), Record::Off]
+        .into_iter()
+        .flat_map(|r| PATHS.map(|p| (r, p)))
+    {
         let opts = SampledOptions {
             record,
             ..Default::default()
         };
         let mut g = general(lqr(), opts);
-        let mut f = g.fixed::<4>().unwrap();
+        let mut f = g.fixed::<4>().unwrap().with_multiply_add(path);
         let a = f.run(&x0).unwrap();
         let b = g.run(&x0).unwrap();
-        assert_eq!(a, b, "{record:?}");
+        assert_eq!(a, b, "{record:?}, {path:?}");
         // The run is a real closed-loop run: 10 s at 1 kHz, balanced at the end.
         assert_eq!(a.diagnostics.integration.accepted_steps, 10_000);
         assert!(a.diagnostics.final_state[1].abs() < 1e-6);
@@ -85,11 +92,18 @@ fn saturated_substepped_shifted_loop_is_bit_identical() {
     let mut g = general(k, opts)
         .with_actuator(Actuator::ideal().saturation(1.5).unwrap())
         .unwrap();
-    let mut f = g.fixed::<4>().unwrap();
     let x0 = [0.0, 0.2, 0.1, -0.3];
-    let a = f.run(&x0).unwrap();
     let b = g.run(&x0).unwrap();
-    assert_eq!(a, b);
+    for path in PATHS {
+        let a = g
+            .fixed::<4>()
+            .unwrap()
+            .with_multiply_add(path)
+            .run(&x0)
+            .unwrap();
+        assert_eq!(a, b, "{path:?}");
+    }
+    let a = g.fixed::<4>().unwrap().run(&x0).unwrap();
     assert!(a.diagnostics.saturated_samples > 0);
     assert_eq!(a.diagnostics.integration.accepted_steps, 600 * 4);
     // An asymmetric range is carried over as well.
@@ -219,4 +233,41 @@ fn configurations_the_kernel_does_not_cover_are_refused_with_a_reason() {
         f.run(&[0.0; 3]),
         Err(SimError::DimensionMismatch { .. })
     ));
+}
+
+/// The multiply–add strategies against closed forms: with `a = 1 + 2⁻³⁰`, `b = 1 − 2⁻³⁰`,
+/// `a·b = 1 − 2⁻⁶⁰` exactly, which rounds to 1; so `a·b − 1` is `−2⁻⁶⁰` rounded once (fused)
+/// and 0 rounded twice (separate).
+#[test]
+fn multiply_add_strategies_round_once_and_twice() {
+    let (a, b) = (1.0 + 2f64.powi(-30), 1.0 - 2f64.powi(-30));
+    assert_eq!(Fused::mul_add(a, b, -1.0), -(2f64.powi(-60)));
+    assert_eq!(Separate::mul_add(a, b, -1.0), 0.0);
+    assert_eq!(Fused::PATH, MulAddPath::Fused);
+    assert_eq!(Separate::PATH, MulAddPath::Separate);
+}
+
+/// The path a run takes: the FMA-compiled loop exactly where the processor has FMA (x86-64,
+/// detected at run time) unless the baseline loop is forced.
+#[test]
+fn multiply_add_path_follows_the_processor_unless_forced() {
+    let f = general(lqr(), SampledOptions::default())
+        .fixed::<4>()
+        .unwrap();
+    #[cfg(target_arch = "x86_64")]
+    let has_fma = std::arch::is_x86_feature_detected!("fma");
+    #[cfg(not(target_arch = "x86_64"))]
+    let has_fma = false;
+    let expected = if has_fma {
+        MulAddPath::Fused
+    } else {
+        MulAddPath::Separate
+    };
+    assert_eq!(f.multiply_add(), expected);
+    let f = f.with_multiply_add(MulAddPath::Separate);
+    assert_eq!(f.multiply_add(), MulAddPath::Separate);
+    assert_eq!(
+        f.with_multiply_add(MulAddPath::Fused).multiply_add(),
+        expected
+    );
 }

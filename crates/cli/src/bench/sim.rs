@@ -8,13 +8,17 @@
 //!   hold, classic RK4 at 1 ms, every sample recorded into the `Trajectory` (recycling the
 //!   previous result's storage), by the fixed-size kernel `pendulab_sim::fixed::FixedLoop`
 //!   (`SampledLoop::fixed`: the loop monomorphised on `[f64; 4]`) with the plant's opt-in
-//!   `Trig::Anchored` (libm's sine/cosine once per RK4 step, the three later stages' from it
-//!   by the addition theorem, each within 2 ulp + 6·10⁻¹⁷ of libm). Figure: RK4 steps per
-//!   second on one core. Check: the headline's largest deviation from the general
-//!   `SampledLoop` run with libm; the fixed-size kernel with libm (bit-identical to the
-//!   general loop) and with the polynomial sine/cosine; the general loop's rate (recycled,
-//!   freshly allocated, unrecorded); the run against the same loop integrated by
-//!   Dormand–Prince at `rtol = 1e-12` (the RK4 error of the timed run); that it balances.
+//!   `Trig::Anchored` step for short steps: series sines and cosines at the three angles the
+//!   step's start fixes, the later stages' accelerations by a small rotation (each sine and
+//!   cosine within 2 ulp + 6·10⁻¹⁷ of libm), with fused multiply–adds where the processor has
+//!   FMA (the kernel's FMA-compiled loop, chosen at run time; the check names the path).
+//!   Figure: RK4 steps per second on one core, timed in rounds alternating with the same
+//!   kernel forced onto the baseline loop (separate multiplications and additions). Check:
+//!   the headline's largest deviation from the general `SampledLoop` run with libm (and the
+//!   baseline loop's); the fixed-size kernel with libm (bit-identical to the general loop)
+//!   and with the polynomial sine/cosine; the general loop's rate (recycled, freshly
+//!   allocated, unrecorded); the run against the same loop integrated by Dormand–Prince at
+//!   `rtol = 1e-12` (the RK4 error of the timed run); that it balances.
 //! - `sim-batch`: the 100×100 grid θ₀ ∈ [−1.2, 1.2] rad × θ̇₀ ∈ [−3, 3] rad/s, 10 s each at
 //!   1 kHz, on all cores (rayon), classifying each run as upright (`|θ| ≤ π/2` throughout) or
 //!   fallen (the run stops at the first sample past π/2). Figure: trajectory-steps actually
@@ -49,6 +53,7 @@ use pendulab_plants::{CartEquilibrium, CartPendulum};
 use pendulab_sim::batch::{Axis, grid, run_initial_states};
 use pendulab_sim::controllers::StaticStateFeedback;
 use pendulab_sim::env::FixedEnv;
+use pendulab_sim::fixed::MulAddPath;
 use pendulab_sim::lanes::{
     AnchoredSinCos, LaneOptions, LibmSinCos, PolySinCos, SHIFT_LIMIT, Trig, run_feedback_lanes,
 };
@@ -149,11 +154,43 @@ fn max_state_deviation(a: &pendulab_sim::SampledRun, b: &pendulab_sim::SampledRu
 fn run_rk4(budget: &Budget) -> Result<BenchReport> {
     let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
     let rk4 = Integrator::Rk4 { dt: 1e-3 };
-    // Headline: the fixed-size kernel with the anchored stage sines, recording every sample
-    // into the storage of the previous result (`run_recycling`), i.e. the simulation itself
-    // without the operating system's cost of handing out ~0.9 MB of fresh pages per run.
+    // Headline: the fixed-size kernel with the anchored step, recording every sample into
+    // the storage of the previous result (`run_recycling`), i.e. the simulation itself
+    // without the operating system's cost of handing out ~0.9 MB of fresh pages per run; on
+    // the multiply–add path this processor takes, timed in rounds of ~1/8 of the budget
+    // alternating with the baseline loop (so that both see the same host load).
     let anchored = closed_loop_with(Record::EverySample, rk4, Trig::Anchored)?;
-    let (run, timing) = time_fixed(budget, &anchored, &x0)?;
+    let mut fast = anchored.fixed::<4>()?;
+    let mut separate = anchored
+        .fixed::<4>()?
+        .with_multiply_add(MulAddPath::Separate);
+    let path = fast.multiply_add();
+    let (mut last, mut last_separate) = (Some(fast.run(&x0)?), Some(separate.run(&x0)?));
+    let rounds = Budget {
+        min_time: budget.min_time / 8,
+    };
+    let (mut t_fast, mut t_separate) = (Vec::new(), Vec::new());
+    let start = Instant::now();
+    while t_fast.len() < 4 || start.elapsed() < budget.min_time * 2 {
+        t_fast.push(time(&rounds, || {
+            let previous = last.take().expect("previous run");
+            last = Some(
+                fast.run_recycling(black_box(&x0), &mut (), previous)
+                    .expect("closed-loop run"),
+            );
+        }));
+        t_separate.push(time(&rounds, || {
+            let previous = last_separate.take().expect("previous run");
+            last_separate = Some(
+                separate
+                    .run_recycling(black_box(&x0), &mut (), previous)
+                    .expect("closed-loop run"),
+            );
+        }));
+    }
+    let (timing, timing_separate) = (pooled(&t_fast), pooled(&t_separate));
+    let run = last.context("ran at least once")?;
+    let run_separate = last_separate.context("ran at least once")?;
     let steps = run.diagnostics.integration.accepted_steps;
     // The general loop with libm: recycled storage, fresh allocation, no recording.
     let mut lp = closed_loop(Record::EverySample, rk4)?;
@@ -167,6 +204,7 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
     });
     let general = last_general.context("ran at least once")?;
     let anchored_dev = max_state_deviation(&run, &general);
+    let separate_dev = max_state_deviation(&run_separate, &general);
     let mut fresh = None;
     let t_fresh = time(budget, || {
         fresh = Some(lp.run(black_box(&x0)).expect("closed-loop run"));
@@ -194,12 +232,19 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
         figure: steps as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "FixedLoop::run_recycling (SampledLoop::fixed: fixed-size kernel; plant with Trig::Anchored, libm sin/cos once per RK4 step): 10 000 samples (LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core",
+            "figure_measures": "FixedLoop::run_recycling (SampledLoop::fixed: fixed-size kernel; plant with Trig::Anchored: series sin/cos at the three angles fixed by each RK4 step's start, later stages' accelerations by a small rotation; fused multiply-adds where the processor has FMA): 10 000 samples (LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core; median of alternately timed rounds",
+            "multiply_add": match path {
+                MulAddPath::Fused => "fused (FMA-compiled loop)",
+                MulAddPath::Separate => "separate (baseline loop)",
+            },
             "steps": steps,
             "median_s_per_run": timing.median_s,
             "min_s_per_run": timing.min_s,
             "runs": timing.iterations,
             "max_abs_deviation_from_general_loop_libm": anchored_dev,
+            "separate_multiply_add_steps_per_s": steps as f64 / timing_separate.median_s,
+            "separate_multiply_add_min_s_per_run": timing_separate.min_s,
+            "separate_multiply_add_max_abs_deviation_from_general_loop_libm": separate_dev,
             "fixed_kernel_libm_steps_per_s": steps as f64 / t_libm.median_s,
             "fixed_kernel_libm_identical_to_general_loop": libm_identical,
             "fixed_kernel_polynomial_trig_steps_per_s": steps as f64 / t_poly.median_s,
