@@ -40,7 +40,8 @@ fn max_abs_diff(a: &[f64; 4], b: &[f64; 4]) -> f64 {
 /// libm's (2 ulp + 1.1·10⁻¹⁶ for stage offsets beyond 1/32 rad; ulp ≤ 2.8·10⁻¹⁷ for the
 /// sines of |θ| < 0.25 and 1.1·10⁻¹⁶ for the cosines) and the prescaled constants add a few
 /// roundings, which moves θ̈ by at most
-/// (m_p g l_p + m_p l_p |z̈|)/J · 5·10⁻¹⁶ (the bound of the cart's own anchored-kernel test)
+/// (m_p g l_p + m_p l_p |z̈|)/J · 5·10⁻¹⁶ (the sines and cosines' few ulp, times the
+/// constants they multiply, plus a few roundings of those terms)
 /// = (33.3 + 3.39 · 44) · 5·10⁻¹⁶ ≈ 1·10⁻¹³ 1/s² here (|z̈| ≤ a_c |ż| + b_c · 5 V ≤ 44 m/s²
 /// for |ż| ≤ 3.5 m/s, the drive's terminal speed b_c · 5/a_c); RK4's weights sum to one, so
 /// the step moves θ̇ by at most h · 1·10⁻¹³ = 2·10⁻¹⁵ (θ by h times less), and the
