@@ -908,28 +908,21 @@ impl Kkt {
                             touched[c0] = false;
                         }
                         cols_t.clear();
-                        for &(a, b, g) in entries {
-                            for (tv, rv) in t[b * d..(b + 1) * d]
-                                .iter_mut()
-                                .zip(&rinv[a * d..(a + 1) * d])
-                            {
+                        // T(:, col) += g R⁻¹(:, from), marking the column touched.
+                        let mut add = |col: usize, from: usize, g: f64| {
+                            let src = &rinv[from * d..(from + 1) * d];
+                            for (tv, rv) in t[col * d..(col + 1) * d].iter_mut().zip(src) {
                                 *tv += g * rv;
                             }
-                            if !touched[b] {
-                                touched[b] = true;
-                                cols_t.push(b);
+                            if !touched[col] {
+                                touched[col] = true;
+                                cols_t.push(col);
                             }
+                        };
+                        for &(a, b, g) in entries {
+                            add(b, a, g);
                             if a != b {
-                                for (tv, rv) in t[a * d..(a + 1) * d]
-                                    .iter_mut()
-                                    .zip(&rinv[b * d..(b + 1) * d])
-                                {
-                                    *tv += g * rv;
-                                }
-                                if !touched[a] {
-                                    touched[a] = true;
-                                    cols_t.push(a);
-                                }
+                                add(a, b, g);
                             }
                         }
                         mul_nt_cols(d, &t, rinv, &cols_t, &mut o);

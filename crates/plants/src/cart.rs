@@ -39,7 +39,9 @@
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
 use pendulab_sim::fixed::{MulAdd, Separate};
-use pendulab_sim::lanes::{ROTATE_LIMIT, Trig, rotate_small, sin_cos_near_zero, sin_cos_offset};
+use pendulab_sim::lanes::{
+    COS_TAYLOR, ROTATE_LIMIT, SIN_TAYLOR, Trig, rotate_small, sin_cos_near_zero, sin_cos_offset,
+};
 
 use crate::drive::Drive;
 use crate::error::{PlantError, Requirement, check, check_point};
@@ -577,21 +579,8 @@ fn stage_sin_cos(theta: f64, d: f64, s: f64, c: f64) -> (f64, f64) {
 /// `x²/2 ≤ 1/32`, so their few roundings cost ≲ 2·10⁻¹⁷ and the final addition half an ulp.
 #[inline(always)]
 fn wide_angle_series(x: f64) -> (f64, f64) {
-    const S: [f64; 5] = [
-        -1.0 / 6.0,
-        1.0 / 120.0,
-        -1.0 / 5040.0,
-        1.0 / 362_880.0,
-        -1.0 / 39_916_800.0,
-    ];
-    const C: [f64; 6] = [
-        -0.5,
-        1.0 / 24.0,
-        -1.0 / 720.0,
-        1.0 / 40_320.0,
-        -1.0 / 3_628_800.0,
-        1.0 / 479_001_600.0,
-    ];
+    const S: [f64; 5] = SIN_TAYLOR;
+    const C: [f64; 6] = COS_TAYLOR;
     let z = x * x;
     let z2 = z * z;
     let p = (S[0] + S[1] * z) + z2 * ((S[2] + S[3] * z) + S[4] * z2);
@@ -604,14 +593,9 @@ fn wide_angle_series(x: f64) -> (f64, f64) {
 /// as the series of `pendulab_sim::lanes::sin_cos_offset` with two more terms each.
 #[inline(always)]
 fn wide_shift_series(d: f64) -> (f64, f64) {
-    const S: [f64; 4] = [-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0];
-    const C: [f64; 5] = [
-        -0.5,
-        1.0 / 24.0,
-        -1.0 / 720.0,
-        1.0 / 40_320.0,
-        -1.0 / 3_628_800.0,
-    ];
+    // The first four and five coefficients.
+    const S: [f64; 5] = SIN_TAYLOR;
+    const C: [f64; 6] = COS_TAYLOR;
     let z = d * d;
     let z2 = z * z;
     let p = (S[0] + S[1] * z) + z2 * (S[2] + S[3] * z);

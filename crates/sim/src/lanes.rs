@@ -346,6 +346,27 @@ fn small_angle_series(d: f64) -> (f64, f64) {
 /// Largest `|x|` [`sin_cos_near_zero`] serves by a series (beyond it: libm).
 pub const NEAR_ZERO_LIMIT: f64 = 0.25;
 
+/// Taylor coefficients of the sine: `sin x = x + x·z·Σ_k SIN_TAYLOR[k]·z^k` with `z = x²`,
+/// `SIN_TAYLOR[k] = (−1)^{k+1}/(2k+3)!` (to `x¹¹`).
+pub const SIN_TAYLOR: [f64; 5] = [
+    -1.0 / 6.0,
+    1.0 / 120.0,
+    -1.0 / 5040.0,
+    1.0 / 362_880.0,
+    -1.0 / 39_916_800.0,
+];
+
+/// Taylor coefficients of the cosine: `cos x = 1 + z·Σ_k COS_TAYLOR[k]·z^k` with `z = x²`,
+/// `COS_TAYLOR[k] = (−1)^{k+1}/(2k+2)!` (to `x¹²`).
+pub const COS_TAYLOR: [f64; 6] = [
+    -0.5,
+    1.0 / 24.0,
+    -1.0 / 720.0,
+    1.0 / 40_320.0,
+    -1.0 / 3_628_800.0,
+    1.0 / 479_001_600.0,
+];
+
 /// `(sin x, cos x)` by Taylor series about the exact anchor 0, in three tiers by `|x|`, with
 /// the multiply–adds of `F` (Taylor's series; the tiers as [`sin_cos_small`] plus a wider one):
 ///
@@ -390,21 +411,8 @@ pub fn sin_cos_near_zero<F: MulAdd>(x: f64) -> (f64, f64) {
     if !in_range {
         return x.sin_cos();
     }
-    const S: [f64; 5] = [
-        -1.0 / 6.0,
-        1.0 / 120.0,
-        -1.0 / 5040.0,
-        1.0 / 362_880.0,
-        -1.0 / 39_916_800.0,
-    ];
-    const C: [f64; 6] = [
-        -0.5,
-        1.0 / 24.0,
-        -1.0 / 720.0,
-        1.0 / 40_320.0,
-        -1.0 / 3_628_800.0,
-        1.0 / 479_001_600.0,
-    ];
+    const S: [f64; 5] = SIN_TAYLOR;
+    const C: [f64; 6] = COS_TAYLOR;
     let z = x * x;
     let z2 = z * z;
     let p = F::mul_add(
