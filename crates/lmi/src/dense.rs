@@ -1373,17 +1373,9 @@ pub(crate) fn solve(data: &ConicData, settings: &Settings) -> Outcome {
             }
             infeasibility_ratio = infeasibility_ratio.min(ratio);
         }
-        // Complementarity exhausted to rounding: no step can improve on the best iterate.
-        if mu <= 0.0 {
-            return stop_short(
-                RawStatus::InsufficientProgress,
-                &it,
-                &best,
-                settings,
-                iteration,
-            );
-        }
-        // Progress towards either kind of answer, or along the central path.
+        // Progress towards either kind of answer, or along the central path; the method
+        // stops without it, or once complementarity is exhausted to rounding (`μ ≤ 0`: no
+        // step can improve on the best iterate).
         let (optimality, infeasibility) = (meas.ratio(settings), infeasibility_ratio);
         if optimality < PROGRESS * best_progress.0
             || infeasibility < PROGRESS * best_progress.1
@@ -1397,15 +1389,15 @@ pub(crate) fn solve(data: &ConicData, settings: &Settings) -> Outcome {
             since_best = 0;
         } else {
             since_best += 1;
-            if since_best >= NO_PROGRESS {
-                return stop_short(
-                    RawStatus::InsufficientProgress,
-                    &it,
-                    &best,
-                    settings,
-                    iteration,
-                );
-            }
+        }
+        if mu <= 0.0 || since_best >= NO_PROGRESS {
+            return stop_short(
+                RawStatus::InsufficientProgress,
+                &it,
+                &best,
+                settings,
+                iteration,
+            );
         }
         if iteration >= settings.max_iterations {
             return stop_short(RawStatus::MaxIterations, &it, &best, settings, iteration);
