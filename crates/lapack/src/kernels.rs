@@ -3,41 +3,8 @@
 //! exported symbols run, on column-major `f64` arrays with a tight leading dimension (the
 //! number of rows), without the Fortran calling convention.
 
-use crate::blas::{self, Trans, Uplo};
+use crate::blas::Uplo;
 use crate::{jacobi, lapack};
-
-/// `C ← α op(A) op(B) + β C` (xGEMM) with `op(X) = Xᵀ` when `trans_x`: `C` is `m × n`,
-/// `op(A)` is `m × k`, `op(B)` is `k × n`; `a`, `b`, `c` hold their matrices column-major
-/// with leading dimensions the row counts of the stored `A` (`m`, or `k` transposed), `B`
-/// (`k`, or `n` transposed) and `C` (`m`). With `β = 0`, `C` is not read.
-///
-/// # Panics
-/// If a slice is shorter than its matrix (a programming error of the caller).
-#[allow(clippy::too_many_arguments)]
-pub fn gemm(
-    (trans_a, trans_b): (bool, bool),
-    (m, n, k): (usize, usize, usize),
-    alpha: f64,
-    a: &[f64],
-    b: &[f64],
-    beta: f64,
-    c: &mut [f64],
-) {
-    let op = |t: bool| if t { Trans::Yes } else { Trans::No };
-    let lda = if trans_a { k } else { m }.max(1);
-    let ldb = if trans_b { n } else { k }.max(1);
-    assert!(a.len() >= m * k && b.len() >= k * n && c.len() >= m * n);
-    blas::gemm(
-        op(trans_a),
-        op(trans_b),
-        (m, n, k),
-        alpha,
-        (a, lda),
-        (b, ldb),
-        beta,
-        (c, m.max(1)),
-    );
-}
 
 /// Cholesky factorisation `A = L Lᵀ` (xPOTRF, lower) of the `n × n` symmetric matrix whose
 /// lower triangle `a` holds; `L` overwrites that triangle, the strict upper triangle is not
@@ -110,6 +77,19 @@ pub fn svd_square(n: usize, a: &[f64], u: &mut [f64], s: &mut [f64], vt: &mut [f
 mod tests {
     use super::*;
 
+    /// `op(A) op(B)` of `n × n` column-major matrices by the defining sum.
+    fn product(n: usize, (ta, tb): (bool, bool), a: &[f64], b: &[f64]) -> Vec<f64> {
+        let at = |i: usize, k: usize| if ta { a[k + i * n] } else { a[i + k * n] };
+        let bt = |k: usize, j: usize| if tb { b[j + k * n] } else { b[k + j * n] };
+        let mut c = vec![0.0; n * n];
+        for j in 0..n {
+            for i in 0..n {
+                c[i + j * n] = (0..n).map(|k| at(i, k) * bt(k, j)).sum();
+            }
+        }
+        c
+    }
+
     /// The kernels against their defining equations on a small SPD matrix.
     #[test]
     fn kernels_satisfy_their_defining_equations() {
@@ -118,8 +98,7 @@ mod tests {
         let b: Vec<f64> = (0..n * n)
             .map(|k| ((k * 7 + 3) % 11) as f64 - 5.0)
             .collect();
-        let mut a = vec![0.0; n * n];
-        gemm((true, false), (n, n, n), 1.0, &b, &b, 0.0, &mut a);
+        let mut a = product(n, (true, false), &b, &b);
         for i in 0..n {
             a[i + i * n] += 1.0;
         }
@@ -131,8 +110,7 @@ mod tests {
                 l[i + j * n] = 0.0;
             }
         }
-        let mut llt = vec![0.0; n * n];
-        gemm((false, true), (n, n, n), 1.0, &l, &l, 0.0, &mut llt);
+        let llt = product(n, (false, true), &l, &l);
         let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for k in 0..n * n {
             assert!((llt[k] - a[k]).abs() <= 1e-13 * scale);
@@ -162,14 +140,12 @@ mod tests {
                 us[i + j * n] *= s[j];
             }
         }
-        let mut usv = vec![0.0; n * n];
-        gemm((false, false), (n, n, n), 1.0, &us, &vt, 0.0, &mut usv);
+        let usv = product(n, (false, false), &us, &vt);
         let bscale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for k in 0..n * n {
             assert!((usv[k] - b[k]).abs() <= 1e-13 * bscale * n as f64);
         }
-        let mut utu = vec![0.0; n * n];
-        gemm((true, false), (n, n, n), 1.0, &u, &u, 0.0, &mut utu);
+        let utu = product(n, (true, false), &u, &u);
         for j in 0..n {
             for i in 0..n {
                 let id = if i == j { 1.0 } else { 0.0 };

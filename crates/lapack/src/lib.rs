@@ -36,8 +36,8 @@
 //!
 //! ## Use
 //! The crate exists for its symbols; [`kernels`] also offers safe Rust entry points to the
-//! same dense kernels (gemm, Cholesky, symmetric eigenvalues, SVD) for pendulab's own small
-//! dense linear algebra. A crate that links
+//! same dense kernels (Cholesky, symmetric eigenvalues, SVD) for pendulab's own small dense
+//! linear algebra. A crate that links
 //! Clarabel with its `sdp`, `blas-src` and `lapack-src` features (no backend selected) must
 //! mention this crate so that it is linked:
 //!
