@@ -32,12 +32,9 @@ use pendulab_sim::Controller;
 use pendulab_sim::controllers::Switching;
 use std::f64::consts::PI;
 
-/// `θ` wrapped to `(−π, π]`.
-#[inline]
-pub fn wrap_angle(theta: f64) -> f64 {
-    let w = (theta + PI).rem_euclid(2.0 * PI) - PI;
-    if w == -PI { PI } else { w }
-}
+/// `θ` wrapped to `(−π, π]`: the workspace's one wrapping, [`pendulab_plants::wrap_angle`]
+/// (re-exported here for the swing-up laws' users).
+pub use pendulab_plants::wrap_angle;
 
 #[inline]
 fn sign(x: f64) -> f64 {

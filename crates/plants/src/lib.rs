@@ -12,6 +12,7 @@
 //! | [`TwoPendulumCart`], [`TwoPendulumCartParams`] | a cart with two pendulums (book example 5.4, `p1c511_ex4_cdip`) |
 //! | [`Drive`] | the DC-motor drive `q̈ = −a q̇ + b v`, `P(s) = b/(s(s + a))`, for cart or arm |
 //! | [`RigSpec`] | the real rigs' numbers: encoders, ±5 V, 16-bit D/A, pseudo-differentiator, 1 ms |
+//! | [`wrap_angle`], [`wrap_about`] | pendulum angles wrapped to `(−π, π]` or about an equilibrium; the drive position is never wrapped ([`angle`]) |
 //! | [`Jacobian`], [`Posture`] | the Jacobian of a model at a point; upright/hanging |
 //! | [`PlantError`] | what is wrong with a parameter, naming it and its value |
 //!
@@ -54,6 +55,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod angle;
 pub mod arm;
 pub mod cart;
 mod drive;
@@ -64,6 +66,7 @@ mod pendulum;
 pub mod rig;
 pub mod two_pendulum;
 
+pub use angle::{wrap_about, wrap_angle};
 pub use arm::{ArmEquilibrium, ArmLpv, ArmPendulum, ArmPendulumParams, ArmPendulumState, ArmPose};
 pub use cart::{CartEquilibrium, CartPendulum, CartPendulumParams, CartPendulumState, CartPose};
 pub use drive::Drive;

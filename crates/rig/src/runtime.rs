@@ -25,6 +25,7 @@ use crate::clock::{Histogram, Percentiles, sleep_until, thread_cpu_time};
 use crate::emulator::PlantKind;
 use crate::log::{Logger, Sample};
 use crate::protocol::{CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags};
+use pendulab_plants::wrap_about;
 use pendulab_sim::{Controller, SensorChain};
 use std::f64::consts::PI;
 use std::fmt;
@@ -33,35 +34,175 @@ use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-/// Limits enforced by the runtime.
+/// Limits enforced by the runtime, each with a documented valid range checked by
+/// [`Safety::validate`] (the bounds are the `pub const`s of [`Safety`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Safety {
-    /// Commands are clamped to `±voltage_limit` \[V\].
+    /// Commands are clamped to `±voltage_limit` \[V\]. Valid: `(0, amplifier range]`, the
+    /// rig's `RigSpec::input_limit` (±5 V on both book rigs): a larger limit would put
+    /// commands on the wire the amplifier clips anyway, and "clamped commands: 0" would hide it.
     pub voltage_limit: f64,
-    /// Stop if `|q₀|` (cart position \[m\] or arm angle \[rad\]) exceeds this.
+    /// Stop if `|q₀|` (cart position \[m\] or arm angle \[rad\], never wrapped: the arm's
+    /// turns count) exceeds this. Valid: `(0, Safety::TRAVEL_LIMIT_MAX_CART]` m or
+    /// `(0, Safety::TRAVEL_LIMIT_MAX_ARM]` rad.
     pub travel_limit: f64,
-    /// Stop if `|wrap(q₁)|` exceeds this \[rad\] (balance controllers; `None`: no window).
+    /// Stop if the pendulum angle, wrapped about the controller's equilibrium
+    /// ([`RunConfig::pendulum_centre`]), is farther than this from it \[rad\] (balance
+    /// controllers; `None`: no window). Valid: `(0, Safety::ANGLE_WINDOW_MAX]` (90°).
     pub angle_window: Option<f64>,
-    /// Stop after this many periods in a row without a fresh sensor frame.
+    /// Stop after this many periods in a row without a fresh sensor frame. Valid:
+    /// `[1, ⌊Safety::WATCHDOG_MAX_TIME / ts⌋]` (500 at 1 kHz).
     pub watchdog_periods: u32,
-    /// How long to wait for the rig's first sensor frame.
+    /// Up to this many periods in a row without a fresh sensor frame, the loop re-sends the
+    /// last command it computed from a fresh measurement (it never computes one from a stale
+    /// measurement); from the next stale period until the watchdog, it sends 0 V (enabled).
+    /// `0`: 0 V from the first stale period. Valid: `[0, watchdog_periods − 1]` and at most
+    /// `⌊Safety::STALE_HOLD_MAX_TIME / ts⌋` (100 at 1 kHz).
+    pub stale_hold_periods: u32,
+    /// How long to wait for the rig's first sensor frame. Valid:
+    /// `(0, Safety::CONNECT_TIMEOUT_MAX]` (60 s).
     pub connect_timeout: Duration,
 }
 
 impl Safety {
-    /// Defaults of a rig: ±5 V, travel 0.4 m (cart) or 3 rad (arm), window 30°, watchdog
-    /// 20 periods, 2 s to connect.
+    /// The largest cart travel limit \[m\]. Neither the book's numbers (SPEC §1.3,
+    /// `pendulab_plants::RigSpec`) nor the book's recordings give the length of the cart's
+    /// track; the book's experiments move the cart at most to its 0.2 m reference
+    /// (`data/rig/`). pendulab bounds the limit at 0.5 m, above the 0.4 m default, so that a
+    /// typo (`4`, `1e300`) is refused; a lab with a longer track raises this constant.
+    pub const TRAVEL_LIMIT_MAX_CART: f64 = 0.5;
+    /// The largest arm travel limit \[rad\]: half a turn either side of where the arm
+    /// started (`π`). An arm that has swung half a turn away while balancing has run away;
+    /// the limit also keeps the pendulum encoder's cable, which rides on the arm, from
+    /// winding up.
+    pub const TRAVEL_LIMIT_MAX_ARM: f64 = std::f64::consts::PI;
+    /// The widest angle window \[rad\] (90°): at a quarter turn from upright the pendulum is
+    /// horizontal, the drive's acceleration no longer acts on it (the coupling is
+    /// `m_p l_p cos θ · z̈`, `cos 90° = 0`), and no balance controller designed about
+    /// upright can bring it back.
+    pub const ANGLE_WINDOW_MAX: f64 = std::f64::consts::FRAC_PI_2;
+    /// The longest time \[s\] the watchdog may let the loop run blind: 0.5 s. The upright cart
+    /// pendulum's unstable pole is 5.75 s⁻¹ (SPEC §1.1), so in 0.5 s an error grows by
+    /// `e^{2.9} ≈ 18×`; longer makes the watchdog useless.
+    pub const WATCHDOG_MAX_TIME: f64 = 0.5;
+    /// The longest time \[s\] a command may be held without a fresh measurement: 0.1 s
+    /// (an error grows by `e^{0.58} ≈ 1.8×` meanwhile on the upright cart pendulum).
+    pub const STALE_HOLD_MAX_TIME: f64 = 0.1;
+    /// The longest connect timeout: 60 s (enough to power a rig up by hand).
+    pub const CONNECT_TIMEOUT_MAX: Duration = Duration::from_secs(60);
+    /// The default watchdog time \[s\]: 50 ms, from host stalls measured on a loaded lab PC
+    /// (see `docs/rig/lab-pc.md`): it is above the longest stall seen there with a margin.
+    pub const WATCHDOG_DEFAULT_TIME: f64 = 0.05;
+    /// The default stale-hold time \[s\]: 20 ms (see `docs/rig/lab-pc.md`).
+    pub const STALE_HOLD_DEFAULT_TIME: f64 = 0.02;
+
+    /// Defaults of a rig at its sample time (1 ms on both book rigs): the amplifier's range
+    /// (±5 V), travel 0.4 m (cart) or 3 rad (arm), window 30°, watchdog
+    /// [`Self::WATCHDOG_DEFAULT_TIME`] (50 periods), stale hold [`Self::STALE_HOLD_DEFAULT_TIME`]
+    /// (20 periods), 2 s to connect.
     pub fn default_for(plant: PlantKind) -> Self {
+        let spec = plant.spec();
+        let periods = |t: f64| (t / spec.sample_time).round() as u32;
         Self {
-            voltage_limit: 5.0,
+            voltage_limit: spec.input_limit,
             travel_limit: match plant {
                 PlantKind::Cart => 0.4,
                 PlantKind::Arm => 3.0,
             },
             angle_window: Some(30f64.to_radians()),
-            watchdog_periods: 20,
+            watchdog_periods: periods(Self::WATCHDOG_DEFAULT_TIME),
+            stale_hold_periods: periods(Self::STALE_HOLD_DEFAULT_TIME),
             connect_timeout: Duration::from_secs(2),
         }
+    }
+
+    /// Checks every field against its range at the rig's own sample time
+    /// (`plant.spec().sample_time`, 1 ms); [`Self::validate_at`] for another loop period.
+    ///
+    /// # Errors
+    /// [`RigError::Config`] naming the TOML key as a controller file spells it, the value and
+    /// the range, e.g. `safety.watchdog_periods = 4294967295: must be in [1, 500]`.
+    pub fn validate(&self, plant: PlantKind) -> Result<(), RigError> {
+        self.validate_at(plant, plant.spec().sample_time)
+    }
+
+    /// Checks every field against its range with the loop running at period `ts` \[s\] (the
+    /// watchdog and stale-hold counts are bounded in time, so their bounds in periods scale
+    /// with `1/ts`).
+    ///
+    /// # Errors
+    /// As [`Self::validate`]; also for a `ts` that is not finite and positive.
+    pub fn validate_at(&self, plant: PlantKind, ts: f64) -> Result<(), RigError> {
+        let err = |key: &str, value: String, range: String| {
+            Err(RigError::Config(format!(
+                "safety.{key} = {value}: must be in {range}"
+            )))
+        };
+        if !(ts.is_finite() && ts > 0.0) {
+            return Err(RigError::Config(format!(
+                "loop period {ts} s: must be finite and > 0"
+            )));
+        }
+        let spec = plant.spec();
+        let v = self.voltage_limit;
+        if !(v > 0.0 && v <= spec.input_limit) {
+            return err(
+                "voltage_limit",
+                v.to_string(),
+                format!(
+                    "(0, {}] V (the {} rig's amplifier range)",
+                    spec.input_limit, spec.name
+                ),
+            );
+        }
+        let (tmax, unit) = match plant {
+            PlantKind::Cart => (Self::TRAVEL_LIMIT_MAX_CART, "m"),
+            PlantKind::Arm => (Self::TRAVEL_LIMIT_MAX_ARM, "rad"),
+        };
+        let t = self.travel_limit;
+        if !(t > 0.0 && t <= tmax) {
+            return err("travel_limit", t.to_string(), format!("(0, {tmax}] {unit}"));
+        }
+        if let Some(w) = self.angle_window
+            && !(w > 0.0 && w <= Self::ANGLE_WINDOW_MAX)
+        {
+            return err(
+                "angle_window_deg",
+                w.to_degrees().to_string(),
+                format!("(0, {}]", Self::ANGLE_WINDOW_MAX.to_degrees()),
+            );
+        }
+        // A hair of slack so that 0.5 s / 1 ms is 500, not 499.
+        let periods_in = |time: f64| (time / ts * (1.0 + 1e-9)).floor().min(u32::MAX as f64) as u32;
+        let wmax = periods_in(Self::WATCHDOG_MAX_TIME).max(1);
+        if !(1..=wmax).contains(&self.watchdog_periods) {
+            return err(
+                "watchdog_periods",
+                self.watchdog_periods.to_string(),
+                format!("[1, {wmax}]"),
+            );
+        }
+        let hmax = periods_in(Self::STALE_HOLD_MAX_TIME).min(self.watchdog_periods - 1);
+        if self.stale_hold_periods > hmax {
+            return err(
+                "stale_hold_periods",
+                self.stale_hold_periods.to_string(),
+                format!(
+                    "[0, {hmax}] (below watchdog_periods = {} and at most {} s)",
+                    self.watchdog_periods,
+                    Self::STALE_HOLD_MAX_TIME
+                ),
+            );
+        }
+        let c = self.connect_timeout;
+        if c.is_zero() || c > Self::CONNECT_TIMEOUT_MAX {
+            return err(
+                "connect_timeout_s",
+                c.as_secs_f64().to_string(),
+                format!("(0, {}]", Self::CONNECT_TIMEOUT_MAX.as_secs_f64()),
+            );
+        }
+        Ok(())
     }
 }
 
@@ -78,6 +219,13 @@ pub struct RunConfig {
     pub duration: Option<f64>,
     /// Limits.
     pub safety: Safety,
+    /// The pendulum angle of the equilibrium the controller stabilises \[rad\] (`0`: upright,
+    /// the default; `π`: hanging). The loop hands the controller and the angle window the
+    /// pendulum angle `q₁` wrapped about it, `pendulab_plants::wrap_about(q₁, pendulum_centre)`
+    /// ∈ `(centre − π, centre + π]`, so a pendulum raised the other way round (the encoder a
+    /// turn on) is balanced like one raised directly. The drive position `q₀` is never
+    /// wrapped, and the log keeps the raw (unwrapped) angle. Valid: finite.
+    pub pendulum_centre: f64,
     /// Pseudo-differentiator time constant \[s\] (0.02 s on the book rigs).
     pub differentiator_t: f64,
     /// Spin for the last part of each wait (see [`crate::clock`]), at most a quarter of the
@@ -96,7 +244,7 @@ pub struct RunConfig {
 }
 
 impl RunConfig {
-    /// 1 kHz, 10 s, the rig's default safety, `T = 0.02 s`, 200 µs spin.
+    /// 1 kHz, 10 s, the rig's default safety, upright centre, `T = 0.02 s`, 200 µs spin.
     pub fn new(plant: PlantKind, connect: SocketAddr) -> Self {
         Self {
             plant,
@@ -104,6 +252,7 @@ impl RunConfig {
             ts: plant.spec().sample_time,
             duration: Some(10.0),
             safety: Safety::default_for(plant),
+            pendulum_centre: 0.0,
             differentiator_t: 0.02,
             spin_margin: Duration::from_micros(200),
             realtime_priority: None,
@@ -288,10 +437,6 @@ impl PeriodTiming {
             descheduled: missed && off_cpu > miss_by,
         }
     }
-}
-
-fn wrap(a: f64) -> f64 {
-    (a + PI).rem_euclid(2.0 * PI) - PI
 }
 
 /// A session number for this run: non-zero, different between runs (clock and process id
@@ -520,13 +665,12 @@ pub fn run(
         )));
     }
     let sf = &config.safety;
-    let positive = |v: f64| v.is_finite() && v > 0.0;
-    if !positive(sf.voltage_limit)
-        || !positive(sf.travel_limit)
-        || sf.angle_window.is_some_and(|w| !positive(w))
-        || sf.watchdog_periods == 0
-    {
-        return Err(RigError::Config(format!("bad safety limits {sf:?}")));
+    sf.validate_at(config.plant, config.ts)?;
+    if !config.pendulum_centre.is_finite() {
+        return Err(RigError::Config(format!(
+            "pendulum centre {} rad: must be finite",
+            config.pendulum_centre
+        )));
     }
     if let Some(d) = config.duration
         && !(d.is_finite() && d > 0.0)
@@ -696,6 +840,9 @@ pub fn run(
         x_meas[0] = frame.counts[0] as f64 * steps[0];
         x_meas[1] = frame.counts[1] as f64 * steps[1] + PI;
         sensor.measure(&x_meas, &mut y);
+        // The pendulum angle about the controller's equilibrium (velocities come from the raw,
+        // continuous angle above; q₀ is never wrapped).
+        y[1] = wrap_about(y[1], config.pendulum_centre);
         // 4. Safety on y.
         if y.iter().any(|v| !v.is_finite()) {
             reason = StopReason::NonFinite;
@@ -708,12 +855,12 @@ pub fn run(
             break;
         }
         if let Some(w) = sf.angle_window
-            && wrap(y[1]).abs() > w
+            && (y[1] - config.pendulum_centre).abs() > w
         {
             reason = StopReason::AngleWindow;
             detail = format!(
-                "|pendulum angle| = {:.2}° > {:.2}°",
-                wrap(y[1]).abs().to_degrees(),
+                "|pendulum angle − centre| = {:.2}° > {:.2}°",
+                (y[1] - config.pendulum_centre).abs().to_degrees(),
                 w.to_degrees()
             );
             break;
@@ -818,7 +965,8 @@ pub fn run(
                 t_nominal: k as f64 * config.ts,
                 t_wall: (wake - t0).as_secs_f64(),
                 seq: frame.seq,
-                q: [y[0], y[1]],
+                // The raw angle, as every row of the log.
+                q: [x_meas[0], x_meas[1]],
                 dq: [y[2], y[3]],
                 v: 0.0,
                 v_sent: 0.0,
