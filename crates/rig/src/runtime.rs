@@ -48,7 +48,8 @@ pub struct Safety {
     pub travel_limit: f64,
     /// Stop if the pendulum angle, wrapped about the controller's equilibrium
     /// ([`RunConfig::pendulum_centre`]), is farther than this from it \[rad\] (balance
-    /// controllers; `None`: no window). Valid: `(0, Safety::ANGLE_WINDOW_MAX]` (90°).
+    /// controllers; `None`: no window). Valid: `[Safety::ANGLE_WINDOW_MIN, Safety::ANGLE_WINDOW_MAX]`
+    /// (1° to 90°).
     pub angle_window: Option<f64>,
     /// Stop after this many periods in a row without a fresh sensor frame. Valid:
     /// `[1, ⌊Safety::WATCHDOG_MAX_TIME / ts⌋]` (500 at 1 kHz).
@@ -67,10 +68,12 @@ pub struct Safety {
 impl Safety {
     /// The largest cart travel limit \[m\]. Neither the book's numbers (SPEC §1.3,
     /// `pendulab_plants::RigSpec`) nor the book's recordings give the length of the cart's
-    /// track; the book's experiments move the cart at most to its 0.2 m reference
-    /// (`data/rig/`). pendulab bounds the limit at 0.5 m, above the 0.4 m default, so that a
-    /// typo (`4`, `1e300`) is refused; a lab with a longer track raises this constant.
-    pub const TRAVEL_LIMIT_MAX_CART: f64 = 0.5;
+    /// track; the book's recorded experiments move the cart at most to its 0.2 m reference
+    /// (`data/rig/`), but its servo examples take it to `r = 0.5 m` (`cdip_lqr_servo_sim`,
+    /// `p1c63_ex5_cdip_lqr_servo`), which `docs/rig/examples/cart_lq_servo.toml` runs with a
+    /// 0.75 m travel limit. pendulab bounds the limit at 1 m, so that a typo (`4`, `1e300`)
+    /// is refused; a lab with a longer track raises this constant.
+    pub const TRAVEL_LIMIT_MAX_CART: f64 = 1.0;
     /// The largest arm travel limit \[rad\]: half a turn either side of where the arm
     /// started (`π`). An arm that has swung half a turn away while balancing has run away;
     /// the limit also keeps the pendulum encoder's cable, which rides on the arm, from
@@ -81,6 +84,10 @@ impl Safety {
     /// `m_p l_p cos θ · z̈`, `cos 90° = 0`), and no balance controller designed about
     /// upright can bring it back.
     pub const ANGLE_WINDOW_MAX: f64 = std::f64::consts::FRAC_PI_2;
+    /// The narrowest angle window \[rad\] (1°, 40 counts of the pendulum encoder's 2π/14400):
+    /// a balancing pendulum wobbles by more than that, so a narrower window (`1e-300`) would
+    /// only stop every run at its first sample.
+    pub const ANGLE_WINDOW_MIN: f64 = std::f64::consts::PI / 180.0;
     /// The longest time \[s\] the watchdog may let the loop run blind: 0.5 s. The upright cart
     /// pendulum's unstable pole is 5.75 s⁻¹ (SPEC §1.1), so in 0.5 s an error grows by
     /// `e^{2.9} ≈ 18×`; longer makes the watchdog useless.
@@ -164,12 +171,16 @@ impl Safety {
             return err("travel_limit", t.to_string(), format!("(0, {tmax}] {unit}"));
         }
         if let Some(w) = self.angle_window
-            && !(w > 0.0 && w <= Self::ANGLE_WINDOW_MAX)
+            && !(w >= Self::ANGLE_WINDOW_MIN && w <= Self::ANGLE_WINDOW_MAX)
         {
             return err(
                 "angle_window_deg",
                 w.to_degrees().to_string(),
-                format!("(0, {}]", Self::ANGLE_WINDOW_MAX.to_degrees()),
+                format!(
+                    "[{}, {}]",
+                    Self::ANGLE_WINDOW_MIN.to_degrees(),
+                    Self::ANGLE_WINDOW_MAX.to_degrees()
+                ),
             );
         }
         // A hair of slack so that 0.5 s / 1 ms is 500, not 499.
