@@ -47,7 +47,11 @@ pub enum IdentError {
         message: String,
     },
     /// A required column is absent.
-    #[error("{source_name}: no column '{column}' (columns present: {})", available.join(", "))]
+    #[error(
+        "{source_name}: no column {} (columns present: {})",
+        show_name(column, true),
+        available.iter().map(|n| show_name(n, false)).collect::<Vec<_>>().join(", ")
+    )]
     MissingColumn {
         /// File name or label of the data.
         source_name: String,
@@ -182,9 +186,105 @@ pub enum IdentError {
         /// Why it cannot be right.
         reason: String,
     },
+    /// The time column's step or span is implausible for the unit it was read in (a column
+    /// in milliseconds taken as seconds, say): see [`crate::data::MAX_SAMPLE_TIME`],
+    /// [`crate::data::MIN_SAMPLE_TIME`] and [`crate::data::MAX_RECORD_SPAN`].
+    #[error("{source_name}: the time column read in {unit} has {reason}; {hint}")]
+    ImplausibleTime {
+        /// File name or label of the data.
+        source_name: String,
+        /// The unit the time stamps were read in.
+        unit: crate::data::TimeUnit,
+        /// The uniform step, seconds.
+        step: f64,
+        /// The record's span `t_last − t_0`, seconds.
+        span: f64,
+        /// Which bound the step or span violates.
+        reason: String,
+        /// What to do about it (declare the unit).
+        hint: String,
+    },
+    /// A known physical constant lies outside its documented plausible range (see
+    /// [`crate::regression::MASS_RANGE`], [`crate::regression::LENGTH_RANGE`],
+    /// [`crate::regression::GRAVITY_RANGE`]).
+    #[error(
+        "{name} = {value} {unit} is outside its plausible range [{min}, {max}] {unit} ({reason})"
+    )]
+    ConstantOutOfRange {
+        /// The constant (e.g. `m_p`).
+        name: String,
+        /// The value given.
+        value: f64,
+        /// Its unit.
+        unit: String,
+        /// Smallest plausible value.
+        min: f64,
+        /// Largest plausible value.
+        max: f64,
+        /// What the range covers.
+        reason: String,
+    },
+    /// The regressor is badly conditioned: its column-scaled condition number exceeds
+    /// [`crate::least_squares::MAX_CONDITION`], so the estimate carries no trustworthy digit.
+    #[error(
+        "badly conditioned regressor [{}]: condition number {scaled_condition:.3e} with columns scaled to unit norm exceeds {limit:.3e} (2-norm condition {condition:.3e}); the data do not determine the parameters separately — use a longer or richer record",
+        columns.join(", ")
+    )]
+    IllConditioned {
+        /// Names of the regressor columns.
+        columns: Vec<String>,
+        /// Its 2-norm condition number.
+        condition: f64,
+        /// The condition number with every column scaled to unit norm.
+        scaled_condition: f64,
+        /// The largest accepted scaled condition number.
+        limit: f64,
+    },
+    /// A computed estimate or diagnostic (standard error, condition number) is NaN or
+    /// infinite: the computation overflowed or divided by zero, so it is not a result.
+    #[error("{what} = {value} is not a finite number: {reason}")]
+    NonFiniteResult {
+        /// Which number.
+        what: String,
+        /// Its value.
+        value: f64,
+        /// Where it came from and what it suggests.
+        reason: String,
+    },
+    /// A method option does not suit the data: a filter time constant or a differentiator
+    /// window too long for the record, too short for the sample time, or too long for the
+    /// dynamics (see [`crate::regression::LsOptions::check_data`]).
+    #[error("{option} = {value} {unit} does not suit the data: {reason}")]
+    UnsuitedOption {
+        /// The option (e.g. `prefilter time constant T_f`).
+        option: String,
+        /// Its value.
+        value: f64,
+        /// Its unit (`s`, `samples`).
+        unit: String,
+        /// The bound it violates, with the numbers.
+        reason: String,
+    },
     /// An error from the LTI core (simulation for validation, discretisation).
     #[error(transparent)]
     Lti(#[from] LtiError),
+}
+
+/// A name as it appears in a message: plain when it consists of letters, digits, ASCII
+/// punctuation and inner spaces (in single quotes if `quoted`, `'v'`); otherwise always in
+/// double quotes with invisible and control characters escaped (`"\u{feff}t"`), so a
+/// byte-order mark, a zero-width space or a trailing blank shows.
+pub fn show_name(name: &str, quoted: bool) -> String {
+    let visible = !name.is_empty()
+        && name.trim() == name
+        && name
+            .chars()
+            .all(|c| c.is_alphanumeric() || c.is_ascii_punctuation() || c == ' ');
+    match (visible, quoted) {
+        (true, true) => format!("'{name}'"),
+        (true, false) => name.to_string(),
+        (false, _) => format!("\"{}\"", name.escape_debug()),
+    }
 }
 
 /// Result alias of this crate.

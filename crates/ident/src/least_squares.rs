@@ -21,6 +21,24 @@ use nalgebra::DMatrix;
 /// Rows per block: 256 rows × (p+1) columns stay in the first-level cache for p ≤ 7.
 pub(crate) const BLOCK: usize = 256;
 
+/// Largest column-scaled condition number of a regressor whose estimate is accepted:
+/// `ε^(−1/2) = 2²⁶ ≈ 6.7·10⁷` (ε = 2⁻⁵², the f64 machine epsilon).
+///
+/// Why this bound. The first-order perturbation bound of least squares (Golub & Van Loan,
+/// *Matrix Computations*, 4th ed., Thm. 5.3.1) for relative perturbations δ of `M` and `N` is
+/// `‖Δp‖/‖p‖ ≤ δ (2κ/cos θ + κ² tan θ)`, where `κ` is the condition number and `θ` the
+/// angle between `N` and its fit (`tan θ = ‖residual‖/‖fit‖`). Identification data always
+/// leave a residual (quantisation, noise, unmodelled friction), so the `κ² tan θ` term
+/// governs: at `κ = ε^(−1/2)` even the rounding of the data alone (δ = ε) moves the estimate
+/// by `tan θ` of itself — by 100 % once the residual is as large as the fit — and measured
+/// data, whose relative noise δ is orders of magnitude above ε, lose every digit well before
+/// that. It is also where the normal equations `MᵀM` (condition `κ²`) stop carrying any
+/// digit at all. The rank test of [`QrAccumulator::finish`] (`1/(n ε)`, NumPy's
+/// `matrix_rank` tolerance) decides whether a solution exists at all; this bound decides
+/// whether it means anything. The book's regressions on the rig data are far inside it
+/// (scaled condition numbers of a few: `pendulab identify cart-ls` prints it).
+pub const MAX_CONDITION: f64 = 67_108_864.0;
+
 /// The solution of a linear least-squares problem and its diagnostics.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LeastSquares {
@@ -46,6 +64,57 @@ pub struct LeastSquares {
 }
 
 impl LeastSquares {
+    /// Checks that the solution means something: every estimate, standard error and the
+    /// condition numbers are finite, and the column-scaled condition number is at most
+    /// [`MAX_CONDITION`].
+    ///
+    /// # Errors
+    /// [`IdentError::NonFiniteResult`] naming the first non-finite number;
+    /// [`IdentError::IllConditioned`] with the condition numbers and the bound.
+    pub fn check(&self) -> Result<()> {
+        for (i, name) in self.names.iter().enumerate() {
+            for (what, v) in [
+                (name.clone(), self.estimate[i]),
+                (format!("standard error of {name}"), self.std_error[i]),
+            ] {
+                if !v.is_finite() {
+                    return Err(IdentError::NonFiniteResult {
+                        what,
+                        value: v,
+                        reason: "the least-squares solution overflowed: the data are scaled far \
+                                 outside the model's units (SI: m, rad, V, s) or degenerate"
+                            .into(),
+                    });
+                }
+            }
+        }
+        for (what, v) in [
+            ("condition number of the regressor", self.condition),
+            (
+                "scaled condition number of the regressor",
+                self.scaled_condition,
+            ),
+        ] {
+            if !v.is_finite() {
+                return Err(IdentError::NonFiniteResult {
+                    what: what.into(),
+                    value: v,
+                    reason: "the regressor is numerically singular (too few or degenerate samples)"
+                        .into(),
+                });
+            }
+        }
+        if self.scaled_condition > MAX_CONDITION {
+            return Err(IdentError::IllConditioned {
+                columns: self.names.clone(),
+                condition: self.condition,
+                scaled_condition: self.scaled_condition,
+                limit: MAX_CONDITION,
+            });
+        }
+        Ok(())
+    }
+
     /// The estimate of the parameter called `name`, if there is one.
     pub fn get(&self, name: &str) -> Option<(f64, f64)> {
         let i = self.names.iter().position(|n| n == name)?;
@@ -501,6 +570,81 @@ mod tests {
             assert_eq!(r_plain, r_fused, "block of {m} rows");
         }
         assert!(r_plain[0] != 0.0);
+    }
+
+    #[test]
+    fn max_condition_is_the_inverse_square_root_of_epsilon() {
+        assert_eq!(MAX_CONDITION, 1.0 / f64::EPSILON.sqrt());
+    }
+
+    /// `M = [u, u + δ w]` with orthonormal `u`, `w`: with its columns scaled to unit norm the
+    /// Gram matrix is `[[1, c], [c, 1]]`, `c = 1/√(1 + δ²)`, so the scaled condition number is
+    /// `√((1 + c)/(1 − c))` in closed form (≈ 2/δ for small δ).
+    fn near_dependent(delta: f64, n: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>, f64) {
+        let u: Vec<f64> = (0..n)
+            .map(|k| (if k % 2 == 0 { 1.0 } else { -1.0 }) / (n as f64).sqrt())
+            .collect();
+        let w: Vec<f64> = (0..n)
+            .map(|k| (if (k / 2) % 2 == 0 { 1.0 } else { -1.0 }) / (n as f64).sqrt())
+            .collect();
+        assert!(dot(&u, &w).abs() < 1e-15 && (dot(&w, &w) - 1.0).abs() < 1e-15);
+        let x2: Vec<f64> = u.iter().zip(&w).map(|(a, b)| a + delta * b).collect();
+        // A target with a residual (θ ≠ 0): y = u + x2 + 0.1 r, r ⟂ u, w.
+        let y: Vec<f64> = (0..n)
+            .map(|k| u[k] + x2[k] + 0.1 * (if k % 4 == 1 || k % 4 == 2 { 1.0 } else { -1.0 }))
+            .collect();
+        let c = 1.0 / (1.0 + delta * delta).sqrt();
+        // 1 − c = δ²/(√(1+δ²)(1 + √(1+δ²))), written without cancellation.
+        let s = (1.0 + delta * delta).sqrt();
+        let one_minus_c = delta * delta / (s * (1.0 + s));
+        (u, x2, y, ((1.0 + c) / one_minus_c).sqrt())
+    }
+
+    #[test]
+    fn condition_bound_separates_determined_from_undetermined() {
+        let n = 400;
+        // δ = 1e-5: κ ≈ 2e5, inside the bound; the reported κ is the closed form's to the
+        // accuracy of the smallest singular value (relative error ~ κ ε ≈ 5e-11; 1e-8).
+        let (u, x2, y, kappa) = near_dependent(1e-5, n);
+        let ls = least_squares(&[("a", &u), ("b", &x2)], ("y", &y)).unwrap();
+        assert!(
+            (ls.scaled_condition / kappa - 1.0).abs() < 1e-8,
+            "{} vs {kappa}",
+            ls.scaled_condition
+        );
+        ls.check().unwrap();
+        // δ = 2e-9: κ ≈ 1e9, over MAX_CONDITION but under the rank limit 1/(n ε) ≈ 1.1e13:
+        // solved, then refused. κ is computed to ~κ ε ≈ 2e-7 relative; 1e-4.
+        let (u, x2, y, kappa) = near_dependent(2e-9, n);
+        assert!(kappa > MAX_CONDITION && kappa < 1.0 / (n as f64 * f64::EPSILON));
+        let ls = least_squares(&[("a", &u), ("b", &x2)], ("y", &y)).unwrap();
+        assert!(
+            (ls.scaled_condition / kappa - 1.0).abs() < 1e-4,
+            "{} vs {kappa}",
+            ls.scaled_condition
+        );
+        let e = ls.check().unwrap_err();
+        assert!(
+            matches!(&e, IdentError::IllConditioned { limit, .. } if *limit == MAX_CONDITION),
+            "{e}"
+        );
+        assert!(e.to_string().contains("badly conditioned"), "{e}");
+        // An exact dependence (x2 = −2 x1) is not solved at all.
+        let x1: Vec<f64> = (0..n).map(|k| (k as f64 * 0.1).sin()).collect();
+        let dep: Vec<f64> = x1.iter().map(|v| -2.0 * v).collect();
+        assert!(matches!(
+            least_squares(&[("a", &x1), ("b", &dep)], ("y", &y)),
+            Err(IdentError::RankDeficient { .. })
+        ));
+        // A non-finite standard error (overflowed covariance) is refused by name.
+        let mut bad = ls.clone();
+        bad.std_error[1] = f64::NAN;
+        bad.scaled_condition = 1.0;
+        let e = bad.check().unwrap_err();
+        assert!(
+            matches!(&e, IdentError::NonFiniteResult { what, .. } if what == "standard error of b"),
+            "{e}"
+        );
     }
 
     #[test]

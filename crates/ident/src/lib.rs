@@ -38,6 +38,17 @@
 //! QR in blocks that stay in cache, never building the regressor: 10⁶ samples take a few
 //! milliseconds (`pendulab bench ident-1e6`).
 //!
+//! **Refusing to guess.** The `*_ls` functions compute whatever the data give (the book
+//! studies failures such as the unfiltered regression); before an estimate is believed, the
+//! checks decide whether it means anything: [`Dataset::sample_time`] (a time step plausible
+//! for the declared [`TimeUnit`]), [`LsOptions::check_data`] (enough samples for the
+//! differentiator, a prefilter time constant short against the record and long against the
+//! sample time, derivatives accurate over the band used), `check_range` on the known
+//! constants, and `check` on the results (finite, condition number within [`MAX_CONDITION`],
+//! physically meaningful, resolved by the record). Each failure is a typed [`IdentError`];
+//! `pendulab identify` refuses the estimate, or with `--force` prints it with the failures as
+//! warnings.
+//!
 //! Conventions: SI units and radians; angles of the cart rig and the arm pendulum measured from
 //! the hanging rest (`φ = θ − π`), the arm angle `φ₁ = θ₁` from the upward vertical, as in the
 //! book's data. Errors are [`IdentError`] values naming the data source, column and sample;
@@ -56,22 +67,24 @@ pub mod least_squares;
 pub mod regression;
 pub mod validation;
 
-pub use data::Dataset;
+pub use data::{Dataset, MAX_RECORD_SPAN, MAX_SAMPLE_TIME, MIN_SAMPLE_TIME, TimeUnit};
 pub use differentiate::{
     Derivatives, Differentiator, savgol_coefficients, savitzky_golay, three_point,
     three_point_twice,
 };
-pub use error::{IdentError, Result, SamplePos};
+pub use error::{IdentError, Result, SamplePos, show_name};
 pub use features::{
     Oscillation, OscillationOptions, PStepEstimate, PStepOptions, Peak, PendulumFeatures,
     PeriodCorrection, VelocityStep, VelocityStepOptions, VelocityStepsEstimate,
     drive_from_velocity_steps, free_oscillation, p_step, pendulum_from_oscillation, velocity_step,
 };
 pub use filter::{BOOK_TF, FilterHold, LowPass3, Prefilter};
-pub use least_squares::{LeastSquares, QrAccumulator, least_squares};
+pub use least_squares::{LeastSquares, MAX_CONDITION, QrAccumulator, least_squares};
 pub use regression::{
-    ArmPendulumConstants, ArmPendulumLs, CartPendulumConstants, CartPendulumLs, DriveLs, LsOptions,
-    Regression, arm_drive_ls, arm_pendulum_ls, cart_drive_ls, cart_pendulum_ls,
+    ArmPendulumConstants, ArmPendulumLs, CartPendulumConstants, CartPendulumLs, DriveLs,
+    GRAVITY_RANGE, LENGTH_RANGE, LsOptions, MASS_RANGE, MAX_DERIVATIVE_ERROR, MAX_POLE_TIMES_TS,
+    MAX_TF_FRACTION, MIN_STENCILS, Regression, arm_drive_ls, arm_pendulum_ls, cart_drive_ls,
+    cart_pendulum_ls,
 };
 pub use validation::{
     Validation, fit_percent, validate_arm_pendulum, validate_cart_pendulum, validate_drive,

@@ -27,9 +27,9 @@
 //! the explicit [`Regression`] (which the `*_regression` functions return for plotting), so
 //! both routes give the same estimates up to the order of the least-squares sums.
 
-use crate::differentiate::{Derivatives, Differentiator, three_point_at};
+use crate::differentiate::{Derivatives, Differentiator, savgol_coefficients, three_point_at};
 use crate::error::{IdentError, Result, SamplePos, UNNAMED};
-use crate::filter::{BANK_BLOCK, FilterBank, LowPass3, Prefilter};
+use crate::filter::{BANK_BLOCK, BOOK_TF, FilterBank, LowPass3, Prefilter};
 use crate::least_squares::{LeastSquares, QrAccumulator, least_squares};
 
 /// Options shared by the least-squares identifications.
@@ -40,6 +40,220 @@ pub struct LsOptions {
     /// The filter applied to every regressor column and the target (default: the book's
     /// causal `1/(0.075 s + 1)³`, ZOH-exact).
     pub prefilter: Prefilter,
+}
+
+/// The fewest differentiator stencils a record must hold: 4. A stencil is the span of samples
+/// one derivative value is computed from (5 for the book's three-point formulas applied
+/// twice, `window` for Savitzky–Golay). With fewer, most samples sit within half a stencil of
+/// an end, where the one-sided end formulas (less accurate, and for Savitzky–Golay one
+/// polynomial for half a window) make up the regression.
+pub const MIN_STENCILS: usize = 4;
+
+/// The longest prefilter time constant, as a fraction of the record span: 1/10. The impulse
+/// response of `1/(T_f s + 1)³`, `t² e^{−t/T_f}/(2 T_f³)`, leaves `e^{−10}(1 + 10 + 50) ≈ 0.3 %`
+/// of its weight beyond `10 T_f`; with a longer `T_f` no filtered sample has settled, and the
+/// regression is fitted to the filter's start-up transient (with `T_f = 10⁹ s` the columns are
+/// triple integrals scaled by `10⁻²⁷`, and the residual 10⁻³⁰ means nothing).
+pub const MAX_TF_FRACTION: f64 = 0.1;
+
+/// The largest relative error of the derivatives over the band the regression uses: 1 %.
+/// The band ends at the prefilter's corner `1/T_f` (without a prefilter, at the book's
+/// `1/`[`BOOK_TF`] `= 13.3 rad/s`, above the rigs' dynamics: table 3.5's drive pole
+/// `a_c = 6.25 /s`, the pendulums' `ω ≈ 6–7 rad/s`). The error at `ω` is that of the
+/// differentiator's frequency response against `iω` and `−ω²`: for the three-point formula
+/// `1 − sin(ω t_s)/(ω t_s)` and, applied twice, `1 − (sin(ω t_s)/(ω t_s))²`; for
+/// Savitzky–Golay that of its centre kernel. A larger error biases the estimates, since the
+/// undifferentiated columns (the voltage, `sin φ`) are not distorted alike: a 4001-sample
+/// window on the 4001-sample book record gives `J_p` 113× too large.
+pub const MAX_DERIVATIVE_ERROR: f64 = 0.01;
+
+/// Plausible masses of the pendulum rigs' bodies, kg: from a 1 g bob to a 10 kg load (the
+/// book's pendulums: 0.107 kg and 0.096 kg).
+pub const MASS_RANGE: (f64, f64) = (1e-3, 10.0);
+
+/// Plausible lengths of the pendulum rigs (pivot to centre of mass, arm length), m: 1 mm to
+/// 2 m (the book's: 0.195–0.230 m).
+pub const LENGTH_RANGE: (f64, f64) = (1e-3, 2.0);
+
+/// Plausible gravitational acceleration, m/s²: Earth's surface gravity lies between 9.78
+/// (equator) and 9.83 (poles), a little less at altitude.
+pub const GRAVITY_RANGE: (f64, f64) = (9.7, 9.9);
+
+/// Largest pole (or natural frequency) times the sample time an estimate may have: 0.25. At
+/// `ω t_s = 0.25` the book's twice-applied three-point derivative already errs by 2 %
+/// (`1 − (sin x/x)²`), so a faster mode is not resolved by the sampling: such an estimate
+/// is an artefact (a 3-sample window returns `a_c = 1/t_s` exactly).
+pub const MAX_POLE_TIMES_TS: f64 = 0.25;
+
+fn in_range(name: &str, value: f64, unit: &str, range: (f64, f64), reason: &str) -> Result<()> {
+    if value >= range.0 && value <= range.1 {
+        Ok(())
+    } else {
+        Err(IdentError::ConstantOutOfRange {
+            name: name.into(),
+            value,
+            unit: unit.into(),
+            min: range.0,
+            max: range.1,
+            reason: reason.into(),
+        })
+    }
+}
+
+/// The frequency response error of a derivative stencil: `coefs[j]` at sample offsets
+/// `j − centre`, the `deriv`-th derivative, at `ω` rad/s with sample time `ts`; relative to
+/// `(iω)^deriv`.
+fn stencil_error(coefs: &[f64], centre: usize, deriv: usize, omega: f64, ts: f64) -> f64 {
+    let (mut re, mut im) = (0.0, 0.0);
+    for (j, c) in coefs.iter().enumerate() {
+        let x = omega * (j as f64 - centre as f64) * ts;
+        re += c * x.cos();
+        im += c * x.sin();
+    }
+    // (iω)¹ = iω, (iω)² = −ω².
+    let (tr, ti) = if deriv == 1 {
+        (0.0, omega)
+    } else {
+        (-omega * omega, 0.0)
+    };
+    ((re - tr).hypot(im - ti)) / (tr.hypot(ti))
+}
+
+/// The `x = ω t_s` at which the twice-applied three-point derivative's error
+/// `1 − (sin x/x)²` reaches [`MAX_DERIVATIVE_ERROR`] (≈ 0.1735), by bisection on (0, 1].
+fn three_point_limit() -> f64 {
+    let err = |x: f64| 1.0 - (x.sin() / x).powi(2);
+    let (mut lo, mut hi) = (1e-6, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if err(mid) > MAX_DERIVATIVE_ERROR {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    lo
+}
+
+impl LsOptions {
+    /// Checks that the options suit `n` samples every `ts` seconds, so that the regression
+    /// means what it models:
+    /// * the record holds at least [`MIN_STENCILS`] differentiator stencils (5 samples for the
+    ///   three-point formulas applied twice, `window` for Savitzky–Golay);
+    /// * a prefilter time constant is at most [`MAX_TF_FRACTION`] of the record span;
+    /// * the derivatives err by at most [`MAX_DERIVATIVE_ERROR`] at the band edge (`1/T_f`,
+    ///   or `1/`[`BOOK_TF`] unfiltered) — this bounds `T_f` from below relative to `t_s`
+    ///   (`T_f ≥ 5.8 t_s` for three-point derivatives) and a Savitzky–Golay window from above
+    ///   relative to the dynamics.
+    ///
+    /// The `*_ls` functions do not call it (they compute whatever the data give, for studies
+    /// such as the book's unfiltered failure); the command-line tool does.
+    ///
+    /// # Errors
+    /// [`IdentError::InvalidParameter`] for a bad `ts` or method parameters;
+    /// [`IdentError::TooFewSamples`] for a record shorter than [`MIN_STENCILS`] stencils;
+    /// [`IdentError::UnsuitedOption`] naming the time constant or window and the bound.
+    pub fn check_data(&self, ts: f64, n: usize) -> Result<()> {
+        positive("sample time ts", ts)?;
+        self.differentiator.validate()?;
+        self.prefilter.design(ts)?;
+        let (stencil, what) = match self.differentiator {
+            Differentiator::ThreePoint => (
+                5,
+                "the three-point derivatives applied twice (a 5-sample stencil)".to_string(),
+            ),
+            Differentiator::SavitzkyGolay { window, .. } => (
+                window,
+                format!("the Savitzky–Golay derivatives (a {window}-sample window)"),
+            ),
+        };
+        let needed = MIN_STENCILS * stencil;
+        if n < needed {
+            return Err(IdentError::TooFewSamples {
+                source_name: UNNAMED.into(),
+                what: format!("{what}, which must fit {MIN_STENCILS} times into the record,"),
+                needed,
+                found: n,
+            });
+        }
+        let span = (n - 1) as f64 * ts;
+        let tf = match self.prefilter {
+            Prefilter::None => None,
+            Prefilter::Causal { tf, .. } | Prefilter::ZeroPhase { tf, .. } => Some(tf),
+        };
+        if let Some(tf) = tf
+            && tf > MAX_TF_FRACTION * span
+        {
+            return Err(IdentError::UnsuitedOption {
+                option: "prefilter time constant T_f".into(),
+                value: tf,
+                unit: "s".into(),
+                reason: format!(
+                    "longer than {MAX_TF_FRACTION} of the record span {span} s (the filter \
+                     needs about 10 T_f to settle); use T_f ≤ {} s or a longer record",
+                    MAX_TF_FRACTION * span
+                ),
+            });
+        }
+        let omega = 1.0 / tf.unwrap_or(BOOK_TF);
+        let band = match tf {
+            Some(tf) => format!("the prefilter's corner 1/T_f = {omega:.4} rad/s (T_f = {tf} s)"),
+            None => format!("the rigs' band up to 1/{BOOK_TF} s = {omega:.4} rad/s (no prefilter)"),
+        };
+        let (e1, e2) = match self.differentiator {
+            Differentiator::ThreePoint => {
+                let x = omega * ts;
+                let r = if x == 0.0 { 1.0 } else { x.sin() / x };
+                ((1.0 - r).abs(), (1.0 - r * r).abs())
+            }
+            Differentiator::SavitzkyGolay { window, order } => {
+                let c = window / 2;
+                let k1 = savgol_coefficients(window, order, 1, ts, c)?;
+                let k2 = savgol_coefficients(window, order, 2, ts, c)?;
+                (
+                    stencil_error(&k1, c, 1, omega, ts),
+                    stencil_error(&k2, c, 2, omega, ts),
+                )
+            }
+        };
+        let err = e1.max(e2);
+        if err > MAX_DERIVATIVE_ERROR || err.is_nan() {
+            let pct = 100.0 * err;
+            let limit = 100.0 * MAX_DERIVATIVE_ERROR;
+            return Err(match (self.differentiator, tf) {
+                (Differentiator::ThreePoint, Some(tf)) => IdentError::UnsuitedOption {
+                    option: "prefilter time constant T_f".into(),
+                    value: tf,
+                    unit: "s".into(),
+                    reason: format!(
+                        "too short for the sample time {ts} s: the three-point derivatives err \
+                         by {pct:.3} % at {band} (limit {limit} %); use T_f ≥ {:.4} s",
+                        ts / three_point_limit()
+                    ),
+                },
+                (Differentiator::ThreePoint, None) => IdentError::UnsuitedOption {
+                    option: "sample time ts".into(),
+                    value: ts,
+                    unit: "s".into(),
+                    reason: format!(
+                        "too long: the three-point derivatives err by {pct:.3} % at {band} \
+                         (limit {limit} %)"
+                    ),
+                },
+                (Differentiator::SavitzkyGolay { window, .. }, _) => IdentError::UnsuitedOption {
+                    option: "Savitzky–Golay window".into(),
+                    value: window as f64,
+                    unit: "samples".into(),
+                    reason: format!(
+                        "too long for the dynamics: spanning {} s, its derivatives err by \
+                         {pct:.3} % at {band} (limit {limit} %); use a shorter window",
+                        (window - 1) as f64 * ts
+                    ),
+                },
+            });
+        }
+        Ok(())
+    }
 }
 
 /// Known constants of the cart-type pendulum (SPEC.md §1.1, table 3.5).
@@ -111,6 +325,31 @@ fn positive(name: &str, v: f64) -> Result<()> {
 }
 
 impl CartPendulumConstants {
+    /// Checks that every constant lies in its documented plausible range ([`MASS_RANGE`],
+    /// [`LENGTH_RANGE`], [`GRAVITY_RANGE`]). The `*_ls` functions only require positive
+    /// finite values; the command-line tool calls this too.
+    ///
+    /// # Errors
+    /// [`IdentError::ConstantOutOfRange`] naming the constant, its value and the range.
+    pub fn check_range(&self) -> Result<()> {
+        self.validate()?;
+        in_range(
+            "m_p",
+            self.mp,
+            "kg",
+            MASS_RANGE,
+            "pendulum mass of a tabletop rig",
+        )?;
+        in_range("l_p", self.lp, "m", LENGTH_RANGE, "pivot to centre of mass")?;
+        in_range(
+            "g",
+            self.g,
+            "m/s²",
+            GRAVITY_RANGE,
+            "Earth's surface gravity",
+        )
+    }
+
     fn validate(&self) -> Result<()> {
         positive("m_p", self.mp)?;
         positive("l_p", self.lp)?;
@@ -119,6 +358,37 @@ impl CartPendulumConstants {
 }
 
 impl ArmPendulumConstants {
+    /// Checks that every constant lies in its documented plausible range ([`MASS_RANGE`],
+    /// [`LENGTH_RANGE`], [`GRAVITY_RANGE`]).
+    ///
+    /// # Errors
+    /// [`IdentError::ConstantOutOfRange`] naming the constant, its value and the range.
+    pub fn check_range(&self) -> Result<()> {
+        self.validate()?;
+        in_range(
+            "L1",
+            self.l1,
+            "m",
+            LENGTH_RANGE,
+            "arm length of a tabletop rig",
+        )?;
+        in_range(
+            "m2",
+            self.m2,
+            "kg",
+            MASS_RANGE,
+            "pendulum mass of a tabletop rig",
+        )?;
+        in_range("l2", self.l2, "m", LENGTH_RANGE, "joint to centre of mass")?;
+        in_range(
+            "g",
+            self.g,
+            "m/s²",
+            GRAVITY_RANGE,
+            "Earth's surface gravity",
+        )
+    }
+
     fn validate(&self) -> Result<()> {
         positive("L1", self.l1)?;
         positive("m2", self.m2)?;
@@ -475,6 +745,75 @@ impl DriveLs {
     }
 }
 
+impl DriveLs {
+    /// Every check of an estimate from data sampled every `ts` seconds: as
+    /// [`DriveLs::check_plausible`] and [`LeastSquares::check`] (finite, well conditioned),
+    /// and the pole `a` must be resolved by the record: `1/span ≤ a ≤`
+    /// [`MAX_POLE_TIMES_TS`]`/t_s` (a time constant longer than the record is not seen in
+    /// it; a shorter one than four samples is not resolved).
+    ///
+    /// # Errors
+    /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
+    /// [`IdentError::IllConditioned`].
+    pub fn check(&self, ts: f64) -> Result<()> {
+        self.check_plausible()?;
+        self.lsq.check()?;
+        let span = (self.lsq.samples.max(2) - 1) as f64 * ts;
+        let name = &self.lsq.names[0];
+        if self.a * ts > MAX_POLE_TIMES_TS {
+            return Err(IdentError::Implausible {
+                what: name.clone(),
+                value: self.a,
+                reason: format!(
+                    "its time constant 1/{name} = {:.3e} s is shorter than the {} s the \
+                     sampling at {ts} s resolves",
+                    1.0 / self.a,
+                    ts / MAX_POLE_TIMES_TS
+                ),
+            });
+        }
+        if self.a * span < 1.0 {
+            return Err(IdentError::Implausible {
+                what: name.clone(),
+                value: self.a,
+                reason: format!(
+                    "its time constant 1/{name} = {:.3e} s is longer than the record ({span} s)",
+                    1.0 / self.a
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The natural frequency `ω_n = √(m g l / α)` of a pendulum of inertia `α` about its pivot must
+/// be resolved by the sampling and show in the record: `ω_n span ≥ 1` (a sixth of a period),
+/// `ω_n t_s ≤` [`MAX_POLE_TIMES_TS`].
+fn pendulum_in_record(j: (&str, f64), alpha: f64, mgl: f64, ts: f64, n: usize) -> Result<()> {
+    let wn = (mgl / alpha).sqrt();
+    let span = (n.max(2) - 1) as f64 * ts;
+    let reason = if !wn.is_finite() {
+        format!("the natural frequency √(m g l/(J + m l²)) = {wn} is not finite")
+    } else if wn * span < 1.0 {
+        format!(
+            "the natural frequency it implies, ω_n = √(m g l/(J + m l²)) = {wn:.3e} rad/s, \
+             would not show in the record ({span} s: ω_n·span < 1 rad)"
+        )
+    } else if wn * ts > MAX_POLE_TIMES_TS {
+        format!(
+            "the natural frequency it implies, ω_n = {wn:.3e} rad/s, is faster than the \
+             sampling at {ts} s resolves (ω_n t_s > {MAX_POLE_TIMES_TS})"
+        )
+    } else {
+        return Ok(());
+    };
+    Err(IdentError::Implausible {
+        what: j.0.into(),
+        value: j.1,
+        reason,
+    })
+}
+
 fn drive_from(lsq: LeastSquares) -> DriveLs {
     DriveLs {
         a: lsq.estimate[0],
@@ -621,6 +960,27 @@ impl CartPendulumLs {
     pub fn check_plausible(&self) -> Result<()> {
         pendulum_plausible(("Jp", self.jp), ("mup", self.mup))
     }
+
+    /// Every check of an estimate from data sampled every `ts` seconds with the constants
+    /// `c`: [`CartPendulumLs::check_plausible`], [`LeastSquares::check`] (finite, well
+    /// conditioned), and the natural frequency `ω_n = √(m_p g l_p/(J_p + m_p l_p²))` must
+    /// show in the record (`ω_n span ≥ 1`) and be resolved by the sampling
+    /// (`ω_n t_s ≤` [`MAX_POLE_TIMES_TS`]).
+    ///
+    /// # Errors
+    /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
+    /// [`IdentError::IllConditioned`].
+    pub fn check(&self, ts: f64, c: &CartPendulumConstants) -> Result<()> {
+        self.check_plausible()?;
+        self.lsq.check()?;
+        pendulum_in_record(
+            ("Jp", self.jp),
+            self.jp + c.mp * c.lp * c.lp,
+            c.mp * c.g * c.lp,
+            ts,
+            self.lsq.samples,
+        )
+    }
 }
 
 fn pendulum_plausible(j: (&str, f64), mu: (&str, f64)) -> Result<()> {
@@ -746,6 +1106,24 @@ impl ArmPendulumLs {
     pub fn check_plausible(&self) -> Result<()> {
         pendulum_plausible(("J2", self.j2), ("mu2", self.mu2))
     }
+
+    /// Every check of an estimate from data sampled every `ts` seconds with the constants
+    /// `c`, as [`CartPendulumLs::check`] with `ω_n = √(α₅/α₂)`.
+    ///
+    /// # Errors
+    /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
+    /// [`IdentError::IllConditioned`].
+    pub fn check(&self, ts: f64, c: &ArmPendulumConstants) -> Result<()> {
+        self.check_plausible()?;
+        self.lsq.check()?;
+        pendulum_in_record(
+            ("J2", self.j2),
+            self.alpha2,
+            c.alpha5(),
+            ts,
+            self.lsq.samples,
+        )
+    }
 }
 
 /// Arm pendulum `[α₂, μ₂] → J₂` by least squares (book `p1c332`), with `L₁`, `m₂`, `l₂`,
@@ -806,4 +1184,162 @@ pub fn arm_pendulum_ls(
         j2: lsq.estimate[0] - c.m2 * c.l2 * c.l2,
         lsq,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::differentiate::savitzky_golay;
+    use crate::filter::FilterHold;
+
+    const TS: f64 = 1e-3;
+
+    fn causal(tf: f64) -> LsOptions {
+        LsOptions {
+            prefilter: Prefilter::Causal {
+                tf,
+                hold: FilterHold::Zoh,
+            },
+            ..LsOptions::default()
+        }
+    }
+
+    #[test]
+    fn sample_count_for_the_differentiator() {
+        // Three-point twice: a 5-sample stencil, four of them → 20 samples; unfiltered so the
+        // filter bound does not interfere.
+        let raw = LsOptions {
+            prefilter: Prefilter::None,
+            ..LsOptions::default()
+        };
+        assert!(raw.check_data(TS, 20).is_ok());
+        let e = raw.check_data(TS, 19).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                IdentError::TooFewSamples {
+                    needed: 20,
+                    found: 19,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        // Savitzky–Golay: the window, four times.
+        let sg = LsOptions {
+            differentiator: Differentiator::SavitzkyGolay {
+                window: 41,
+                order: 3,
+            },
+            prefilter: Prefilter::None,
+        };
+        assert!(sg.check_data(TS, 164).is_ok());
+        assert!(matches!(
+            sg.check_data(TS, 163),
+            Err(IdentError::TooFewSamples { needed: 164, .. })
+        ));
+    }
+
+    #[test]
+    fn prefilter_time_constant_against_record_and_sample_time() {
+        // Record of 4001 samples = 4 s: T_f up to 0.4 s.
+        assert!(causal(0.4).check_data(TS, 4001).is_ok());
+        let e = causal(0.41).check_data(TS, 4001).unwrap_err();
+        assert!(
+            matches!(&e, IdentError::UnsuitedOption { option, .. } if option.contains("T_f")),
+            "{e}"
+        );
+        assert!(matches!(
+            causal(1e9).check_data(TS, 4001),
+            Err(IdentError::UnsuitedOption { .. })
+        ));
+        // Short T_f: the twice-applied three-point derivative errs by 1 − (sin x/x)², x = t_s/T_f.
+        // Found independently by differentiating a sampled sinusoid at ω = 1/T_f.
+        let err_at = |tf: f64| {
+            let w = 1.0 / tf;
+            let x: Vec<f64> = (0..200).map(|k| (w * k as f64 * TS).sin()).collect();
+            let d2 = crate::differentiate::three_point_twice(&x, TS).unwrap();
+            // Interior sample 100, away from the ends: exact second derivative −ω² sin.
+            let exact = -w * w * (w * 100.0 * TS).sin();
+            (d2[100] / exact - 1.0).abs()
+        };
+        let (short, long) = (4.0 * TS, 8.0 * TS);
+        assert!(err_at(short) > MAX_DERIVATIVE_ERROR && err_at(long) < MAX_DERIVATIVE_ERROR);
+        assert!(matches!(
+            causal(short).check_data(TS, 4001),
+            Err(IdentError::UnsuitedOption { .. })
+        ));
+        assert!(causal(long).check_data(TS, 4001).is_ok());
+        // The book's recipe on the book's record passes.
+        assert!(LsOptions::default().check_data(TS, 4001).is_ok());
+    }
+
+    #[test]
+    fn savitzky_golay_window_against_the_dynamics() {
+        // The error at the band edge 1/T_f, measured independently by differentiating a
+        // sampled sinusoid with the Savitzky–Golay routine (not the kernel's response).
+        let measured = |window: usize, tf: f64| {
+            let w = 1.0 / tf;
+            let n = 3 * window;
+            let x: Vec<f64> = (0..n).map(|k| (w * k as f64 * TS).sin()).collect();
+            let d1 = savitzky_golay(&x, TS, window, 3, 1).unwrap();
+            let d2 = savitzky_golay(&x, TS, window, 3, 2).unwrap();
+            let k = n / 2;
+            let t = k as f64 * TS;
+            let e1 = (d1[k] - w * (w * t).cos()).abs() / w;
+            let e2 = (d2[k] + w * w * (w * t).sin()).abs() / (w * w);
+            e1.max(e2)
+        };
+        let sg = |window: usize, tf: f64| LsOptions {
+            differentiator: Differentiator::SavitzkyGolay { window, order: 3 },
+            ..causal(tf)
+        };
+        // 41 samples (40 ms) against T_f = 0.075 s: accurate, accepted.
+        assert!(measured(41, 0.075) < MAX_DERIVATIVE_ERROR);
+        assert!(sg(41, 0.075).check_data(TS, 4001).is_ok());
+        // 301 samples (0.3 s) against T_f = 0.075 s: inaccurate, refused (the record is long
+        // enough for the stencil count and the filter, so the window is what is named).
+        assert!(measured(301, 0.075) > MAX_DERIVATIVE_ERROR);
+        let e = sg(301, 0.075).check_data(TS, 20_001).unwrap_err();
+        assert!(
+            matches!(&e, IdentError::UnsuitedOption { option, .. } if option.contains("Savitzky")),
+            "{e}"
+        );
+        // The 4001-sample window on the 4001-sample record: too few stencils.
+        assert!(matches!(
+            sg(4001, 0.075).check_data(TS, 4001),
+            Err(IdentError::TooFewSamples { .. })
+        ));
+    }
+
+    #[test]
+    fn constants_out_of_range_are_named() {
+        assert!(CartPendulumConstants::default().check_range().is_ok());
+        assert!(ArmPendulumConstants::default().check_range().is_ok());
+        let e = CartPendulumConstants {
+            mp: 1e-300,
+            ..Default::default()
+        }
+        .check_range()
+        .unwrap_err();
+        assert!(
+            matches!(&e, IdentError::ConstantOutOfRange { name, min, .. } if name == "m_p" && *min == MASS_RANGE.0),
+            "{e}"
+        );
+        let e = ArmPendulumConstants {
+            l2: 3.0,
+            ..Default::default()
+        }
+        .check_range()
+        .unwrap_err();
+        assert!(e.to_string().contains("l2 = 3"), "{e}");
+        assert!(matches!(
+            CartPendulumConstants {
+                g: 1.62,
+                ..Default::default()
+            }
+            .check_range(),
+            Err(IdentError::ConstantOutOfRange { .. })
+        ));
+    }
 }
