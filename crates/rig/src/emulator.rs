@@ -29,7 +29,7 @@
 use crate::protocol::{
     CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags, status,
 };
-use pendulab_plants::{ArmPendulum, CartPendulum, RigSpec};
+use pendulab_plants::{ArmPendulum, CartPendulum, RigSpec, wrap_angle as wrap};
 use pendulab_sim::actuator::karnopp;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -38,7 +38,7 @@ use std::collections::VecDeque;
 use std::f64::consts::PI;
 use std::io::ErrorKind;
 use std::net::{SocketAddr, UdpSocket};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -117,6 +117,9 @@ pub struct EmulatorConfig {
     pub watchdog: Duration,
     /// Run the emulator thread under `SCHED_FIFO` at this priority (`None`: ordinary).
     pub realtime_priority: Option<i32>,
+    /// Stop by itself after this long of wall time \[s\] (`None`: until stopped). Valid:
+    /// `(0, EmulatorConfig::MAX_DURATION]`.
+    pub duration: Option<f64>,
 }
 
 impl EmulatorConfig {
@@ -136,8 +139,15 @@ impl EmulatorConfig {
             seed: 0,
             watchdog: Duration::from_millis(50),
             realtime_priority: None,
+            duration: None,
         }
     }
+
+    /// The longest run \[s\]: one year (`3.15·10⁷ s`). A bound, not a physical limit: it keeps
+    /// every duration exactly representable as a [`Duration`] and an `Instant` offset.
+    pub const MAX_DURATION: f64 = 365.0 * 86_400.0;
+    /// The longest emulator watchdog and sensor latency: 60 s.
+    pub const MAX_WATCHDOG: Duration = Duration::from_secs(60);
 
     /// Checks every number.
     ///
@@ -168,8 +178,31 @@ impl EmulatorConfig {
         if !(0.0..1.0).contains(&self.loss) {
             return bad("loss", self.loss, "must be in [0, 1)");
         }
-        if self.watchdog.is_zero() {
-            return bad("watchdog", 0.0, "must be > 0");
+        if self.watchdog.is_zero() || self.watchdog > Self::MAX_WATCHDOG {
+            return bad(
+                "watchdog",
+                self.watchdog.as_secs_f64(),
+                "must be in (0, 60] s",
+            );
+        }
+        if self.latency > Self::MAX_WATCHDOG {
+            return bad(
+                "latency",
+                self.latency.as_secs_f64(),
+                "must be in [0, 60] s",
+            );
+        }
+        if let Some(d) = self.duration {
+            if !(d > 0.0 && d <= Self::MAX_DURATION) {
+                return bad(
+                    "duration",
+                    d,
+                    &format!("must be in (0, {}] s", Self::MAX_DURATION),
+                );
+            }
+            // Representable (it is, within the bound; checked rather than assumed).
+            Duration::try_from_secs_f64(d)
+                .map_err(|e| RigError::Config(format!("emulator duration = {d}: {e}")))?;
         }
         Ok(())
     }
@@ -217,6 +250,8 @@ struct Shared {
     stop: AtomicBool,
     stall_until: Mutex<Option<Instant>>,
     reset_extrema: AtomicBool,
+    /// Whole turns added to the pendulum encoder's reading from now on.
+    pendulum_turns: AtomicI32,
 }
 
 /// A running emulator; dropping it stops the thread.
@@ -252,6 +287,15 @@ impl EmulatorHandle {
             .unwrap_or_else(|e| e.into_inner()) = Some(Instant::now() + d);
     }
 
+    /// Shifts the pendulum encoder's reading by `turns` whole turns (`turns · 14400` counts)
+    /// from the next frame on, as an encoder that lost or gained a revolution (a missed index,
+    /// a counter glitch) would; the plant itself is untouched. Shifts add up.
+    pub fn shift_pendulum_encoder(&self, turns: i32) {
+        self.shared
+            .pendulum_turns
+            .fetch_add(turns, Ordering::Relaxed);
+    }
+
     /// Restarts the extrema of the telemetry.
     pub fn reset_extrema(&self) {
         self.shared.reset_extrema.store(true, Ordering::Relaxed);
@@ -281,6 +325,7 @@ impl Emulator {
             stop: AtomicBool::new(false),
             stall_until: Mutex::new(None),
             reset_extrema: AtomicBool::new(false),
+            pendulum_turns: AtomicI32::new(0),
         });
         let s2 = Arc::clone(&shared);
         let thread = std::thread::Builder::new()
@@ -321,7 +366,8 @@ impl Emulator {
         Ok(self.handle().telemetry())
     }
 
-    /// Runs until the stop flag is set (for `pendulab rig emulate`), printing nothing.
+    /// Runs until the stop flag is set or the configured [`EmulatorConfig::duration`] has
+    /// elapsed (for `pendulab rig emulate`), printing nothing.
     ///
     /// # Errors
     /// The thread's I/O error.
@@ -383,11 +429,6 @@ fn rk4(plant: &Plant, x: &mut [f64; 4], v: impl Fn(&[f64; 4]) -> f64, h: f64) {
     }
 }
 
-fn wrap(a: f64) -> f64 {
-    let w = (a + PI).rem_euclid(2.0 * PI) - PI;
-    if w == -PI { PI } else { w }
-}
-
 fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<(), RigError> {
     let realtime = cfg
         .realtime_priority
@@ -425,7 +466,12 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
     let t0 = Instant::now();
     let mut base = t0;
     let mut k: u64 = 0;
+    // Validated: finite and at most a year.
+    let end = cfg.duration.map(|d| t0 + Duration::from_secs_f64(d));
     while !shared.stop.load(Ordering::Relaxed) {
+        if end.is_some_and(|e| Instant::now() >= e) {
+            break;
+        }
         // Stall injection: freeze, then rebase the clock.
         let stall = *shared.stall_until.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(until) = stall {
@@ -562,7 +608,8 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
 
             // 4. Encoders and the sensor frame.
             let mut counts = [0i32; 2];
-            let zero = [0.0, PI];
+            let turns = f64::from(shared.pendulum_turns.load(Ordering::Relaxed));
+            let zero = [0.0, PI - 2.0 * PI * turns];
             for j in 0..2 {
                 let mut c = (x[j] - zero[j]) / steps[j];
                 if cfg.encoder_noise_counts > 0.0 {

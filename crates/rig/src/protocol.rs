@@ -39,7 +39,12 @@
 //! length, the magic, version and kind, a correct checksum, and a sequence number newer than
 //! every frame accepted before in the same session (serial-number arithmetic modulo 2³²,
 //! RFC 1982: `0 < seq − last < 2³¹`). Equal numbers are *replays*, older ones *out of order*;
-//! both are counted and dropped, never acted on.
+//! both are counted and dropped, never acted on. A forward jump of more than
+//! [`SequenceGate::MAX_JUMP`] is a *jump*: dropped and counted too, unless the next frame
+//! judged follows it closely (within [`SequenceGate::CONFIRM_WINDOW`]), which confirms it — so
+//! one wild frame (a sequence number `2³¹ − 1` ahead) cannot capture the gate and make every
+//! later good frame "out of order", while a sender that really jumped is followed after one
+//! frame.
 
 use std::fmt;
 
@@ -322,15 +327,33 @@ pub enum SeqVerdict {
     Replayed,
     /// Older than the last accepted frame.
     OutOfOrder,
+    /// More than [`SequenceGate::MAX_JUMP`] ahead of the last accepted frame and not (yet)
+    /// confirmed by a following frame: dropped.
+    Jump,
 }
 
-/// Serial-number acceptance of one stream (RFC 1982 arithmetic modulo 2³²).
+/// Serial-number acceptance of one stream (RFC 1982 arithmetic modulo 2³²), with far forward
+/// jumps held until confirmed.
+///
+/// With `last` the last accepted number and `d = seq − last (mod 2³²)`:
+/// `d = 0` replayed; `0 < d ≤ MAX_JUMP` fresh; `d ≥ 2³¹` out of order; otherwise a jump,
+/// which becomes the gate's *candidate*: it is accepted (fresh) only if the next far frame
+/// judged is `1..=CONFIRM_WINDOW` after the candidate (the sender really jumped); an in-range
+/// fresh frame in between drops the candidate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SequenceGate {
     last: Option<u32>,
+    candidate: Option<u32>,
 }
 
 impl SequenceGate {
+    /// The largest forward jump accepted without confirmation: 2¹⁶ frames, over a minute of
+    /// frames at 1 kHz and more than any loss the runtime's watchdog lets through (at most
+    /// 0.5 s, i.e. 50 000 frames at the fastest 100 kHz a rig could send).
+    pub const MAX_JUMP: u32 = 1 << 16;
+    /// A far jump is confirmed by a next far frame at most this far after it.
+    pub const CONFIRM_WINDOW: u32 = 16;
+
     /// A gate that has accepted nothing yet (the first frame is always fresh).
     pub fn new() -> Self {
         Self::default()
@@ -338,20 +361,29 @@ impl SequenceGate {
 
     /// Judges `seq` and, if fresh, records it.
     pub fn check(&mut self, seq: u32) -> SeqVerdict {
-        match self.last {
-            None => {
-                self.last = Some(seq);
-                SeqVerdict::Fresh { skipped: 0 }
-            }
-            Some(last) => {
-                let d = seq.wrapping_sub(last);
-                if d == 0 {
-                    SeqVerdict::Replayed
-                } else if d < 1 << 31 {
+        let Some(last) = self.last else {
+            self.last = Some(seq);
+            return SeqVerdict::Fresh { skipped: 0 };
+        };
+        let d = seq.wrapping_sub(last);
+        if d == 0 {
+            SeqVerdict::Replayed
+        } else if d <= Self::MAX_JUMP {
+            self.last = Some(seq);
+            self.candidate = None;
+            SeqVerdict::Fresh { skipped: d - 1 }
+        } else if d >= 1 << 31 {
+            SeqVerdict::OutOfOrder
+        } else {
+            match self.candidate {
+                Some(c) if (1..=Self::CONFIRM_WINDOW).contains(&seq.wrapping_sub(c)) => {
                     self.last = Some(seq);
+                    self.candidate = None;
                     SeqVerdict::Fresh { skipped: d - 1 }
-                } else {
-                    SeqVerdict::OutOfOrder
+                }
+                _ => {
+                    self.candidate = Some(seq);
+                    SeqVerdict::Jump
                 }
             }
         }
@@ -365,6 +397,7 @@ impl SequenceGate {
     /// Forgets the stream (a new session starts).
     pub fn reset(&mut self) {
         self.last = None;
+        self.candidate = None;
     }
 }
 
@@ -383,6 +416,8 @@ pub struct RejectCounts {
     pub out_of_order: u64,
     /// From another session than the one being served.
     pub foreign_session: u64,
+    /// Sequence number too far ahead and not confirmed ([`SeqVerdict::Jump`]).
+    pub jump: u64,
 }
 
 impl RejectCounts {
@@ -400,6 +435,7 @@ impl RejectCounts {
         match v {
             SeqVerdict::Replayed => self.replayed += 1,
             SeqVerdict::OutOfOrder => self.out_of_order += 1,
+            SeqVerdict::Jump => self.jump += 1,
             SeqVerdict::Fresh { .. } => {}
         }
     }
@@ -412,6 +448,7 @@ impl RejectCounts {
             + self.replayed
             + self.out_of_order
             + self.foreign_session
+            + self.jump
     }
 }
 
@@ -419,13 +456,14 @@ impl fmt::Display for RejectCounts {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "truncated {}, malformed {}, checksum {}, replayed {}, out-of-order {}, foreign session {}",
+            "truncated {}, malformed {}, checksum {}, replayed {}, out-of-order {}, foreign session {}, unconfirmed jump {}",
             self.truncated,
             self.malformed,
             self.checksum,
             self.replayed,
             self.out_of_order,
-            self.foreign_session
+            self.foreign_session,
+            self.jump
         )
     }
 }
@@ -625,6 +663,60 @@ mod tests {
         assert_eq!(w.check(u32::MAX), SeqVerdict::OutOfOrder);
         w.reset();
         assert_eq!(w.check(5), SeqVerdict::Fresh { skipped: 0 });
+    }
+
+    #[test]
+    fn one_wild_frame_does_not_capture_the_gate() {
+        // Good frames 100, 101; a wild one 2³¹ − 1 ahead; the good stream goes on.
+        let mut g = SequenceGate::new();
+        g.check(100);
+        g.check(101);
+        let wild = 101u32.wrapping_add((1 << 31) - 1);
+        assert_eq!(g.check(wild), SeqVerdict::Jump);
+        for seq in 102..110 {
+            assert_eq!(g.check(seq), SeqVerdict::Fresh { skipped: 0 }, "{seq}");
+        }
+        // The wild number was dropped with the candidate: it stays a jump.
+        assert_eq!(g.check(wild.wrapping_add(1)), SeqVerdict::Jump);
+        // The edge: MAX_JUMP ahead is fresh, one more is a jump.
+        let mut e = SequenceGate::new();
+        e.check(0);
+        assert_eq!(
+            e.check(SequenceGate::MAX_JUMP),
+            SeqVerdict::Fresh {
+                skipped: SequenceGate::MAX_JUMP - 1
+            }
+        );
+        let far = 2 * SequenceGate::MAX_JUMP + 1;
+        assert_eq!(e.check(far), SeqVerdict::Jump);
+        let mut c = RejectCounts::default();
+        c.count_verdict(SeqVerdict::Jump);
+        assert_eq!(c.jump, 1);
+    }
+
+    #[test]
+    fn a_real_jump_is_confirmed_by_the_next_frame() {
+        // A sender that restarted its numbering a million ahead: the first frame is held,
+        // the second (two later: one lost in between) confirms the jump.
+        let mut g = SequenceGate::new();
+        g.check(7);
+        assert_eq!(g.check(1_000_000), SeqVerdict::Jump);
+        assert_eq!(
+            g.check(1_000_002),
+            SeqVerdict::Fresh {
+                skipped: 1_000_002 - 7 - 1
+            }
+        );
+        assert_eq!(g.last(), Some(1_000_002));
+        assert_eq!(g.check(1_000_003), SeqVerdict::Fresh { skipped: 0 });
+        // Two far frames that do not follow one another confirm nothing.
+        let mut h = SequenceGate::new();
+        h.check(7);
+        assert_eq!(h.check(1_000_000), SeqVerdict::Jump);
+        assert_eq!(
+            h.check(1_000_000 + SequenceGate::CONFIRM_WINDOW + 1),
+            SeqVerdict::Jump
+        );
     }
 
     #[test]

@@ -25,7 +25,7 @@ use crate::clock::{Histogram, Percentiles, sleep_until, thread_cpu_time};
 use crate::emulator::PlantKind;
 use crate::log::{Logger, Sample};
 use crate::protocol::{CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags};
-use pendulab_plants::wrap_about;
+use pendulab_plants::{wrap_about, wrap_angle};
 use pendulab_sim::{Controller, SensorChain};
 use std::f64::consts::PI;
 use std::fmt;
@@ -358,8 +358,22 @@ pub struct LoopStats {
     /// The longest time off the CPU within one period (s), as defined for
     /// [`Self::descheduled_misses`].
     pub longest_off_cpu: f64,
-    /// Periods without a fresh sensor frame.
+    /// Periods run without a fresh sensor frame.
     pub stale_periods: u64,
+    /// The longest time without a fresh sensor frame, in periods (skipped periods included).
+    pub longest_stale_run: u64,
+    /// Stale periods in which the last command computed from a fresh measurement was sent
+    /// again ([`Safety::stale_hold_periods`]).
+    pub held_commands: u64,
+    /// Stale periods beyond the hold, in which 0 V was sent.
+    pub zero_commands: u64,
+    /// Periods skipped after a stall: deadlines already passed when the loop came back, not
+    /// replayed back to back (the next period reads every frame that waited).
+    pub skipped_periods: u64,
+    /// Fresh sensor frames whose rig time stamp is earlier than the previous fresh frame's
+    /// (the rig's clock went backwards: its log times are not monotonic). Warned about in
+    /// the summary.
+    pub rig_time_backwards: u64,
     /// Commands clamped by the voltage limit.
     pub clamped: u64,
     /// Sensor frames rejected, by reason.
@@ -373,7 +387,7 @@ pub struct RunReport {
     pub reason: StopReason,
     /// Human-readable detail (which limit, which value).
     pub detail: String,
-    /// Periods run (including the stop's period).
+    /// Periods of the schedule up to and including the stop's (skipped periods included).
     pub samples: u64,
     /// Rows the logger wrote (one per sensor frame received, plus the stop row).
     pub logged: Option<u64>,
@@ -383,6 +397,8 @@ pub struct RunReport {
     pub last_y: [f64; 4],
     /// The scheduling the loop ran under (`"ordinary"`, `"SCHED_FIFO 80"`, or why not).
     pub scheduling: String,
+    /// The loop period \[s\].
+    pub ts: f64,
 }
 
 impl fmt::Display for RunReport {
@@ -409,16 +425,34 @@ impl fmt::Display for RunReport {
         writeln!(f, "round trip: {}", us(&s.round_trip))?;
         writeln!(
             f,
-            "deadline misses: {} ({} overruns, {} while descheduled; {} stalls longer than a period, longest {:.0} µs), stale periods: {}, clamped commands: {}",
+            "deadline misses: {} ({} overruns, {} while descheduled; {} stalls longer than a period, longest {:.0} µs; {} periods skipped), stale periods: {}, clamped commands: {}",
             s.deadline_misses,
             s.deadline_misses - s.descheduled_misses,
             s.descheduled_misses,
             s.stalls,
             s.longest_off_cpu * 1e6,
+            s.skipped_periods,
             s.stale_periods,
             s.clamped
         )?;
-        write!(f, "rejected sensor frames: {}", s.rejects)
+        writeln!(
+            f,
+            "stale data: {} periods, longest {} periods ({:.1} ms), held commands {}, 0 V commands {}",
+            s.stale_periods,
+            s.longest_stale_run,
+            s.longest_stale_run as f64 * self.ts * 1e3,
+            s.held_commands,
+            s.zero_commands
+        )?;
+        write!(f, "rejected sensor frames: {}", s.rejects)?;
+        if s.rig_time_backwards > 0 {
+            write!(
+                f,
+                "\nwarning: the rig's time stamp went backwards {} times (log times are not monotonic)",
+                s.rig_time_backwards
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -727,6 +761,11 @@ pub fn run(
 
     // Connect: disabled commands until the rig answers in this session.
     let start = Instant::now();
+    // Send times and voltages of recent commands, indexed by sequence number modulo the ring
+    // size. The connect phase's disabled commands are in it too: frames echoing them log the
+    // 0 V the rig applied.
+    const RING: usize = 4096;
+    let mut sent_at = vec![(0u32, start, 0.0f64); RING];
     // Fresh frames of the current period, oldest first (reused: no allocation per period
     // unless a burst outgrows it).
     let mut frames: Vec<SensorFrame> = Vec::with_capacity(256);
@@ -750,8 +789,10 @@ pub fn run(
                 config.connect, sf.connect_timeout
             )));
         }
-        link.send(0.0, 0, 0)
+        let seq = link
+            .send(0.0, 0, 0)
             .map_err(|e| RigError::io(format!("sending to {}", config.connect), e))?;
+        sent_at[seq as usize % RING] = (seq, Instant::now(), 0.0);
         std::thread::sleep(Duration::from_millis(5));
         link.receive(&mut frames)
             .map_err(|e| RigError::io(format!("receiving from {}", config.connect), e))?;
@@ -771,10 +812,6 @@ pub fn run(
     let mut lateness = Histogram::new();
     let mut compute = Histogram::new();
     let mut rtt = Histogram::new();
-    // Send times and voltages of recent commands, indexed by sequence number modulo the ring
-    // size.
-    const RING: usize = 4096;
-    let mut sent_at = vec![(0u32, start, 0.0f64); RING];
     let mut last_echo = 0u32;
     let mut stats = LoopStats::default();
     let period = Duration::from_secs_f64(config.ts);
@@ -783,9 +820,20 @@ pub fn run(
     // ~50 ms each second).
     let spin = config.spin_margin.min(period / 4);
     let mut y = [0.0; 4];
+    // The measured positions fed to the velocity estimator: q₀ as read, the pendulum angle
+    // made continuous (each new reading moved by the wrapped difference to the previous one,
+    // so an encoder that jumps by a whole turn does not jolt the velocity estimate).
     let mut x_meas = [0.0; 4];
+    // The previous fresh measurement and the period that read it.
+    let mut x_prev = [0.0; 4];
+    let mut raw_prev = 0.0;
+    let mut k_fresh: u64 = 0;
+    let mut measured = false;
     let mut u = [0.0];
-    let mut stale_run = 0u32;
+    // The last command computed from a fresh measurement (held while the data are stale).
+    let mut v_held = 0.0;
+    let mut stale_run: u64;
+    let mut prev_time_us: Option<u64> = None;
     let mut prev_wake: Option<Instant> = None;
     let mut in_stall = false;
     let mut reason = StopReason::Completed;
@@ -796,6 +844,8 @@ pub fn run(
     let mut logger_alive = true;
     // Frames received this period and not yet logged (a stop inside the period logs them).
     let mut pending = true;
+    let watchdog = u64::from(sf.watchdog_periods);
+    let hold = u64::from(sf.stale_hold_periods);
 
     loop {
         let deadline = t0 + period.mul_f64(k as f64);
@@ -821,7 +871,17 @@ pub fn run(
                 }
             }
         }
-        match frames.last().copied() {
+        for f in &frames {
+            // Fresh frames have increasing sequence numbers; their rig time must not go back.
+            if let Some(p) = prev_time_us
+                && (f.time_us.wrapping_sub(p) as i64) < 0
+            {
+                stats.rig_time_backwards += 1;
+            }
+            prev_time_us = Some(f.time_us);
+        }
+        let fresh = frames.last().copied();
+        match fresh {
             Some(f) => {
                 frame = f;
                 stale_run = 0;
@@ -834,12 +894,15 @@ pub fn run(
                 }
             }
             None => {
+                // Staleness is the time since the last fresh frame, in periods (skipped
+                // periods count: they passed without a fresh frame too).
                 stats.stale_periods += 1;
-                stale_run += 1;
+                stale_run = k - k_fresh;
+                stats.longest_stale_run = stats.longest_stale_run.max(stale_run);
             }
         }
         // 2. Watchdog.
-        if stale_run >= sf.watchdog_periods {
+        if stale_run >= watchdog {
             reason = StopReason::Watchdog;
             detail = format!(
                 "no fresh sensor frame for {stale_run} periods ({:.1} ms)",
@@ -847,47 +910,76 @@ pub fn run(
             );
             break;
         }
-        // 3. Measurement.
-        x_meas[0] = frame.counts[0] as f64 * steps[0];
-        x_meas[1] = frame.counts[1] as f64 * steps[1] + PI;
-        sensor.measure(&x_meas, &mut y);
-        // The pendulum angle about the controller's equilibrium (velocities come from the raw,
-        // continuous angle above; q₀ is never wrapped).
-        y[1] = wrap_about(y[1], config.pendulum_centre);
-        // 4. Safety on y.
-        if y.iter().any(|v| !v.is_finite()) {
-            reason = StopReason::NonFinite;
-            detail = format!("measurement {y:?}");
-            break;
-        }
-        if y[0].abs() > sf.travel_limit {
-            reason = StopReason::TravelLimit;
-            detail = format!("|q0| = {:.4} > {}", y[0].abs(), sf.travel_limit);
-            break;
-        }
-        if let Some(w) = sf.angle_window
-            && (y[1] - config.pendulum_centre).abs() > w
-        {
-            reason = StopReason::AngleWindow;
-            detail = format!(
-                "|pendulum angle − centre| = {:.2}° > {:.2}°",
-                (y[1] - config.pendulum_centre).abs().to_degrees(),
-                w.to_degrees()
-            );
-            break;
-        }
-        // 5. Control.
-        controller.update(t, &y, &mut u);
-        let u_ctrl = u[0];
-        if !u_ctrl.is_finite() {
-            reason = StopReason::NonFinite;
-            detail = format!("command {u_ctrl} at t = {t} s");
-            break;
-        }
-        let v = u_ctrl.clamp(-sf.voltage_limit, sf.voltage_limit);
-        if v != u_ctrl {
-            stats.clamped += 1;
-        }
+        let (v, u_ctrl) = if fresh.is_some() {
+            // 3. Measurement.
+            let raw = frame.counts[1] as f64 * steps[1] + PI;
+            x_meas[0] = frame.counts[0] as f64 * steps[0];
+            x_meas[1] = if measured {
+                x_meas[1] + wrap_angle(raw - raw_prev)
+            } else {
+                raw
+            };
+            raw_prev = raw;
+            // Periods without a fresh frame since the last one: the estimator steps through
+            // them on positions interpolated linearly, so its filter keeps real time.
+            let gap = if measured { k - k_fresh } else { 1 };
+            for i in 1..gap {
+                let s = i as f64 / gap as f64;
+                let xi: [f64; 4] = std::array::from_fn(|j| x_prev[j] + s * (x_meas[j] - x_prev[j]));
+                sensor.measure(&xi, &mut y);
+            }
+            sensor.measure(&x_meas, &mut y);
+            x_prev = x_meas;
+            k_fresh = k;
+            measured = true;
+            // The pendulum angle about the controller's equilibrium (velocities come from the
+            // continuous angle above; q₀ is never wrapped).
+            y[1] = wrap_about(y[1], config.pendulum_centre);
+            // 4. Safety on y.
+            if y.iter().any(|v| !v.is_finite()) {
+                reason = StopReason::NonFinite;
+                detail = format!("measurement {y:?}");
+                break;
+            }
+            if y[0].abs() > sf.travel_limit {
+                reason = StopReason::TravelLimit;
+                detail = format!("|q0| = {:.4} > {}", y[0].abs(), sf.travel_limit);
+                break;
+            }
+            if let Some(w) = sf.angle_window
+                && (y[1] - config.pendulum_centre).abs() > w
+            {
+                reason = StopReason::AngleWindow;
+                detail = format!(
+                    "|pendulum angle − centre| = {:.2}° > {:.2}°",
+                    (y[1] - config.pendulum_centre).abs().to_degrees(),
+                    w.to_degrees()
+                );
+                break;
+            }
+            // 5. Control.
+            controller.update(t, &y, &mut u);
+            let u_ctrl = u[0];
+            if !u_ctrl.is_finite() {
+                reason = StopReason::NonFinite;
+                detail = format!("command {u_ctrl} at t = {t} s");
+                break;
+            }
+            let v = u_ctrl.clamp(-sf.voltage_limit, sf.voltage_limit);
+            if v != u_ctrl {
+                stats.clamped += 1;
+            }
+            v_held = v;
+            (v, u_ctrl)
+        } else if stale_run <= hold {
+            // Stale: never a command from an old measurement; the last safe one is held.
+            stats.held_commands += 1;
+            (v_held, v_held)
+        } else {
+            // Stale beyond the hold: 0 V until a fresh frame or the watchdog.
+            stats.zero_commands += 1;
+            (0.0, 0.0)
+        };
         let seq = match link.send(v, flags::ENABLE, frame.seq) {
             Ok(s) => s,
             Err(e) => {
@@ -917,7 +1009,9 @@ pub fn run(
             stats.deadline_misses += 1;
             stats.descheduled_misses += u64::from(p.descheduled);
         }
-        if let Some(l) = &log {
+        if let Some(l) = &log
+            && !frames.is_empty()
+        {
             logger_alive &= log_frames(
                 l,
                 &frames,
@@ -945,6 +1039,17 @@ pub fn run(
         if k >= n_max {
             detail = format!("{:.3} s", k as f64 * config.ts);
             break;
+        }
+        // Missed deadlines are skipped, not replayed back to back: after a stall the loop
+        // goes on with the latest deadline already passed (the rig's frames of the stall wait
+        // in the socket and the next period reads them). It never skips past the watchdog's
+        // deadline or the run's last period.
+        let behind =
+            (Instant::now().saturating_duration_since(t0).as_secs_f64() / config.ts).floor() as u64;
+        if behind > k {
+            let next = behind.min(k_fresh + watchdog).min(n_max - 1).max(k);
+            stats.skipped_periods += next - k;
+            k = next;
         }
     }
 
@@ -976,8 +1081,11 @@ pub fn run(
                 t_nominal: k as f64 * config.ts,
                 t_wall: (wake - t0).as_secs_f64(),
                 seq: frame.seq,
-                // The raw angle, as every row of the log.
-                q: [x_meas[0], x_meas[1]],
+                // The raw angle of the last frame, as every row of the log.
+                q: [
+                    frame.counts[0] as f64 * steps[0],
+                    frame.counts[1] as f64 * steps[1] + PI,
+                ],
                 dq: [y[2], y[3]],
                 v: 0.0,
                 v_sent: 0.0,
@@ -1004,6 +1112,7 @@ pub fn run(
         stats,
         last_y: y,
         scheduling,
+        ts: config.ts,
     })
 }
 
