@@ -126,27 +126,66 @@ fn p1c213_pidbode() {
     assert!(l2.norm() < 1.0);
 }
 
+/// The cart position of the book's `cart_model.slx` for a voltage step `u` at t = 0, in closed
+/// form: `z̈ = −a_c ż + b_c v` from rest with `v` the 16-bit D/A value of `u`:
+/// `z(t) = b_c v (t/a_c − (1 − e^{−a_c t})/a_c²)`.
+fn cart_step_position(u: f64, t: f64) -> f64 {
+    let q = 10.0 / 65536.0;
+    let v = q * (u / q).round();
+    BC * v * (t / AC - (1.0 - (-AC * t).exp()) / (AC * AC))
+}
+
 #[test]
 fn p1c221_id_cart() {
     let out = run("p1c221_id_cart");
+    // The book prints K = 6.98e-1, T = 1.60e-1, a = 6.250, b = 4.362 (p1c221_id_cart.m, lines
+    // 72-77): reproduced.
     references_reproduced(&out);
-    // The simulated drive is table 3.5: K = b_c/a_c = 0.6976, T = 1/a_c = 0.16 s. K is a
-    // difference of encoder positions over 0.1 s (±2 counts = ±1e-3 m/s, 0.14 % of 0.7 m/s):
-    // 0.2 %. T is the first crossing of a velocity carrying ±q/(2 ts) = ±0.024 m/s of
-    // quantisation noise where it rises at ~1.6 m/s²: ±15 ms at most; the mean of four
-    // within ±8 ms (5 %).
-    for k in vector(&out, "K") {
-        assert!((k / (BC / AC) - 1.0).abs() < 2e-3, "K = {k}");
+    assert_eq!(num(&out, "Tave"), 0.160);
+    assert_eq!(num(&out, "Kave"), 0.698);
+    assert!((num(&out, "a") - 1.0 / 0.160).abs() < 1e-12);
+    assert!((num(&out, "b") - 0.698 / 0.160).abs() < 1e-12);
+    assert_eq!(num(&out, "ac"), num(&out, "a"));
+    assert_eq!(num(&out, "bc"), num(&out, "b"));
+    // cartident.m followed in plain Python on the closed-form response of cart_model.slx with
+    // its encoder and D/A quantizers (tools/reference/book_mfiles_p1c2_p1c3.py, Python
+    // 3.11.7): the simulated encoder counts are the same (the RK4 error, ~1e-14 m, moves no
+    // count), so the K_i agree to rounding (1e-9) and the T_i, samples of the time grid,
+    // exactly. One count moved anywhere in the 1.399-1.499 s window would shift K_i by
+    // 2.4e-4.
+    let k = [
+        0.6974492079207907,
+        0.697715511551156,
+        0.6976888811881174,
+        0.6972313231323124,
+    ];
+    let t = [0.154, 0.160, 0.161, 0.164];
+    for i in 0..4 {
+        let (ki, ti) = (
+            num(&out, &format!("K{}", i + 1)),
+            num(&out, &format!("T{}", i + 1)),
+        );
+        assert!((ki - k[i]).abs() < 1e-9, "K{}: {ki} vs {}", i + 1, k[i]);
+        assert!((ti - t[i]).abs() < 1e-12, "T{}: {ti} vs {}", i + 1, t[i]);
     }
-    for t in vector(&out, "T") {
-        assert!((t - 1.0 / AC).abs() < 0.015, "T = {t}");
+    // On the exact position the same recipe, evaluated here in closed form: K_i = mean of the
+    // central differences over samples 1400-1500 (t = 1.399-1.499 s) over u; the velocity
+    // K u (1 − e^{−a_c t}) crosses 0.632 K u at −ln(0.368)/a_c = 0.15995 s, so every T_i is the
+    // sample before it, 0.159 s.
+    let mut kbar = 0.0;
+    for u in [0.8, 0.9, 1.0, 1.1] {
+        let mut s = 0.0;
+        for k in 1399..=1499 {
+            let tk = k as f64 * 1e-3;
+            s += (cart_step_position(u, tk + 1e-3) - cart_step_position(u, tk - 1e-3)) / 2e-3;
+        }
+        kbar += s / 101.0 / u / 4.0;
     }
-    assert!((num(&out, "ac_unrounded") / AC - 1.0).abs() < 0.05);
-    assert!((num(&out, "bc_unrounded") / BC - 1.0).abs() < 0.05);
-    // On the exact position the recipe reads T on the 1 ms grid (±1 ms, 0.6 %) and K to
-    // rounding: the table values.
-    assert!((num(&out, "ac_unquantised") / AC - 1.0).abs() < 0.007);
-    assert!((num(&out, "bc_unquantised") / BC - 1.0).abs() < 0.007);
+    let kbar = (kbar * 1e3).round() / 1e3;
+    let t_cross = -(1.0f64 - 0.632).ln() / AC;
+    let tbar = (t_cross * 1e3).floor() / 1e3;
+    assert!((num(&out, "ac_unquantised") - 1.0 / tbar).abs() < 1e-9);
+    assert!((num(&out, "bc_unquantised") - kbar / tbar).abs() < 1e-9);
 }
 
 #[test]
@@ -177,7 +216,9 @@ fn p1c224_p_dcont() {
 fn p1c224_i_pdcont() {
     let out = run("p1c224_i_pdcont");
     let wn = 10.0f64;
-    for (name, a2, a1) in [
+    // p1c224_i_pdcont.m: (alpha1, alpha2) = (3, 3), (2, 2), (2.15, 1.75) (lines 39-40, 54-55,
+    // 68-69); kP = alpha1 ω_n²/b, kD = (alpha2 ω_n − a)/b (lines 43-44, 58-59, 72-73).
+    for (name, alpha1, alpha2) in [
         ("gains_binomial", 3.0, 3.0),
         ("gains_butterworth", 2.0, 2.0),
         ("gains_itae", 2.15, 1.75),
@@ -185,10 +226,18 @@ fn p1c224_i_pdcont() {
         let g = vector(&out, name);
         let (ki, kp, kd) = (g[0], g[1], g[2]);
         // s³ + (a_c + b_c k_D) s² + b_c k_P s + b_c k_I = s³ + α₂ω_n s² + α₁ω_n² s + ω_n³.
-        assert!((AC + BC * kd - a2 * wn).abs() < 1e-12, "{name}");
-        assert!((BC * kp - a1 * wn * wn).abs() < 1e-10, "{name}");
+        assert!((AC + BC * kd - alpha2 * wn).abs() < 1e-12, "{name}");
+        assert!((BC * kp - alpha1 * wn * wn).abs() < 1e-10, "{name}");
         assert!((BC * ki - wn.powi(3)).abs() < 1e-10, "{name}");
     }
+    // The ITAE gains by hand: [1000/4.36, 215/4.36, 11.25/4.36] = [229.358, 49.312, 2.580].
+    references_reproduced(&out);
+    let itae = vector(&out, "gains_itae");
+    for (g, want) in itae.iter().zip([229.358, 49.312, 2.580]) {
+        assert!((g - want).abs() < 0.0005, "{itae:?}");
+    }
+    assert_eq!(vector(&out, "alpha1"), vec![3.0, 2.0, 2.15]);
+    assert_eq!(vector(&out, "alpha2"), vec![3.0, 2.0, 1.75]);
 }
 
 #[test]

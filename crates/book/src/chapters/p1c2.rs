@@ -11,7 +11,6 @@ use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
-use pendulab_ident::{VelocityStepOptions, drive_from_velocity_steps, velocity_step};
 use pendulab_lti::frequency_response::logspace;
 use pendulab_lti::{Complex64, Mat, Polynomial};
 use pendulab_plants::{CartEquilibrium, CartPendulum, CartPendulumParams, RigSpec};
@@ -470,80 +469,168 @@ fn p1c213_pidbode(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 
 const ID221: &str = "p1c221_id_cart";
 
+/// What `cartident.m` returns for one voltage step: the gain `K` and the time constant `T`.
+#[derive(Debug, Clone, Copy)]
+struct CartIdent {
+    /// `K = mean(dy(1400:1500))/ref` (m/s per V).
+    k: f64,
+    /// `T = t(k)`, the last sample before the velocity first crosses `0.632 K ref` (s).
+    t: f64,
+}
+
+/// `cartident.m` (called by `p1c221_id_cart.m`, line 36) line by line on the sampled position
+/// `y` at times `t` (`t[0] = 0`, step `ts`):
+///
+/// - lines 5–10: `dy` by three-point differentiation, the one-sided formulas at both ends;
+/// - lines 3, 14–15: `datasize = int32(tend/ts)`, `init_data = int32(1.4/ts)` (1500 and 1400 for
+///   the M-file's `ts = 0.001`, `tend = 1.5`) and `K = mean(dy(init_data:datasize))`, i.e. the
+///   101 samples `t = 1.399 … 1.499 s` of MATLAB's 1-based array;
+/// - lines 17–24: the first `i ≤ datasize` with `dy(i) < 0.632 K` and `dy(i+1) > 0.632 K` (both
+///   strict), and `T = t(i)`, the sample *before* the crossing;
+/// - line 26: `K = K/ref`.
+///
+/// # Errors
+/// [`BookError::Computation`] if the record is shorter than `datasize + 1` samples or the
+/// velocity never crosses `0.632 K` (where MATLAB would stop with "undefined k").
+fn cartident(
+    id: &'static str,
+    t: &[f64],
+    y: &[f64],
+    reference: f64,
+    ts: f64,
+    tend: f64,
+) -> Result<CartIdent, BookError> {
+    // MATLAB's int32() rounds to the nearest integer.
+    let datasize = (tend / ts).round() as usize;
+    let init_data = (1.4 / ts).round() as usize;
+    if y.len() != t.len() || y.len() < datasize + 1 || init_data < 1 || init_data > datasize {
+        return Err(fail(
+            id,
+            format!(
+                "cartident needs {} samples of t and y (tend/ts + 1), got {} and {}",
+                datasize + 1,
+                t.len(),
+                y.len()
+            ),
+        ));
+    }
+    let dy = pendulab_ident::three_point(y, ts).ctx(id)?;
+    // dy(init_data:datasize), 1-based and inclusive.
+    let window = &dy[init_data - 1..datasize];
+    let k = window.iter().sum::<f64>() / window.len() as f64;
+    let level = 0.632 * k;
+    // for i = 1:datasize: dy(i) < 0.632K & dy(i+1) > 0.632K → T = t(i).
+    let i = (0..datasize)
+        .find(|&i| dy[i] < level && dy[i + 1] > level)
+        .ok_or_else(|| {
+            fail(
+                id,
+                format!(
+                    "the velocity never crosses 0.632 K = {level} m/s before sample {datasize} \
+                     (cartident.m, lines 17-22)"
+                ),
+            )
+        })?;
+    Ok(CartIdent {
+        k: k / reference,
+        t: t[i],
+    })
+}
+
+/// MATLAB's `round(x*10^3)/10^3` (half away from zero, as `f64::round`).
+fn round3(x: f64) -> f64 {
+    (x * 1e3).round() / 1e3
+}
+
 fn p1c221_id_cart(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let e = ID221;
-    let opts = |u: f64| VelocityStepOptions {
-        step_time: 0.0,
-        input: u,
-        gain_window: (1.4, 1.5),
-    };
-    let mut steps = Vec::new();
-    let mut exact_steps = Vec::new();
-    let mut curves = Vec::new();
-    for u in [0.8, 0.9, 1.0, 1.1] {
+    // p1c221_id_cart.m, lines 33–63: cart_model.slx for ref = 0.8, 0.9, 1.0, 1.1 V, each record
+    // through cartident(t, y_raw, ref, 0.001, 1.5). The model is the cart with the encoder and
+    // D/A quantizers and ±5 V, the step applied at t = 0, 1 ms fixed step: pendulab's quantised
+    // rig with a constant input. y_raw is the encoder position.
+    let refs = [0.8, 0.9, 1.0, 1.1];
+    let mut runs = Vec::new();
+    let mut ids = Vec::new();
+    let mut exact = Vec::new();
+    for u in refs {
         let ctrl = OpenLoop::new(vec![Signal::step(0.0, u).ctx(e)?], 4);
-        let run = simulate_cart(ID221, format!("u = {u} V"), ctrl, true, None, 2.0)?;
-        let s = velocity_step(&run.t, &run.z_measured, &opts(u)).ctx(e)?;
-        exact_steps.push(velocity_step(&run.t, &run.z, &opts(u)).ctx(e)?);
-        let vel = pendulab_ident::three_point(&run.z_measured, TS).ctx(e)?;
-        curves.push((run, vel, s));
-        steps.push(s);
+        let run = simulate_cart(ID221, format!("u(t) = {u}"), ctrl, true, None, 2.0)?;
+        ids.push(cartident(e, &run.t, &run.z_measured, u, TS, 1.5)?);
+        exact.push(cartident(e, &run.t, &run.z, u, TS, 1.5)?);
+        runs.push(run);
     }
-    // The book rounds the mean gain and time constant to 1e-3 before forming a = 1/T, b = K/T.
-    let book_rounding = |steps: &[pendulab_ident::VelocityStep]| {
-        drive_from_velocity_steps(steps).map(|est| {
-            let kbar = (est.gain * 1e3).round() / 1e3;
-            let tbar = (est.time_constant * 1e3).round() / 1e3;
-            (1.0 / tbar, kbar / tbar, est)
-        })
+    // Lines 69–70: the means rounded to 1e-3; lines 72–77 print K, T, a = 1/T, b = K/T.
+    let mean = |f: &dyn Fn(&CartIdent) -> f64, v: &[CartIdent]| {
+        v.iter().map(f).sum::<f64>() / v.len() as f64
     };
-    let (ac, bc, est) = book_rounding(&steps).ctx(e)?;
-    let (ac_x, bc_x, _) = book_rounding(&exact_steps).ctx(e)?;
+    let tave = round3(mean(&|c| c.t, &ids));
+    let kave = round3(mean(&|c| c.k, &ids));
+    let (a, b) = (1.0 / tave, kave / tave);
     let mut out = ExampleOutput::default();
-    out.value("ac", Value::Number(ac));
-    out.value("bc", Value::Number(bc));
-    out.value("K", Value::Vector(steps.iter().map(|s| s.gain).collect()));
-    out.value(
-        "T",
-        Value::Vector(steps.iter().map(|s| s.time_constant).collect()),
+    out.value("ac", Value::Number(a));
+    out.value("bc", Value::Number(b));
+    out.value("Kave", Value::Number(kave));
+    out.value("Tave", Value::Number(tave));
+    out.value("a", Value::Number(a));
+    out.value("b", Value::Number(b));
+    for (j, c) in ids.iter().enumerate() {
+        out.value(&format!("K{}", j + 1), Value::Number(c.k));
+        out.value(&format!("T{}", j + 1), Value::Number(c.t));
+    }
+    // pendulab's addition: the same recipe on the exact (unquantised) cart position.
+    let tx = round3(mean(&|c| c.t, &exact));
+    let kx = round3(mean(&|c| c.k, &exact));
+    out.value("ac_unquantised", Value::Number(1.0 / tx));
+    out.value("bc_unquantised", Value::Number(kx / tx));
+    // The book prints a = 6.250e+00, b = 4.362e+00 (Kave = 0.698, Tave = 0.160 → b = 4.3625):
+    // both are exact results of the rounded means, so the tolerance is the rounding of b's
+    // last printed digit.
+    let src = "book §2.2.1 (p1c221_id_cart.m, lines 72-77)";
+    out.reference("Kave", Value::Number(0.698), src, 1e-9);
+    out.reference("Tave", Value::Number(0.160), src, 1e-9);
+    out.reference("a", Value::Number(6.250), src, 0.0005);
+    out.reference("b", Value::Number(4.3625), src, 0.0005);
+    out.reference(
+        "ac",
+        Value::Number(6.250),
+        "examples.md (book §2.2.1)",
+        0.0005,
     );
-    out.value("ac_unrounded", Value::Number(est.a));
-    out.value("bc_unrounded", Value::Number(est.b));
-    out.value("ac_unquantised", Value::Number(ac_x));
-    out.value("bc_unquantised", Value::Number(bc_x));
-    let src = "examples.md (book §2.2.1)";
-    // From the encoder record each T is read from a velocity carrying ±q/(2 ts) ≈ ±0.024 m/s
-    // of quantisation noise: T scatters by ±5 ms, the mean of four by ±2.5 ms (±1.6 % of
-    // 0.16 s). The book's printed values are one draw of that scatter: tolerance 0.1 (a_c),
-    // 0.07 (b_c).
-    out.reference("ac", Value::Number(6.250), src, 0.1);
-    out.reference("bc", Value::Number(4.362), src, 0.07);
-    // From the exact position the recipe gives T̄ = 0.160, K̄ = 0.698 → a_c = 6.25, b_c =
-    // 4.3625, which MATLAB prints as 4.362: one unit of the last digit.
-    out.reference("ac_unquantised", Value::Number(6.250), src, 0.0005);
-    out.reference("bc_unquantised", Value::Number(4.362), src, 0.001);
+    out.reference(
+        "bc",
+        Value::Number(4.362),
+        "examples.md (book §2.2.1)",
+        0.001,
+    );
     out.notes.push(
-        "Open-loop voltage steps on the simulated quantised rig; velocity by three-point \
-         differentiation of the encoder position; K = mean velocity over 1.4–1.5 s / u, T = \
-         first time the velocity reaches 0.632 K u. As the book does, the means K̄, T̄ are \
-         rounded to 1e-3 before a_c = 1/T̄, b_c = K̄/T̄ (ac_unrounded, bc_unrounded without). \
-         The encoder's quantisation noise on the differentiated velocity scatters T by a few \
-         ms; ac_unquantised, bc_unquantised apply the same recipe to the exact cart position \
-         and reproduce the book's 6.250, 4.362."
+        "As p1c221_id_cart.m with cartident.m: open-loop voltage steps u = 0.8, 0.9, 1.0, 1.1 V \
+         on the simulated rig (nonlinear cart pendulum, table 3.5, encoder and 16-bit D/A \
+         quantizers, 1 ms); dy by three-point differentiation of the encoder position; K_i = \
+         mean of dy over samples 1400-1500 of the M-file's 1-based array (t = 1.399-1.499 s) \
+         divided by u; T_i = the last sample below 0.632 K u before the first crossing. Kave, \
+         Tave: the means rounded to 1e-3 (lines 69-70); a = 1/Tave, b = Kave/Tave (ac, bc). \
+         The quantised velocity moves in steps of 0.024 m/s, so the T_i scatter by several ms \
+         (K1..K4, T1..T4); ac_unquantised, bc_unquantised: the same recipe on the exact \
+         position."
             .into(),
     );
     if let Some(dir) = &ctx.out_dir {
-        let lines: Vec<Line<'_>> = curves
+        let vel: Vec<Vec<f64>> = runs
             .iter()
-            .map(|(r, v, _)| (r.label.clone(), r.t.as_slice(), v.clone()))
+            .map(|r| pendulab_ident::three_point(&r.z_measured, TS).ctx(e))
+            .collect::<Result<_, _>>()?;
+        let lines: Vec<Line<'_>> = runs
+            .iter()
+            .zip(&vel)
+            .map(|(r, v)| (r.label.clone(), r.t.as_slice(), v.clone()))
             .collect();
-        let mut panel = PanelSpec::new("cart velocity ż [m/s]", lines);
-        for (_, _, s) in &curves {
-            panel = panel.reference(s.final_velocity, &format!("K u = {:.3}", s.final_velocity));
+        let mut panel = PanelSpec::new("dy(t)/dt [m/s]", lines);
+        for (u, c) in refs.iter().zip(&ids) {
+            panel = panel.reference(c.k * u, &format!("K u = {:.3}", c.k * u));
         }
         let fig = stacked(
             "p1c221_id_cart: open-loop velocity steps",
-            "time [s]",
+            "t [s]",
             vec![panel],
         );
         write_figure(ID221, &mut out, dir, "p1c221_id_cart_velocity", &fig)?;
@@ -674,8 +761,10 @@ fn p1c224_p_dcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     Ok(out)
 }
 
-/// I–PD gains `[k_I, k_P, k_D]` from `s³ + α₂ω_n s² + α₁ω_n² s + ω_n³`.
-pub(crate) fn ipd_gains(alpha2: f64, alpha1: f64, wn: f64) -> [f64; 3] {
+/// I–PD gains `[k_I, k_P, k_D]` from `s³ + α₂ω_n s² + α₁ω_n² s + ω_n³`, in the order of
+/// `p1c224_i_pdcont.m` (lines 42–44): `k_I = ω_n³/b_c`, `k_P = α₁ω_n²/b_c`,
+/// `k_D = (α₂ω_n − a_c)/b_c`.
+pub(crate) fn ipd_gains(alpha1: f64, alpha2: f64, wn: f64) -> [f64; 3] {
     let (ac, bc) = drive();
     [
         wn.powi(3) / bc,
@@ -690,12 +779,14 @@ fn p1c224_i_pdcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let wn = 10.0;
     let mut out = ExampleOutput::default();
     let mut runs = Vec::new();
-    for (name, label, a2, a1) in [
+    // p1c224_i_pdcont.m: omegaM = 10 (line 36); (alpha1, alpha2) = (3, 3) binomial (lines
+    // 39–40), (2, 2) Butterworth (lines 54–55), (2.15, 1.75) ITAE (lines 68–69).
+    for (name, label, alpha1, alpha2) in [
         ("gains_binomial", "binomial", 3.0, 3.0),
         ("gains_butterworth", "Butterworth", 2.0, 2.0),
         ("gains_itae", "ITAE", 2.15, 1.75),
     ] {
-        let [ki, kp, kd] = ipd_gains(a2, a1, wn);
+        let [ki, kp, kd] = ipd_gains(alpha1, alpha2, wn);
         out.value(name, Value::Vector(vec![ki, kp, kd]));
         runs.push(simulate_cart(
             ID224IPD,
@@ -706,11 +797,23 @@ fn p1c224_i_pdcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             3.0,
         )?);
     }
+    out.value("alpha1", Value::Vector(vec![3.0, 2.0, 2.15]));
+    out.value("alpha2", Value::Vector(vec![3.0, 2.0, 1.75]));
+    // The M-file's ITAE gains with table 3.5 (a_c = 6.25, b_c = 4.36), rounded to 1e-3:
+    // [1000/4.36, 215/4.36, (17.5 − 6.25)/4.36].
+    out.reference(
+        "gains_itae",
+        Value::Vector(vec![229.358, 49.312, 2.580]),
+        "p1c224_i_pdcont.m, lines 68-73",
+        0.0005,
+    );
     out.notes.push(NOTE_GAINS.into());
     out.notes.push(
         "I–PD u = (k_I/s) e − k_P z − k_D ż: closed loop b_c k_I/(s³ + (a_c + b_c k_D) s² + \
-         b_c k_P s + b_c k_I) matched to ω_n³/(s³ + α₂ω_n s² + α₁ω_n² s + ω_n³), ω_n = 10; \
-         gains reported as [k_I, k_P, k_D]."
+         b_c k_P s + b_c k_I) matched to ω_n³/(s³ + α₂ω_n s² + α₁ω_n² s + ω_n³), ω_n = 10, as \
+         p1c224_i_pdcont.m: kI = ω_n³/b, kP = α₁ω_n²/b, kD = (α₂ω_n − a)/b; gains reported as \
+         [kI, kP, kD] for (α₁, α₂) = (3, 3) binomial, (2, 2) Butterworth, (2.15, 1.75) ITAE \
+         (alpha1, alpha2 in that order)."
             .into(),
     );
     if let Some(dir) = &ctx.out_dir {
