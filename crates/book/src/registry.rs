@@ -9,7 +9,8 @@ use std::path::PathBuf;
 pub struct RunContext {
     /// Directory for figures; `None` computes the numbers only.
     pub out_dir: Option<PathBuf>,
-    /// Contents of a measured-data CSV file (examples that take `--data`).
+    /// Contents of a measured-data CSV file (examples that take `--data`); `None` runs them on
+    /// their shipped recording.
     pub data_csv: Option<String>,
 }
 
@@ -24,7 +25,9 @@ pub struct Example {
     pub section: &'static str,
     /// The parameter set used (e.g. "cart pendulum, table 3.5").
     pub parameters: &'static str,
-    /// If the example needs measured data: what, with the CSV columns.
+    /// The measured data the example takes with `--data`: what, with the CSV columns (`None`:
+    /// it takes none). An example whose recording ships in `data/rig/` runs on it when no file
+    /// is given; one without shipped data returns [`BookError::NeedsData`] then.
     pub needs_data: Option<&'static str>,
     /// Runs the example.
     pub run: fn(&RunContext) -> Result<ExampleOutput, BookError>,
