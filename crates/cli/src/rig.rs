@@ -8,17 +8,36 @@
 //!   latency and deadline statistics, and exits with the stop's status (0 completed,
 //!   2 interrupted, 3 watchdog, 4 travel limit, 5 angle window, 6 non-finite, 7 I/O; 1 for
 //!   errors before the loop starts).
+//!
+//! Every number on the command line has a documented range, checked before anything runs, and
+//! an error names the flag, its value and the range (docs/rig/README.md, "Valid ranges"):
+//! `--duration` up to [`config::DURATION_MAX`] (an hour; 0 = until Ctrl-C for `run`),
+//! `--rt-priority` 1–99, `--cpu` below the number of CPUs present, `--watchdog-periods` as
+//! `safety.watchdog_periods` ([`pendulab_rig::Safety`]), and the emulator's initial state and
+//! imperfections (the `*_MAX` constants below).
 
 use anyhow::{Context, Result, bail};
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::runtime::{RunConfig, StopReason, run as run_loop};
-use pendulab_rig::{Logger, config};
+use pendulab_rig::{Logger, Safety, config};
 use std::io::Write;
-use std::net::SocketAddr;
+use std::net::{SocketAddr, ToSocketAddrs};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
+
+/// Largest `|--theta0-deg|` \[°\]: two turns either way from upright covers every pose, the
+/// hanging rest (180°) and a pendulum raised to the top the other way round (360°) included.
+pub const THETA0_DEG_MAX: f64 = 720.0;
+/// Largest `--noise` \[counts\]: 100 counts is 2.5° on the pendulum encoder (14 400 counts a
+/// turn) and 4.8 mm on the cart's; noisier than that is no longer an encoder.
+pub const NOISE_COUNTS_MAX: f64 = 100.0;
+/// Largest `--latency-ms` \[ms\]: a second, twice the longest watchdog the runtime accepts
+/// ([`Safety::WATCHDOG_MAX_TIME`]), enough to show any run losing its rig.
+pub const LATENCY_MS_MAX: f64 = 1000.0;
+/// Longest `--watchdog-ms` of the emulator \[ms\].
+pub const EMULATOR_WATCHDOG_MS_MAX: f64 = 60_000.0;
 
 /// Arguments of `pendulab rig`.
 #[derive(Debug, clap::Args)]
@@ -60,62 +79,66 @@ pub struct EmulateArgs {
     /// Imperfections.
     #[arg(long, value_enum, default_value_t = Preset::Quantized)]
     pub preset: Preset,
-    /// Initial pendulum angle from the upright, degrees (180: hanging).
+    /// Initial pendulum angle from the upright, degrees (180: hanging), |·| ≤ 720.
     #[arg(long, default_value_t = 180.0, allow_hyphen_values = true)]
     pub theta0_deg: f64,
-    /// Initial drive position (cart m, arm degrees).
+    /// Initial drive position: cart m, arm degrees, on the track: |·| at most the longest
+    /// travel limit a controller file accepts (`Safety::TRAVEL_LIMIT_MAX_CART`, `_ARM`).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub q0: f64,
-    /// Encoder noise, standard deviation in counts (overrides the preset).
+    /// Encoder noise, standard deviation in counts, 0–100 (overrides the preset).
     #[arg(long)]
     pub noise: Option<f64>,
-    /// Drive friction, volts (overrides the preset).
+    /// Drive friction, volts, from 0 to the amplifier's range (5 V) (overrides the preset).
     #[arg(long)]
     pub friction: Option<f64>,
-    /// Packet loss probability, each direction (overrides the preset).
+    /// Packet loss probability, each direction, in [0, 1) (overrides the preset).
     #[arg(long)]
     pub loss: Option<f64>,
-    /// Extra latency of sensor frames, ms (overrides the preset).
+    /// Extra latency of sensor frames, ms, 0–1000 (overrides the preset).
     #[arg(long)]
     pub latency_ms: Option<f64>,
     /// Seed of noise and loss.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Zero the motor after this long without a fresh command, ms.
+    /// Zero the motor after this long without a fresh command, ms, in (0, 60000].
     #[arg(long, default_value_t = 50.0)]
     pub watchdog_ms: f64,
-    /// Stop after this many seconds (default: until Ctrl-C).
+    /// Stop after this many seconds, in (0, 3600] (default: until Ctrl-C).
     #[arg(long)]
     pub duration: Option<f64>,
     /// Run the emulator thread under SCHED_FIFO at this priority (1–99; needs root or rtprio).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(i32).range(1..=99))]
     pub rt_priority: Option<i32>,
 }
 
 /// Arguments of `pendulab rig run`.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
-    /// The rig's UDP address.
+    /// The rig's UDP address, `HOST:PORT` (`127.0.0.1:5005`, `localhost:5005`, `[::1]:5005`);
+    /// a host name with several addresses is taken at its first IPv4 one (the emulator listens
+    /// on 127.0.0.1 by default), and the address chosen is printed.
     #[arg(long)]
-    pub connect: SocketAddr,
+    pub connect: String,
     /// Controller file (TOML; see docs/rig/README.md).
     #[arg(long)]
     pub controller: PathBuf,
     /// Log every sample to this CSV file.
     #[arg(long)]
     pub log: Option<PathBuf>,
-    /// Stop after this many seconds (default 10; 0 runs until Ctrl-C).
+    /// Stop after this many seconds, at most 3600 (default 10; 0 runs until Ctrl-C).
     #[arg(long, default_value_t = 10.0)]
     pub duration: f64,
-    /// Override the watchdog (periods without a fresh sensor frame).
+    /// Override the watchdog (periods without a fresh sensor frame), in the range of the
+    /// file's `safety.watchdog_periods` (at most 0.5 s of periods: 500 at 1 kHz).
     #[arg(long)]
     pub watchdog_periods: Option<u32>,
     /// Run the loop under SCHED_FIFO at this priority (1–99; needs root or rtprio; if refused
     /// the run goes on with ordinary scheduling and says so).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(i32).range(1..=99))]
     pub rt_priority: Option<i32>,
-    /// Pin the loop thread to this CPU (e.g. a core isolated with `isolcpus=`; if refused the
-    /// run goes on unpinned and says so).
+    /// Pin the loop thread to this CPU, below the number of CPUs present (e.g. a core isolated
+    /// with `isolcpus=`; if refused the run goes on unpinned and says so).
     #[arg(long)]
     pub cpu: Option<usize>,
     /// Talk to the rig over this serial port instead of UDP (`--connect` is then ignored).
@@ -144,15 +167,36 @@ fn stop_flag() -> Result<Arc<AtomicBool>> {
     Ok(stop)
 }
 
+/// `v` checked to lie in `lo ..= hi` (`lo` excluded if `open_lo`), else an error naming
+/// the flag, the value and the range.
+fn check_range(flag: &str, v: f64, lo: f64, open_lo: bool, hi: f64, unit: &str) -> Result<()> {
+    let above = if open_lo { v > lo } else { v >= lo };
+    if !(v.is_finite() && above && v <= hi) {
+        let open = if open_lo { "(" } else { "[" };
+        bail!("{flag} {v}: must be in {open}{lo}, {hi}]{unit}");
+    }
+    Ok(())
+}
+
 fn emulate(a: &EmulateArgs) -> Result<()> {
     let plant = PlantKind::parse(&a.plant)?;
-    if !a.theta0_deg.is_finite() || !a.q0.is_finite() {
-        bail!("--theta0-deg and --q0 must be finite numbers");
-    }
-    let q0 = match plant {
-        PlantKind::Cart => a.q0,
-        PlantKind::Arm => a.q0.to_radians(),
+    check_range(
+        "--theta0-deg",
+        a.theta0_deg,
+        -THETA0_DEG_MAX,
+        false,
+        THETA0_DEG_MAX,
+        "°",
+    )?;
+    let (q0, q0_max, unit) = match plant {
+        PlantKind::Cart => (a.q0, Safety::TRAVEL_LIMIT_MAX_CART, " m (the cart's track)"),
+        PlantKind::Arm => (
+            a.q0.to_radians(),
+            Safety::TRAVEL_LIMIT_MAX_ARM.to_degrees(),
+            "° (the arm's range)",
+        ),
     };
+    check_range("--q0", a.q0, -q0_max, false, q0_max, unit)?;
     let mut c = EmulatorConfig::new(plant, [q0, a.theta0_deg.to_radians(), 0.0, 0.0]);
     c.listen = a.listen;
     c.seed = a.seed;
@@ -168,28 +212,42 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
         }
     }
     if let Some(v) = a.noise {
+        check_range("--noise", v, 0.0, false, NOISE_COUNTS_MAX, " counts")?;
         c.encoder_noise_counts = v;
     }
     if let Some(v) = a.friction {
+        let amp = plant.spec().input_limit;
+        check_range(
+            "--friction",
+            v,
+            0.0,
+            false,
+            amp,
+            " V (the amplifier's range)",
+        )?;
         c.friction_volts = v;
     }
     if let Some(v) = a.loss {
+        if !(0.0..1.0).contains(&v) {
+            bail!("--loss {v}: must be in [0, 1)");
+        }
         c.loss = v;
     }
     if let Some(v) = a.latency_ms {
-        if !(v.is_finite() && (0.0..=1000.0).contains(&v)) {
-            bail!("--latency-ms {v}: must be in [0, 1000]");
-        }
+        check_range("--latency-ms", v, 0.0, false, LATENCY_MS_MAX, " ms")?;
         c.latency = Duration::from_secs_f64(v * 1e-3);
     }
-    if !(a.watchdog_ms.is_finite() && a.watchdog_ms > 0.0 && a.watchdog_ms <= 60_000.0) {
-        bail!("--watchdog-ms {}: must be in (0, 60000]", a.watchdog_ms);
-    }
+    check_range(
+        "--watchdog-ms",
+        a.watchdog_ms,
+        0.0,
+        true,
+        EMULATOR_WATCHDOG_MS_MAX,
+        " ms",
+    )?;
     c.watchdog = Duration::from_secs_f64(a.watchdog_ms * 1e-3);
-    if let Some(d) = a.duration
-        && !(d.is_finite() && d > 0.0)
-    {
-        bail!("--duration {d}: must be > 0");
+    if let Some(d) = a.duration {
+        check_range("--duration", d, 0.0, true, config::DURATION_MAX, " s")?;
     }
     let stop = stop_flag()?;
     let emu = Emulator::spawn(c)?;
@@ -216,42 +274,115 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
     Ok(())
 }
 
+/// The address `--connect` names: a socket address as written, or a host name resolved by
+/// the system (`ToSocketAddrs`). Of several addresses the first IPv4 one is taken (the
+/// emulator listens on 127.0.0.1 by default; `localhost` often resolves to `::1` first), else
+/// the first.
+///
+/// # Errors
+/// A message naming `--connect` and the text when it is not `HOST:PORT` or does not resolve.
+pub fn resolve_connect(text: &str) -> Result<SocketAddr> {
+    let addrs: Vec<SocketAddr> = text
+        .to_socket_addrs()
+        .with_context(|| {
+            format!("--connect {text}: not a HOST:PORT that resolves (e.g. 127.0.0.1:5005 or localhost:5005)")
+        })?
+        .collect();
+    addrs
+        .iter()
+        .find(|a| a.is_ipv4())
+        .or(addrs.first())
+        .copied()
+        .with_context(|| format!("--connect {text}: the name resolves to no address"))
+}
+
+/// The number of CPUs present (`/sys/devices/system/cpu/present` on Linux: the highest index
+/// + 1), not only those this process may run on: a core isolated with `isolcpus=`, where
+/// `--cpu` is meant to put the loop, is outside the process's default affinity. Elsewhere,
+/// the parallelism available to the process.
+fn cpus_present() -> usize {
+    let sysfs = std::fs::read_to_string("/sys/devices/system/cpu/present")
+        .ok()
+        .and_then(|s| {
+            s.trim()
+                .split([',', '-'])
+                .map(|x| x.parse::<usize>().ok())
+                .collect::<Option<Vec<_>>>()
+        })
+        .and_then(|v| v.into_iter().max())
+        .map(|m| m + 1);
+    sysfs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}
+
+#[cfg(feature = "serial")]
+fn uses_serial(a: &RunArgs) -> bool {
+    a.serial.is_some()
+}
+
+#[cfg(not(feature = "serial"))]
+fn uses_serial(_: &RunArgs) -> bool {
+    false
+}
+
 fn run_controller(a: &RunArgs) -> Result<()> {
     let text = std::fs::read_to_string(&a.controller)
         .with_context(|| format!("reading {}", a.controller.display()))?;
     let mut loaded =
         config::load(&text).with_context(|| format!("in {}", a.controller.display()))?;
-    if !(a.duration.is_finite() && a.duration >= 0.0) {
-        bail!("--duration {}: must be ≥ 0", a.duration);
+    if !(a.duration.is_finite() && (0.0..=config::DURATION_MAX).contains(&a.duration)) {
+        bail!(
+            "--duration {}: must be in [0, {}] s (0: until Ctrl-C)",
+            a.duration,
+            config::DURATION_MAX
+        );
     }
-    let mut cfg = RunConfig::new(loaded.plant, a.connect);
+    if let Some(w) = a.watchdog_periods {
+        loaded
+            .override_watchdog_periods(w)
+            .with_context(|| format!("--watchdog-periods {w}"))?;
+    }
+    if let Some(c) = a.cpu {
+        let n = cpus_present();
+        if c >= n {
+            bail!(
+                "--cpu {c}: must be below the number of CPUs present ({n}: 0 to {})",
+                n - 1
+            );
+        }
+    }
+    let addr = match resolve_connect(&a.connect) {
+        Ok(addr) => addr,
+        // Over a serial port `--connect` only appears in messages.
+        Err(_) if uses_serial(a) => SocketAddr::from(([0, 0, 0, 0], 0)),
+        Err(e) => return Err(e),
+    };
+    let mut cfg = RunConfig::new(loaded.plant, addr);
     cfg.ts = loaded.ts;
     cfg.duration = (a.duration > 0.0).then_some(a.duration);
     cfg.safety = loaded.safety;
     cfg.differentiator_t = loaded.differentiator_t;
+    cfg.pendulum_centre = loaded.pendulum_centre;
     cfg.realtime_priority = a.rt_priority;
     cfg.cpu = a.cpu;
     #[cfg(feature = "serial")]
     {
         cfg.serial = a.serial.clone().map(|p| (p, a.baud));
     }
-    if let Some(w) = a.watchdog_periods {
-        if w == 0 {
-            bail!("--watchdog-periods must be ≥ 1");
-        }
-        cfg.safety.watchdog_periods = w;
-    }
     let stop = stop_flag()?;
     let log = match &a.log {
         Some(p) => Some(Logger::create(p, loaded.plant)?),
         None => None,
     };
+    let against = if a.connect == addr.to_string() {
+        a.connect.clone()
+    } else {
+        format!("{} ({addr})", a.connect)
+    };
     println!(
-        "running {} on the {} rig at {:.0} Hz against {}",
+        "running {} on the {} rig at {:.0} Hz against {against}",
         loaded.kind,
         loaded.plant.name(),
         1.0 / cfg.ts,
-        a.connect
     );
     std::io::stdout().flush().ok();
     let report = run_loop(&cfg, loaded.controller.as_mut(), &stop, log)?;

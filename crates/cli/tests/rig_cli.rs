@@ -335,3 +335,186 @@ fn bad_input_is_an_error_naming_what_and_where() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("loss"));
     assert!(d.join("").exists());
 }
+
+/// A run that should never start: exit 1 and every needle in stderr.
+fn refused(o: &Output, needles: &[&str]) {
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{e}");
+    assert_ne!(o.status.code(), Some(101), "panicked: {e}");
+    for n in needles {
+        assert!(e.contains(n), "stderr lacks {n:?}: {e}");
+    }
+}
+
+#[test]
+fn unbounded_safety_settings_are_refused_in_the_file_and_on_the_command_line() {
+    // Issue 21's findings, each of which was accepted. Nothing listens on 127.0.0.1:9: a
+    // check that let the run start would end in "no rig" after 0.2 s, which the needles
+    // (the flag or key named) tell apart.
+    let d = Dir::new("bounds");
+    let good = "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [0.0, 0.0, 0.0, 0.0]\n[safety]\nconnect_timeout_s = 0.2\n";
+    let ok_file = d.file("ok.toml", good);
+    let run = |file: &str, extra: &[&str]| {
+        pendulab()
+            .args([
+                "rig",
+                "run",
+                "--connect",
+                "127.0.0.1:9",
+                "--controller",
+                file,
+            ])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    // In the file: key and value named, exit 1.
+    for (i, (line, needles)) in [
+        (
+            "watchdog_periods = 4294967295",
+            &["safety.watchdog_periods = 4294967295", "must be in"][..],
+        ),
+        (
+            "voltage_limit = 1e9",
+            &["safety.voltage_limit = 1000000000", "must be in"][..],
+        ),
+        (
+            "travel_limit = 1e300",
+            &["safety.travel_limit", "must be in"][..],
+        ),
+        (
+            "angle_window_deg = 1e-300",
+            &["safety.angle_window_deg", "must be in"][..],
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let f = d.file(&format!("s{i}.toml"), &format!("{good}{line}\n"));
+        let o = run(&f, &[]);
+        assert_eq!(o.status.code(), Some(1), "{line}");
+        refused(&o, needles);
+    }
+    // A key of another kind.
+    let f = d.file(
+        "k2.toml",
+        "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [0.0, 0.0, 0.0, 0.0]\nk2 = nan\n",
+    );
+    refused(&run(&f, &[]), &["k2", "state-feedback"]);
+    // On the command line: the flag and its value named.
+    for (args, needles) in [
+        (
+            &["--watchdog-periods", "4294967295"][..],
+            &["--watchdog-periods 4294967295", "must be in"][..],
+        ),
+        (
+            &["--watchdog-periods", "0"][..],
+            &["--watchdog-periods 0"][..],
+        ),
+        (&["--rt-priority", "200"][..], &["--rt-priority", "200"][..]),
+        (&["--rt-priority", "0"][..], &["--rt-priority", "0"][..]),
+        (
+            &["--cpu", "100000"][..],
+            &["--cpu 100000", "must be below"][..],
+        ),
+        (
+            &["--duration", "1e20"][..],
+            &["--duration", "must be in"][..],
+        ),
+        (&["--duration=-1"][..], &["--duration -1", "must be in"][..]),
+    ] {
+        refused(&run(&ok_file, args), needles);
+    }
+    // The emulator's flags: refused before it listens.
+    for (args, needles) in [
+        (
+            &["--plant", "cart", "--q0", "5"][..],
+            &["--q0 5", "track"][..],
+        ),
+        (&["--plant", "cart", "--q0", "-1.5"][..], &["--q0 -1.5"][..]),
+        (
+            &["--plant", "arm", "--q0", "200"][..],
+            &["--q0 200", "arm"][..],
+        ),
+        (
+            &["--plant", "cart", "--theta0-deg", "1e9"][..],
+            &["--theta0-deg"][..],
+        ),
+        (&["--plant", "cart", "--noise=-1"][..], &["--noise -1"][..]),
+        (&["--plant", "cart", "--noise", "1e9"][..], &["--noise"][..]),
+        (
+            &["--plant", "cart", "--friction", "10"][..],
+            &["--friction 10"][..],
+        ),
+        (&["--plant", "cart", "--loss", "1"][..], &["--loss 1"][..]),
+        (
+            &["--plant", "cart", "--latency-ms", "1e9"][..],
+            &["--latency-ms"][..],
+        ),
+        (
+            &["--plant", "cart", "--duration", "1e20"][..],
+            &["--duration"][..],
+        ),
+        (
+            &["--plant", "cart", "--rt-priority", "200"][..],
+            &["--rt-priority"][..],
+        ),
+    ] {
+        let o = pendulab()
+            .args(["rig", "emulate", "--listen", "127.0.0.1:0"])
+            .args(args)
+            .output()
+            .unwrap();
+        refused(&o, needles);
+        assert!(
+            !String::from_utf8_lossy(&o.stdout).contains("listening"),
+            "{args:?}"
+        );
+    }
+}
+
+#[test]
+fn connect_takes_a_host_name() {
+    // `localhost:PORT` reaches the emulator listening on 127.0.0.1 (the address chosen is
+    // printed), and the run balances the cart from 5° to completion.
+    let d = Dir::new("host");
+    let emu = Emulator::spawn(EmulatorConfig::new(
+        PlantKind::Cart,
+        [0.0, 5f64.to_radians(), 0.0, 0.0],
+    ))
+    .unwrap();
+    let h = emu.handle();
+    let port = emu.addr().port();
+    let ctl = d.file("lqr.toml", CART_LQR);
+    let o = pendulab()
+        .args([
+            "rig",
+            "run",
+            "--connect",
+            &format!("localhost:{port}"),
+            "--controller",
+            &ctl,
+            "--duration",
+            "0.5",
+        ])
+        .output()
+        .unwrap();
+    let out = ok(&o);
+    println!("{out}");
+    assert!(
+        out.contains(&format!("against localhost:{port} (127.0.0.1:{port})")),
+        "{out}"
+    );
+    assert!(out.contains("stop: completed"), "{out}");
+    assert!(h.telemetry().commands_accepted > 0);
+    emu.stop().unwrap();
+    // Names that do not resolve, and text that is no HOST:PORT, are errors naming --connect.
+    for bad in ["no-such-host.invalid:5005", "localhost", "127.0.0.1"] {
+        let o = pendulab()
+            .args(["rig", "run", "--connect", bad, "--controller", &ctl])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{bad}");
+        refused(&o, &[&format!("--connect {bad}")]);
+    }
+}
