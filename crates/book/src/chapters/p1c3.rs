@@ -530,7 +530,8 @@ fn peak_feature(
     }
     let tp = (t[imax] + t[imax_last]) / 2.0;
     let amax = ymax - yc;
-    if !(amax > 0.0 && tp > 0.0) {
+    // Data are finite (the CSV reader refuses NaN), so these comparisons decide.
+    if amax <= 0.0 || tp <= 0.0 {
         return Err(fail(
             id,
             format!(
@@ -877,7 +878,7 @@ fn mfile_free_oscillation(
                 break;
             }
         }
-        if !(a > 0.0) || imax > n {
+        if a <= 0.0 || imax > n {
             return Err(fail(
                 id,
                 format!("no positive peak between samples {lo} and {hi} of the window"),
@@ -936,7 +937,7 @@ fn p1c332_adip_id_pend(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let zeta = gamma / omega_n;
     let j2 = m2 * g * l2 / (omega_n * omega_n) - m2 * l2 * l2;
     let mu2 = 2.0 * zeta * omega_n * (j2 + m2 * l2 * l2);
-    if !(j2 > 0.0) {
+    if j2.is_nan() || j2 <= 0.0 {
         return Err(fail(
             ID332P,
             format!(
