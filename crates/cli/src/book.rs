@@ -92,7 +92,7 @@ pub fn run(args: &BookArgs) -> Result<()> {
                     );
                 } else {
                     let data = if e.needs_data.is_some() {
-                        "  [needs --data]"
+                        "  [takes --data]"
                     } else {
                         ""
                     };
