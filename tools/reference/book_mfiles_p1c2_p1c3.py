@@ -15,11 +15,11 @@ response of the book's Simulink model cart_model.slx). Nothing here uses pendula
 - p1c332_adip_id_arm.m: the same on adip_arm_pcont_data_kP_3_ref_1.csv (the M-file's
   adip_pcont_data_kP_3_ref_1), theta1c = 1, k_P = 3.
 - p1c332_adip_id_pend.m: adip_pend_data.csv, 50 s <= t <= 66 s, peaks between negative-going zero
-  crossings exactly as the M-file finds them (including its `imax(j) + num(j)`, line 152, which
+  crossings exactly as the M-file finds them (including its `imax(j) + num(j)`, line 57, which
   points one sample after the largest sample).
 - p1c332_adip_id_least_square.m: adip_least_square_data.csv, 1 s <= t <= 9 s, three-point derivatives,
   the model adip_least_square_MN_sim.slx: every column through tf(1,[Tf 1])^3 (Tf = 0.075 s) under
-  Simulink's ode1 (forward Euler) at 1 ms from a zero state, then p = inv(M'M) M'N (lines 395-396).
+  Simulink's ode1 (forward Euler) at 1 ms from a zero state, then p = inv(M'M) M'N (lines 102-103).
 
 Run: python3 tools/reference/book_mfiles_p1c2_p1c3.py   (from the repository root)
 Produced with Python 3.11.7, standard library only (no NumPy); prints JSON.
