@@ -330,6 +330,51 @@ fn advancing_stream() {
     );
 }
 
+/// Issue 21: one frame far ahead (a corrupted sequence number that still passed the CRC, the
+/// issue's case being 2³¹ − 1 ahead) must not capture the gate and make every later good frame
+/// "out of order". A jump of up to 2²⁰ is left out: it is indistinguishable from that many lost
+/// frames.
+#[test]
+fn a_wild_frame_does_not_capture_the_gate() {
+    let case = (
+        any::<u32>(),
+        1usize..40,
+        (1u32 << 20)..(1u32 << 31),
+        proptest::bool::ANY,
+    );
+    GATE.run(
+        cases(6000),
+        case,
+        |&(start, before, wild, exact)| {
+            let wild = if exact { (1 << 31) - 1 } else { wild };
+            let mut q: Vec<u32> = (0..before as u32).map(|i| start.wrapping_add(i)).collect();
+            let last = *q.last().unwrap();
+            q.push(last.wrapping_add(wild));
+            q.extend((1..=32).map(|i| last.wrapping_add(i)));
+            let text: Vec<String> = q.iter().map(u32::to_string).collect();
+            (text.join("\n") + "\n").into_bytes()
+        },
+        |&(start, before, wild, exact)| {
+            let wild = if exact { (1 << 31) - 1 } else { wild };
+            let mut gate = SequenceGate::new();
+            for i in 0..before as u32 {
+                gate.check(start.wrapping_add(i));
+            }
+            let last = start.wrapping_add(before as u32 - 1);
+            gate.check(last.wrapping_add(wild));
+            let rejected = (1..=32)
+                .filter(|&i| !matches!(gate.check(last.wrapping_add(i)), SeqVerdict::Fresh { .. }))
+                .count();
+            if rejected > 0 {
+                return Err(format!(
+                    "after one frame {wild} ahead of {last}, {rejected} of the next 32 good frames were rejected"
+                ));
+            }
+            Ok(())
+        },
+    );
+}
+
 #[test]
 fn the_sequence_gate_never_panics_on_any_stream() {
     GATE.run(
