@@ -296,10 +296,10 @@ pub fn resolve_connect(text: &str) -> Result<SocketAddr> {
         .with_context(|| format!("--connect {text}: the name resolves to no address"))
 }
 
-/// The number of CPUs present (`/sys/devices/system/cpu/present` on Linux: the highest index
-/// + 1), not only those this process may run on: a core isolated with `isolcpus=`, where
-/// `--cpu` is meant to put the loop, is outside the process's default affinity. Elsewhere,
-/// the parallelism available to the process.
+/// The number of CPUs present (on Linux one more than the highest index in
+/// `/sys/devices/system/cpu/present`), not only those this process may run on: a core
+/// isolated with `isolcpus=`, where `--cpu` is meant to put the loop, is outside the process's
+/// default affinity. Elsewhere, the parallelism available to the process.
 fn cpus_present() -> usize {
     let sysfs = std::fs::read_to_string("/sys/devices/system/cpu/present")
         .ok()
