@@ -5,9 +5,9 @@
 //!
 //! | item | what it is |
 //! |---|---|
-//! | [`protocol`] | wire protocol v1: 36-byte sensor and 24-byte command frames, CRC-16/CCITT-FALSE, sequence gate (replayed / out-of-order frames rejected and counted); layout and a page of C in `docs/rig/protocol.md` |
-//! | [`emulator`] | [`Emulator`]: the nonlinear cart or arm plant in real time behind the protocol on UDP, with the book's encoders, ±5 V, 16-bit D/A, seeded noise, friction, loss, latency, a stall switch and a watchdog that zeroes the motor |
-//! | [`runtime`] | [`runtime::run`]: the fixed-rate loop (sleep + spin), pseudo-differentiated velocities, any `pendulab_sim::Controller`, safety (clamp, travel limit, angle window, watchdog, NaN guard, stop flag), statistics (jitter, lateness, computation, round trip, deadline misses) and a [`StopReason`] for every stop |
+//! | [`protocol`] | wire protocol v1: 36-byte sensor and 24-byte command frames, CRC-16/CCITT-FALSE, sequence gate (replayed / out-of-order frames rejected and counted, far jumps held until confirmed); layout and a page of C in `docs/rig/protocol.md` |
+//! | [`emulator`] | [`Emulator`]: the nonlinear cart or arm plant in real time behind the protocol on UDP, with the book's encoders, ±5 V, 16-bit D/A, seeded noise, friction, loss, latency, a stall switch, a pendulum-encoder turn shift, a validated run duration and a watchdog that zeroes the motor |
+//! | [`runtime`] | [`runtime::run`]: the fixed-rate loop (sleep + spin, missed deadlines skipped), pseudo-differentiated velocities, the pendulum angle wrapped about the controller's equilibrium ([`RunConfig::pendulum_centre`]), any `pendulab_sim::Controller`, safety with documented ranges ([`Safety::validate`]: clamp, travel limit, angle window, watchdog, stale-data hold, NaN guard, stop flag), statistics (jitter, lateness, computation, round trip, deadline misses, stale data, held commands) and a [`StopReason`] for every stop; lab-PC setup in `docs/rig/lab-pc.md` |
 //! | [`config`] | controller files (TOML): state feedback, LQ servo, gain-scheduled, swing-up + balance, with LQR designs on the book plants |
 //! | [`log`] | [`Logger`]: lossless CSV off the control thread, flushed on every stop path; readable by `pendulab identify` |
 //! | [`clock`] | the sleep-then-spin wait and nearest-rank percentiles |

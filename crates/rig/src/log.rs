@@ -19,9 +19,13 @@
 //! `t_nominal = k·ts` its deadline and `t_wall` its measured wake-up (both from the loop's
 //! start): `t_wall − t_nominal` is the wake-up lateness. `theta`/`theta2` are upright-zero
 //! (pendulab's convention) and `phi`/`phi2 = θ − π` are measured from the hanging rest (the
-//! convention of `data/rig/`), `phi1 = θ₁`; `v` is the voltage the rig had applied when it
-//! took the sample (the command the frame echoes, after the loop's clamp; 0 before the first
-//! command), `v_sent` the voltage the loop sent in period `k` and `u_ctrl` the controller's
+//! convention of `data/rig/`), `phi1 = θ₁`. Angles are logged **raw**, as the encoders count
+//! them (multi-turn: a pendulum raised the other way round reads `2π` more, and an encoder
+//! that slips a turn shows it), although the controller saw the pendulum angle wrapped about
+//! its equilibrium (`RunConfig::pendulum_centre`). `v` is the voltage the rig had applied
+//! when it took the sample (the command the frame echoes, after the loop's clamp; 0 before
+//! the first command and for frames echoing the connect phase's disabled commands, i.e.
+//! before the rig is enabled), `v_sent` the voltage the loop sent in period `k` and `u_ctrl` the controller's
 //! output before the clamp; these two and the velocity estimates `dz, dtheta` are the loop's
 //! values of period `k`, computed from the period's newest frame (rows of older frames read
 //! in the same period repeat them); `status` is the rig's status bits. Every field is finite.

@@ -4,21 +4,40 @@
 //!
 //! 1. read every sensor datagram waiting; keep the newest well-formed frame of this session
 //!    with a fresh sequence number (the rest are counted in [`RejectCounts`]); with none, the
-//!    previous reading is used again and the period counts as *stale*;
-//! 2. **watchdog**: `watchdog_periods` stale periods in a row stop the run
-//!    ([`StopReason::Watchdog`]);
-//! 3. encoder counts → positions (`q₀ = c₀ s₀`, `q₁ = c₁ s₁ + π`: the pendulum encoder counts
-//!    from the hanging rest), velocities by the rig's pseudo-differentiator `s/(T s + 1)`
-//!    (`pendulab_sim::SensorChain`, Tustin), `y = [q₀, q₁, q̇₀, q̇₁]`;
+//!    period is *stale*, and the data's age is `k − k_fresh` periods since the period that
+//!    read the last fresh frame;
+//! 2. **watchdog**: an age of `watchdog_periods` stops the run ([`StopReason::Watchdog`]);
+//!    a stale period younger than that computes **nothing**: up to `stale_hold_periods` it
+//!    sends the last command computed from a fresh measurement again (*held*), beyond that
+//!    0 V (enabled), and goes on with step 6;
+//! 3. encoder counts → positions (`q₀ = c₀ s₀`; the pendulum encoder counts from the
+//!    hanging rest, `c₁ s₁ + π`, made continuous by adding each reading's difference to the
+//!    previous one wrapped to `(−π, π]`, so a reading that jumps by a whole turn moves
+//!    nothing), velocities by the rig's pseudo-differentiator `s/(T s + 1)`
+//!    (`pendulab_sim::SensorChain`, Tustin; through a gap of `g` periods it steps `g` times
+//!    on linearly interpolated positions), then the pendulum angle **wrapped about the
+//!    controller's equilibrium**, `q₁ = wrap_about(·, pendulum_centre)` (upright: `(−π, π]`;
+//!    [`pendulab_plants::wrap_about`], the workspace's one wrapping); `q₀` is never wrapped
+//!    (the arm's turns count); `y = [q₀, q₁, q̇₀, q̇₁]`;
 //! 4. safety on `y`: NaN guard, drive travel limit `|q₀| ≤ travel_limit`, and for balance
-//!    controllers the angle window `|wrap(q₁)| ≤ angle_window`;
-//! 5. `u = controller.update(k·ts, y)`, NaN guard on `u`, clamp to `±voltage_limit`, send the
-//!    command frame; hand every fresh frame of the period to the logger (one row each,
-//!    stamped with the rig's clock, see [`crate::log`]).
+//!    controllers the angle window `|q₁ − pendulum_centre| ≤ angle_window`;
+//! 5. `u = controller.update(k·ts, y)`, NaN guard on `u`, clamp to `±voltage_limit`;
+//! 6. send the command frame; hand every fresh frame of the period to the logger (one row
+//!    each, stamped with the rig's clock, raw angles, see [`crate::log`]);
+//! 7. deadlines that have already passed are **skipped**, not replayed back to back: after a
+//!    stall of `d` the loop runs the latest passed deadline at once (it reads every frame
+//!    that waited) and counts the rest in [`LoopStats::skipped_periods`]; it never skips past
+//!    the watchdog's deadline or the run's last period. (Replaying them made the first
+//!    catch-up period read every waiting frame and the next ones find none: a 20 ms stall
+//!    looked like 20 stale periods and tripped a 20-period watchdog.)
 //!
 //! Every stop (completed, Ctrl-C, watchdog, limits, NaN, I/O) sends 0 V with
 //! [`flags::STOP`] (three times, for loss), logs a final row with `v = 0`, flushes the log and
-//! reports the [`StopReason`] with the loop's statistics ([`LoopStats`]).
+//! reports the [`StopReason`] with the loop's statistics ([`LoopStats`]: timing, stale data
+//! — periods, longest age, held and 0 V commands —, skipped periods, rejected frames, and
+//! a warning if the rig's time stamps went backwards). The safety limits have documented
+//! ranges ([`Safety::validate`], checked first); `docs/rig/lab-pc.md` explains the watchdog
+//! and hold defaults and how to set up a lab PC.
 
 use crate::RigError;
 use crate::clock::{Histogram, Percentiles, sleep_until, thread_cpu_time};
@@ -97,10 +116,17 @@ impl Safety {
     pub const STALE_HOLD_MAX_TIME: f64 = 0.1;
     /// The longest connect timeout: 60 s (enough to power a rig up by hand).
     pub const CONNECT_TIMEOUT_MAX: Duration = Duration::from_secs(60);
-    /// The default watchdog time \[s\]: 50 ms, from host stalls measured on a loaded lab PC
-    /// (see `docs/rig/lab-pc.md`): it is above the longest stall seen there with a margin.
+    /// The default watchdog time \[s\]: 50 ms, chosen from stalls measured on the 2-core
+    /// development machine with the other core busy (`docs/rig/lab-pc.md`): with ordinary
+    /// scheduling the longest time without a fresh frame in six 30 s runs at 1 kHz was 12–38 ms
+    /// (all six completed at this default), under `SCHED_FIFO` on a pinned core 9 ms. 50 ms is
+    /// above all of them and a tenth of [`Self::WATCHDOG_MAX_TIME`]; the rarer longer host
+    /// stalls of ordinary scheduling (one of 99 ms in twelve runs) are what a lab PC's
+    /// real-time setup is for.
     pub const WATCHDOG_DEFAULT_TIME: f64 = 0.05;
-    /// The default stale-hold time \[s\]: 20 ms (see `docs/rig/lab-pc.md`).
+    /// The default stale-hold time \[s\]: 20 ms. A held command is at most 20 ms old, a sixth
+    /// of the upright cart pendulum's doubling time (`ln 2 / 5.75 s⁻¹ = 0.12 s`); in the
+    /// measured runs of `docs/rig/lab-pc.md` it bridged all but 6 of 26 613 stale periods.
     pub const STALE_HOLD_DEFAULT_TIME: f64 = 0.02;
 
     /// Defaults of a rig at its sample time (1 ms on both book rigs): the amplifier's range
@@ -170,16 +196,19 @@ impl Safety {
         if !(t > 0.0 && t <= tmax) {
             return err("travel_limit", t.to_string(), format!("(0, {tmax}] {unit}"));
         }
+        // The bounds with a relative 10⁻¹² of slack: a window written in degrees reaches
+        // radians by one rounding (`90f64.to_radians()` need not be `FRAC_PI_2` exactly).
         if let Some(w) = self.angle_window
-            && !(w >= Self::ANGLE_WINDOW_MIN && w <= Self::ANGLE_WINDOW_MAX)
+            && !(Self::ANGLE_WINDOW_MIN * (1.0 - 1e-12)..=Self::ANGLE_WINDOW_MAX * (1.0 + 1e-12))
+                .contains(&w)
         {
             return err(
                 "angle_window_deg",
                 w.to_degrees().to_string(),
                 format!(
                     "[{}, {}]",
-                    Self::ANGLE_WINDOW_MIN.to_degrees(),
-                    Self::ANGLE_WINDOW_MAX.to_degrees()
+                    Self::ANGLE_WINDOW_MIN.to_degrees().round(),
+                    Self::ANGLE_WINDOW_MAX.to_degrees().round()
                 ),
             );
         }
