@@ -51,6 +51,20 @@ pub enum LtiError {
         /// Frobenius norm of the antisymmetric part times two.
         asymmetry: f64,
     },
+    /// A weight that must be positive semidefinite is not: its smallest eigenvalue is below
+    /// `−tolerance`, where the tolerance covers the rounding of a semidefinite matrix formed
+    /// in floating point (see [`lqr`](crate::design::lqr) for the definition).
+    #[error(
+        "{what} must be positive semidefinite for an LQ problem (smallest eigenvalue {min_eigenvalue:e}, below the rounding tolerance -{tolerance:e})"
+    )]
+    NotPositiveSemidefinite {
+        /// Which matrix, e.g. `"Q"` or `"[Q N; Nᵀ R]"`.
+        what: String,
+        /// Its smallest eigenvalue.
+        min_eigenvalue: f64,
+        /// The tolerance: eigenvalues down to `−tolerance` count as rounding of zero.
+        tolerance: f64,
+    },
     /// A matrix that must be positive definite is not.
     #[error("{what} must be positive definite (smallest eigenvalue {min_eigenvalue:e})")]
     NotPositiveDefinite {
@@ -68,7 +82,7 @@ pub enum LtiError {
     /// The pair (A, B) has an uncontrollable mode that is not stable, so no stabilising
     /// feedback (and no stabilising Riccati solution) exists.
     #[error(
-        "(A, B) is not stabilisable: the mode at {}{:+}j is uncontrollable (PBH margin {margin:e}) and not stable",
+        "no stabilising solution: (A, B) is not stabilisable: the mode at {}{:+}j is uncontrollable (PBH margin {margin:e}) and not stable",
         eigenvalue.re, eigenvalue.im
     )]
     NotStabilizable {
@@ -80,7 +94,8 @@ pub enum LtiError {
     /// The pair (Q, A) has an unobservable mode on the stability boundary, so the Riccati
     /// equation has no stabilising solution.
     #[error(
-        "(Q, A) is not detectable: the mode at {}{:+}j is unobservable through Q (PBH margin {margin:e}) and on or outside the stability boundary",
+        "no stabilising solution: (Q, A) is not detectable: the mode at {}{:+}j is unobservable through Q (PBH margin {margin:e}) and on or outside the stability boundary, so the Hamiltonian (symplectic pencil) has the eigenvalue {}{:+}j on the boundary",
+        eigenvalue.re, eigenvalue.im,
         eigenvalue.re, eigenvalue.im
     )]
     NotDetectable {
@@ -90,18 +105,40 @@ pub enum LtiError {
         margin: f64,
     },
     /// The Hamiltonian matrix (continuous) or symplectic pencil (discrete) has eigenvalues on
-    /// the imaginary axis (unit circle), so there is no stabilising Riccati solution.
+    /// the imaginary axis (unit circle), or so near it that the computed solution cannot
+    /// separate them from it, so there is no (certifiably) stabilising Riccati solution. The
+    /// criterion is documented at [`equations::riccati`](crate::equations::riccati).
     #[error(
-        "the {what} has an eigenvalue on the stability boundary at {}{:+}j (distance {distance:e}); no stabilising solution exists",
-        eigenvalue.re, eigenvalue.im
+        "no stabilising solution: the {what} has eigenvalues on or numerically near the stability boundary: {} (nearest at distance {distance:e}, within the tolerance {tolerance:e})",
+        format_eigenvalues(eigenvalues)
     )]
     BoundaryEigenvalue {
-        /// "Hamiltonian matrix" or "symplectic pencil".
+        /// "Hamiltonian matrix" or "symplectic pencil", with the method or stage that found it.
         what: String,
-        /// The offending eigenvalue.
+        /// The offending eigenvalue nearest the boundary.
         eigenvalue: Complex64,
         /// Its distance to the imaginary axis (unit circle).
         distance: f64,
+        /// Every offending eigenvalue (for a computed solution: the near-boundary closed-loop
+        /// poles and their mirror images `−λ̄` (continuous) or `1/λ̄` (discrete)).
+        eigenvalues: Vec<Complex64>,
+        /// The distance below which an eigenvalue counts as on the boundary (`0` when it is
+        /// on or beyond it as computed).
+        tolerance: f64,
+    },
+    /// A problem is too ill-conditioned to be solved reliably in double precision: its
+    /// estimated condition number exceeds the limit, so the solver stops early instead of
+    /// trying every method.
+    #[error(
+        "{what} is too ill-conditioned to solve reliably: estimated condition number {condition:e} exceeds {limit:e}"
+    )]
+    IllConditioned {
+        /// Which problem or matrix, and how the estimate was formed.
+        what: String,
+        /// The estimated condition number.
+        condition: f64,
+        /// The limit it exceeds.
+        limit: f64,
     },
     /// A matrix that must be inverted is singular to working precision.
     #[error("{what} is singular to working precision (reciprocal condition {rcond:e})")]
@@ -211,6 +248,19 @@ pub enum LtiError {
     /// Any other invalid argument, with a message naming it.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+}
+
+/// `a+bj, c+dj, …` for an error message (at most eight values, then a count).
+fn format_eigenvalues(ev: &[Complex64]) -> String {
+    let mut parts: Vec<String> = ev
+        .iter()
+        .take(8)
+        .map(|l| format!("{:e}{:+e}j", l.re, l.im))
+        .collect();
+    if ev.len() > 8 {
+        parts.push(format!("and {} more", ev.len() - 8));
+    }
+    parts.join(", ")
 }
 
 /// Result alias of the LTI core.

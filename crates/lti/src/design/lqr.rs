@@ -45,11 +45,26 @@ impl From<RiccatiSolution> for Lqr {
 /// Only `A` and `B` of `sys` are used. Solved by [`care`]/[`dare`] with default
 /// [`RiccatiOptions`]; see [`lqr_with_options`].
 ///
+/// **Only LQ problems are answered.** The cost must be a cost: the joint weight
+/// `W = [[Q, N], [Nᵀ, R]]` (`Q` alone and `R` alone when `N` is absent) must be positive
+/// semidefinite, and `R` positive definite in continuous time (in discrete time a singular
+/// `R ⪰ 0` is allowed, as long as `BᵀXB + R` is invertible at the solution, see [`dare`]).
+/// A weight counts as semidefinite when its smallest eigenvalue is at least
+/// `−τ`, `τ = LQ_WEIGHT_TOLERANCE · (n + m) · ε · ‖W‖_F` ([`LQ_WEIGHT_TOLERANCE`] `= 100`): a
+/// semidefinite matrix formed in floating point (`CᵀC`, a Van Loan integral) has eigenvalue
+/// errors of a few `(n + m)·ε·‖W‖`, while an indefinite weight (`Q = −1`, which [`care`]
+/// itself would accept as an equation) is refused with its smallest eigenvalue. The Riccati
+/// equations of indefinite data remain available through [`care`]/[`dare`], whose results
+/// are always verified (stabilising closed loop, residual, boundary verdict).
+///
 /// # Errors
 /// Shape/finiteness errors naming `Q`, `R` or `N`; [`LtiError::NotSymmetric`];
-/// [`LtiError::NotPositiveDefinite`] for `R` (continuous); [`LtiError::NotStabilizable`],
-/// [`LtiError::NotDetectable`], [`LtiError::BoundaryEigenvalue`] when no stabilising
-/// solution exists; the solvers' numerical errors.
+/// [`LtiError::NotPositiveDefinite`] for `R` (continuous);
+/// [`LtiError::NotPositiveSemidefinite`] for an indefinite `Q`, `R` or `[Q N; Nᵀ R]`;
+/// [`LtiError::NotStabilizable`], [`LtiError::NotDetectable`],
+/// [`LtiError::BoundaryEigenvalue`] (Hamiltonian / symplectic eigenvalues on or numerically
+/// near the stability boundary) when no stabilising solution exists;
+/// [`LtiError::IllConditioned`] and the solvers' numerical errors.
 #[doc(alias = "dlqr")]
 pub fn lqr<D: TimeDomain>(sys: &StateSpace<D>, q: &Mat, r: &Mat, n: Option<&Mat>) -> Result<Lqr> {
     lqr_with_options(sys, q, r, n, &RiccatiOptions::default())
@@ -66,11 +81,69 @@ pub fn lqr_with_options<D: TimeDomain>(
     n: Option<&Mat>,
     options: &RiccatiOptions,
 ) -> Result<Lqr> {
-    let sol = match sys.domain().sample_time() {
-        None => care(sys.a(), sys.b(), q, r, n, options)?,
-        Some(_) => dare(sys.a(), sys.b(), q, r, n, options)?,
+    let continuous = sys.domain().sample_time().is_none();
+    crate::equations::riccati::validate(sys.a(), sys.b(), q, r, n, continuous)?;
+    check_lq_weights(["Q", "R", "N"], q, r, n)?;
+    let sol = if continuous {
+        care(sys.a(), sys.b(), q, r, n, options)?
+    } else {
+        dare(sys.a(), sys.b(), q, r, n, options)?
     };
     Ok(sol.into())
+}
+
+/// Weights of an LQ cost count as positive semidefinite down to a smallest eigenvalue of
+/// `−LQ_WEIGHT_TOLERANCE · (n + m) · ε · ‖W‖_F` (see [`lqr`]).
+pub const LQ_WEIGHT_TOLERANCE: f64 = 100.0;
+
+/// Checks that `[[Q, N], [Nᵀ, R]]` (or `Q` and `R` separately when `N` is absent) is positive
+/// semidefinite to the tolerance of [`lqr`]; `names` are the names of `Q`, `R`, `N` in
+/// messages. Shapes, finiteness and symmetry must already be validated.
+fn check_lq_weights(names: [&str; 3], q: &Mat, r: &Mat, n: Option<&Mat>) -> Result<()> {
+    let (nx, m) = (q.nrows(), r.nrows());
+    match n {
+        Some(nm) => {
+            let mut w = Mat::zeros(nx + m, nx + m);
+            w.view_mut((0, 0), (nx, nx)).copy_from(q);
+            w.view_mut((nx, nx), (m, m)).copy_from(r);
+            w.view_mut((0, nx), (nx, m)).copy_from(nm);
+            w.view_mut((nx, 0), (m, nx)).copy_from(&nm.transpose());
+            let what = format!("[{} {}; {}ᵀ {}]", names[0], names[2], names[2], names[1]);
+            check_psd(&what, &crate::linalg::symmetrize(&w))
+        }
+        None => {
+            check_psd(names[0], &crate::linalg::symmetrize(q))?;
+            check_psd(names[1], &crate::linalg::symmetrize(r))
+        }
+    }
+}
+
+/// `NotPositiveSemidefinite` unless the symmetric `w` has no eigenvalue below
+/// `−τ = −LQ_WEIGHT_TOLERANCE·k·ε·‖w‖_F` (`k` its order). A Cholesky factorisation of
+/// `w + τI` settles the common case (it exists iff `λ_min(w) > −τ`, up to its own backward
+/// error `≈ kε‖w‖ ≪ τ`); the eigenvalues are computed only when it fails.
+fn check_psd(what: &str, w: &Mat) -> Result<()> {
+    let k = w.nrows();
+    if k == 0 {
+        return Ok(());
+    }
+    let tolerance = LQ_WEIGHT_TOLERANCE * k as f64 * f64::EPSILON * w.norm();
+    let shifted = w + Mat::identity(k, k) * tolerance;
+    if tolerance > 0.0 && shifted.cholesky().is_some() {
+        return Ok(());
+    }
+    let min = crate::linalg::symmetric_eigenvalues(w)
+        .first()
+        .copied()
+        .unwrap_or(f64::NAN);
+    if min.is_nan() || min < -tolerance {
+        return Err(LtiError::NotPositiveSemidefinite {
+            what: what.into(),
+            min_eigenvalue: min,
+            tolerance,
+        });
+    }
+    Ok(())
 }
 
 /// The discretised weights of a continuous quadratic cost under zero-order hold.
@@ -193,6 +266,9 @@ pub struct Kalman {
 /// `L = (A P Cᵀ + G N_n)(C P Cᵀ + R_n)⁻¹`, the gain of the one-step predictor
 /// `x̂ₖ₊₁ = A x̂ₖ + B uₖ + L (yₖ − C x̂ₖ − D uₖ)`.
 ///
+/// The noise intensities must be covariances: `[[Q_n, N_n], [N_nᵀ, R_n]] ⪰ 0` to the
+/// tolerance of [`lqr`] ([`LtiError::NotPositiveSemidefinite`] otherwise).
+///
 /// # Errors
 /// Shape errors naming `G`, `Qn`, `Rn`, `Nn`; as [`lqr`] (with "stabilisable" meaning
 /// `(Aᵀ, Cᵀ)`, i.e. `(C, A)` detectable).
@@ -210,13 +286,19 @@ pub fn lqe<D: TimeDomain>(
     check_finite("G", g)?;
     check_square("Qn", qn)?;
     check_shape("Qn", qn, g.ncols(), g.ncols())?;
+    check_shape("Rn", rn, sys.ny(), sys.ny())?;
+    check_finite("Qn", qn)?;
+    check_finite("Rn", rn)?;
     let cross = match nn {
         Some(nm) => {
             check_shape("Nn", nm, g.ncols(), sys.ny())?;
+            check_finite("Nn", nm)?;
             Some(g * nm)
         }
         None => None,
     };
+    // Noise intensities are covariances: [Qn Nn; Nnᵀ Rn] ⪰ 0, as the weights of `lqr`.
+    check_lq_weights(["Qn", "Rn", "Nn"], qn, rn, nn)?;
     let w = crate::linalg::symmetrize(&(g * qn * g.transpose()));
     let (at, ct) = (sys.a().transpose(), sys.c().transpose());
     let opts = RiccatiOptions::default();

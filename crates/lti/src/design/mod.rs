@@ -22,8 +22,8 @@ mod place;
 mod servo;
 
 pub use lqr::{
-    Kalman, Lqr, SampledDataCost, SampledDataLqr, lqe, lqr, lqr_sampled_data, lqr_with_options,
-    sampled_data_cost,
+    Kalman, LQ_WEIGHT_TOLERANCE, Lqr, SampledDataCost, SampledDataLqr, lqe, lqr, lqr_sampled_data,
+    lqr_with_options, sampled_data_cost,
 };
 pub use place::{PlacementMethod, PolePlacement, acker, place, place_observer};
 pub use servo::{

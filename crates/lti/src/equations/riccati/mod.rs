@@ -26,15 +26,28 @@
 //!    doubling method they are solved by the Smith iteration under the doubling's own Cayley
 //!    shift (matrix products only, see `smith.rs`); when such a step does not lower the
 //!    residual or gains less than a factor 2, the exact step follows.
-//! 6. The closed-loop poles are computed and required to be stable; the relative residual is
+//! 6. The closed-loop poles are computed and judged once, for every method, by the boundary
+//!    verdict of `boundary.rs`: a pole on or beyond the stability boundary fails, and so does
+//!    a pole nearer to it than the reach `ρ(λ) = κ(λ)·η·(‖L‖_F + |λ|‖M‖_F)` of the
+//!    solution's backward error `η` (its relative residual), `κ(λ)` the eigenvalue condition
+//!    number of the Hamiltonian matrix `L = H`, `M = I` (symplectic pencil `L − zM`) — the
+//!    computed `X` is exact for data perturbed by `η`, which can move that eigenvalue by
+//!    `ρ(λ)`, so it might lie on the boundary ([`LtiError::BoundaryEigenvalue`], naming the
+//!    poles and their mirror images). Only poles within [`BOUNDARY_SCREEN`] of the boundary
+//!    are judged this way (at most [`BOUNDARY_MAX_TESTED`]). The relative residual is
 //!    required to be below [`RESIDUAL_LIMIT`].
 //!
-//! A limit no method can remove: a Hamiltonian (symplectic) eigenvalue of multiplicity two
-//! exactly on the stability boundary is split by rounding into a pair at distance
-//! `O(sqrt(ε))` on either side of it. The computed "solution" then leaves closed-loop poles at
-//! that distance, indistinguishable from a genuine (if tiny) stability margin — such as the
-//! `1 − 2·10⁻⁸` pole of DAREX 2.5 or the `−5·10⁻¹³ ± j` poles of CAREX 2.8 — so it is returned;
-//! its closed-loop poles show the margin.
+//! A Hamiltonian (symplectic) eigenvalue of multiplicity two exactly on the stability
+//! boundary is split by rounding into a pair at distance `O(sqrt(ε))` on either side of it;
+//! its eigenvalue condition number is then `O(1/sqrt(ε))` and the verdict rejects it (CAREX
+//! 2.5 at `ε = 0`: poles `−3·10⁻⁸ ± j`, `d/ρ ≈ 0.1–0.7`). A genuine near-boundary pole with a
+//! well-conditioned eigenvalue passes however near it is: the `−5·10⁻¹³ ± j` poles of
+//! CAREX 2.8 (`d/ρ ≈ 190`), the `1 − 2·10⁻⁸` pole of DAREX 2.5 (`d/ρ ≈ 2·10⁸`), the
+//! `−10⁻⁶ ± j` poles of CAREX 2.5 at `ε = 10⁻⁶` (`d/ρ ≈ 970`).
+//!
+//! Fail fast: above [`FAIL_FAST_MIN_STATES`] states, a stable-subspace basis `U₁` that is
+//! singular to working precision ends the solve with [`LtiError::IllConditioned`] and its
+//! estimated condition number, without trying the other methods or the diagnosis.
 //!
 //! [`RiccatiMethod::Auto`] tries its methods in order and returns the first accepted solution
 //! whose residual is at most [`GOOD_RESIDUAL`], otherwise the most accurate accepted one. When
@@ -44,11 +57,13 @@
 //! attempt accepted only under strict rules (relative residual `≤ 100·n·ε` after refinement,
 //! Hurwitz closed loop, `X ⪰ 0` for LQR data); see [`care`].
 
+mod boundary;
 mod care;
 mod dare;
 mod small;
 mod smith;
 
+pub use boundary::{BOUNDARY_MAX_TESTED, BOUNDARY_SCREEN};
 pub use care::care;
 pub use dare::dare;
 
@@ -72,6 +87,14 @@ pub const REFINEMENT_FLOOR: f64 = 10.0;
 /// at once; a larger (but acceptable) residual makes `Auto` try its other methods and return
 /// the most accurate solution.
 pub const GOOD_RESIDUAL: f64 = 1e-12;
+
+/// Above this many states, a method that finds the stable-subspace basis `U₁` singular to
+/// working precision (estimated condition number above `1/(n·ε)`) ends the solve with
+/// [`LtiError::IllConditioned`]: no other method and no diagnosis is tried. The diagnosis
+/// tests every non-stable mode by a PBH singular value decomposition, `O(n³)` each (0.7 s at
+/// `n = 600`, with about `n/2` such modes on random data); below the limit it runs as usual
+/// and names the cause.
+pub const FAIL_FAST_MIN_STATES: usize = 64;
 
 /// Relative PBH margin below which a mode counts as numerically uncontrollable (unobservable)
 /// when a failure is diagnosed (`≈ 100·sqrt(ε)`).
@@ -396,7 +419,7 @@ pub(crate) enum Domain {
 
 impl Domain {
     /// Distance of `λ` from the stability boundary, positive inside the stable region.
-    fn stability_margin(self, l: Complex64) -> f64 {
+    pub(crate) fn stability_margin(self, l: Complex64) -> f64 {
         match self {
             Domain::Continuous => -l.re,
             Domain::Discrete => 1.0 - l.norm(),
@@ -456,6 +479,10 @@ pub(crate) struct Finisher<'a> {
     pub r: &'a Mat,
     pub n: Option<&'a Mat>,
     pub red: &'a Reduced,
+    /// Apply the boundary verdict ([`boundary::certify`]) to the result (`false` only for
+    /// an intermediate problem whose result is finished again, e.g. the shifted DARE of a
+    /// singular `R`).
+    pub certify: bool,
 }
 
 impl Finisher<'_> {
@@ -562,23 +589,8 @@ impl Finisher<'_> {
         }
         let acl = self.a - self.b * &k;
         let poles = crate::linalg::eigenvalues(&acl)?;
-        let worst = poles.iter().copied().min_by(|p, q| {
-            self.domain
-                .stability_margin(*p)
-                .total_cmp(&self.domain.stability_margin(*q))
-        });
-        if let Some(p) = worst
-            && self.domain.stability_margin(p) <= 0.0
-        {
-            return Err(LtiError::BoundaryEigenvalue {
-                what: match self.domain {
-                    Domain::Continuous => "closed loop A − BK of the computed CARE solution",
-                    Domain::Discrete => "closed loop A − BK of the computed DARE solution",
-                }
-                .into(),
-                eigenvalue: p,
-                distance: self.domain.stability_margin(p).abs(),
-            });
+        if self.certify {
+            boundary::certify(self.domain, self.red, (&x, &acl), &poles, residual)?;
         }
         if residual.is_nan() || residual > RESIDUAL_LIMIT {
             return Err(LtiError::Inaccurate {
@@ -665,6 +677,12 @@ pub(crate) fn solve_with_fallback_prior(
                     best = Some(sol);
                 }
             }
+            // Fail fast: a large problem whose stable subspace cannot be inverted stops
+            // here, before the remaining methods and the O(k·n³) diagnosis (PBH tests on
+            // every non-stable mode) that would otherwise take minutes at n = 600.
+            Err(e @ LtiError::IllConditioned { .. }) if fin.a.nrows() > FAIL_FAST_MIN_STATES => {
+                return Err(e);
+            }
             Err(e) => {
                 if first_err.is_none() {
                     first_err = Some(e);
@@ -708,9 +726,13 @@ pub(crate) fn solution_and_factor_from_subspace(
     let lu = crate::linalg::dense::Lu::new(u1);
     let rcond = lu.rcond();
     if rcond.is_nan() || rcond <= n as f64 * f64::EPSILON {
-        return Err(LtiError::Singular {
-            what: "U1 block of the stable subspace basis [U1; U2] (X = U2 U1⁻¹)".into(),
-            rcond,
+        return Err(LtiError::IllConditioned {
+            what: format!(
+                "the Riccati solution X = U2 U1⁻¹ ({n} states; condition number of the \
+                 stable subspace basis block U1)"
+            ),
+            condition: 1.0 / rcond,
+            limit: 1.0 / (n as f64 * f64::EPSILON),
         });
     }
     // U1ᵀ Xᵀ = U2ᵀ.
