@@ -411,11 +411,6 @@ impl Dataset {
         let t = self.time()?;
         let span = t[t.len() - 1] - t[0];
         let (unit, declared) = self.time_unit;
-        let read = if declared {
-            format!("{unit} (declared)")
-        } else {
-            format!("{unit} (no unit declared)")
-        };
         let (reason, hint) = if ts > MAX_SAMPLE_TIME {
             (
                 format!(
@@ -454,10 +449,11 @@ impl Dataset {
         };
         Err(IdentError::ImplausibleTime {
             source_name: self.source.clone(),
-            unit: self.time_unit.0,
+            unit,
+            declared,
             step: ts,
             span,
-            reason: format!("{reason} (read in {read})"),
+            reason,
             hint: hint.to_string(),
         })
     }

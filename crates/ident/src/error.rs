@@ -139,7 +139,7 @@ pub enum IdentError {
         data_end: f64,
     },
     /// A parameter (constant, option) is out of its domain.
-    #[error("invalid {name} = {value}: {reason}")]
+    #[error("invalid {name} = {}: {reason}", num(*value))]
     InvalidParameter {
         /// Parameter name.
         name: String,
@@ -177,7 +177,7 @@ pub enum IdentError {
     },
     /// An estimate is physically meaningless (e.g. a negative moment of inertia), so the data or
     /// the known constants do not fit the model.
-    #[error("{what} = {value} is not physically meaningful: {reason}")]
+    #[error("{what} = {} is not physically meaningful: {reason}", num(*value))]
     Implausible {
         /// Which estimate.
         what: String,
@@ -189,12 +189,17 @@ pub enum IdentError {
     /// The time column's step or span is implausible for the unit it was read in (a column
     /// in milliseconds taken as seconds, say): see [`crate::data::MAX_SAMPLE_TIME`],
     /// [`crate::data::MIN_SAMPLE_TIME`] and [`crate::data::MAX_RECORD_SPAN`].
-    #[error("{source_name}: the time column read in {unit} has {reason}; {hint}")]
+    #[error(
+        "{source_name}: the time column, read in {unit} ({}), has {reason}; {hint}",
+        if *declared { "declared" } else { "no unit declared" }
+    )]
     ImplausibleTime {
         /// File name or label of the data.
         source_name: String,
         /// The unit the time stamps were read in.
         unit: crate::data::TimeUnit,
+        /// Whether the unit was declared (header or call) rather than assumed.
+        declared: bool,
         /// The uniform step, seconds.
         step: f64,
         /// The record's span `t_last − t_0`, seconds.
@@ -208,7 +213,10 @@ pub enum IdentError {
     /// [`crate::regression::MASS_RANGE`], [`crate::regression::LENGTH_RANGE`],
     /// [`crate::regression::GRAVITY_RANGE`]).
     #[error(
-        "{name} = {value} {unit} is outside its plausible range [{min}, {max}] {unit} ({reason})"
+        "{name} = {} {unit} is outside its plausible range [{}, {}] {unit} ({reason})",
+        num(*value),
+        num(*min),
+        num(*max)
     )]
     ConstantOutOfRange {
         /// The constant (e.g. `m_p`).
@@ -254,7 +262,7 @@ pub enum IdentError {
     /// A method option does not suit the data: a filter time constant or a differentiator
     /// window too long for the record, too short for the sample time, or too long for the
     /// dynamics (see [`crate::regression::LsOptions::check_data`]).
-    #[error("{option} = {value} {unit} does not suit the data: {reason}")]
+    #[error("{option} = {} {unit} does not suit the data: {reason}", num(*value))]
     UnsuitedOption {
         /// The option (e.g. `prefilter time constant T_f`).
         option: String,
@@ -268,6 +276,17 @@ pub enum IdentError {
     /// An error from the LTI core (simulation for validation, discretisation).
     #[error(transparent)]
     Lti(#[from] LtiError),
+}
+
+/// A number as it appears in a message: plain decimal between 10⁻⁴ and 10⁹ (and 0),
+/// scientific notation otherwise (`1e-300`, not three hundred zeros).
+pub(crate) fn num(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() || (1e-4..1e9).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// A name as it appears in a message: plain when it consists of letters, digits, ASCII

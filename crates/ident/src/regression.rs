@@ -190,7 +190,7 @@ impl LsOptions {
                 unit: "s".into(),
                 reason: format!(
                     "longer than {MAX_TF_FRACTION} of the record span {span} s (the filter \
-                     needs about 10 T_f to settle); use T_f ≤ {} s or a longer record",
+                     needs about 10 T_f to settle); use T_f ≤ {:.4} s or a longer record",
                     MAX_TF_FRACTION * span
                 ),
             });
@@ -756,10 +756,29 @@ impl DriveLs {
     /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
     /// [`IdentError::IllConditioned`].
     pub fn check(&self, ts: f64) -> Result<()> {
-        self.check_plausible()?;
-        self.lsq.check()?;
+        self.failed_checks(ts)
+            .into_iter()
+            .next()
+            .map_or(Ok(()), Err)
+    }
+
+    /// Every failed check of [`DriveLs::check`], not only the first (for reports that print
+    /// the estimate anyway).
+    pub fn failed_checks(&self, ts: f64) -> Vec<IdentError> {
+        let mut out: Vec<IdentError> = [self.check_plausible(), self.lsq.check()]
+            .into_iter()
+            .filter_map(Result::err)
+            .collect();
+        out.extend(self.pole_in_record(ts).err());
+        out
+    }
+
+    fn pole_in_record(&self, ts: f64) -> Result<()> {
         let span = (self.lsq.samples.max(2) - 1) as f64 * ts;
         let name = &self.lsq.names[0];
+        if !self.a.is_finite() || self.a <= 0.0 {
+            return Ok(()); // check_plausible / lsq.check name it
+        }
         if self.a * ts > MAX_POLE_TIMES_TS {
             return Err(IdentError::Implausible {
                 what: name.clone(),
@@ -971,15 +990,31 @@ impl CartPendulumLs {
     /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
     /// [`IdentError::IllConditioned`].
     pub fn check(&self, ts: f64, c: &CartPendulumConstants) -> Result<()> {
-        self.check_plausible()?;
-        self.lsq.check()?;
-        pendulum_in_record(
-            ("Jp", self.jp),
-            self.jp + c.mp * c.lp * c.lp,
-            c.mp * c.g * c.lp,
-            ts,
-            self.lsq.samples,
-        )
+        self.failed_checks(ts, c)
+            .into_iter()
+            .next()
+            .map_or(Ok(()), Err)
+    }
+
+    /// Every failed check of [`CartPendulumLs::check`], not only the first.
+    pub fn failed_checks(&self, ts: f64, c: &CartPendulumConstants) -> Vec<IdentError> {
+        let mut out: Vec<IdentError> = [self.check_plausible(), self.lsq.check()]
+            .into_iter()
+            .filter_map(Result::err)
+            .collect();
+        if self.jp > 0.0 {
+            out.extend(
+                pendulum_in_record(
+                    ("Jp", self.jp),
+                    self.jp + c.mp * c.lp * c.lp,
+                    c.mp * c.g * c.lp,
+                    ts,
+                    self.lsq.samples,
+                )
+                .err(),
+            );
+        }
+        out
     }
 }
 
@@ -1114,15 +1149,31 @@ impl ArmPendulumLs {
     /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
     /// [`IdentError::IllConditioned`].
     pub fn check(&self, ts: f64, c: &ArmPendulumConstants) -> Result<()> {
-        self.check_plausible()?;
-        self.lsq.check()?;
-        pendulum_in_record(
-            ("J2", self.j2),
-            self.alpha2,
-            c.alpha5(),
-            ts,
-            self.lsq.samples,
-        )
+        self.failed_checks(ts, c)
+            .into_iter()
+            .next()
+            .map_or(Ok(()), Err)
+    }
+
+    /// Every failed check of [`ArmPendulumLs::check`], not only the first.
+    pub fn failed_checks(&self, ts: f64, c: &ArmPendulumConstants) -> Vec<IdentError> {
+        let mut out: Vec<IdentError> = [self.check_plausible(), self.lsq.check()]
+            .into_iter()
+            .filter_map(Result::err)
+            .collect();
+        if self.j2 > 0.0 {
+            out.extend(
+                pendulum_in_record(
+                    ("J2", self.j2),
+                    self.alpha2,
+                    c.alpha5(),
+                    ts,
+                    self.lsq.samples,
+                )
+                .err(),
+            );
+        }
+        out
     }
 }
 
