@@ -249,17 +249,12 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
     if let Some(d) = a.duration {
         check_range("--duration", d, 0.0, true, config::DURATION_MAX, " s")?;
     }
+    // The emulator's own clock ends the run (`EmulatorConfig::duration`).
+    c.duration = a.duration;
     let stop = stop_flag()?;
     let emu = Emulator::spawn(c)?;
     println!("listening on {}", emu.addr());
     std::io::stdout().flush().ok();
-    if let Some(d) = a.duration {
-        let s = Arc::clone(&stop);
-        std::thread::spawn(move || {
-            std::thread::sleep(Duration::from_secs_f64(d));
-            s.store(true, Ordering::Relaxed);
-        });
-    }
     let tel = emu.wait(&stop)?;
     println!(
         "emulated {:.3} s; commands accepted {}, sensor frames {}, lost (in, out) {:?}, watchdog trips {}, late periods {}",

@@ -518,3 +518,24 @@ fn connect_takes_a_host_name() {
         refused(&o, &[&format!("--connect {bad}")]);
     }
 }
+
+#[test]
+fn emulate_stops_by_itself_after_its_duration() {
+    // The emulator's own clock ends `--duration` (the 1e20 of issue 21 is refused above).
+    let o = pendulab()
+        .args([
+            "rig",
+            "emulate",
+            "--plant",
+            "arm",
+            "--listen",
+            "127.0.0.1:0",
+            "--duration",
+            "0.3",
+        ])
+        .output()
+        .unwrap();
+    let out = ok(&o);
+    assert!(out.starts_with("listening on 127.0.0.1:"), "{out}");
+    assert!(out.contains("emulated "), "{out}");
+}
