@@ -23,8 +23,10 @@
 //!    record is uniform in time as a microcontroller sampling on a timer interrupt is.
 //!
 //! Fault injection, all seeded (ChaCha8): packet loss in both directions, a fixed extra
-//! latency of the sensor frames, and [`EmulatorHandle::stall`] (the whole emulator freezes,
-//! as a crashed or descheduled rig would).
+//! latency of the sensor frames, [`EmulatorHandle::stall`] (the whole emulator freezes,
+//! as a crashed or descheduled rig would) and [`EmulatorHandle::shift_pendulum_encoder`] (the
+//! pendulum encoder gains or loses whole turns mid-run). With [`EmulatorConfig::duration`] the
+//! thread stops by itself (validated: finite, positive, at most a year).
 
 use crate::protocol::{
     CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags, status,
