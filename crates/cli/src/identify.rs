@@ -273,6 +273,18 @@ impl Gate {
     }
 }
 
+/// A number in a description: five significant digits.
+fn g4(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.4e}")
+    } else {
+        format!("{:.5}", x)
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    }
+}
+
 /// What a validation simulated: the model, its input, the window and the compared signal.
 struct FitMeaning<'a> {
     model: String,
@@ -504,8 +516,9 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
             report.residual_rms = Some(d.lsq.residual_rms);
             let meaning = FitMeaning {
                 model: format!(
-                    "the identified drive {ycol}'' = −{} {ycol}' + {} v (exact ZOH simulation, open loop from the measured initial state)",
-                    d.a, d.b
+                    "the identified drive {ycol}'' = −{} {ycol}' + ({}) v (exact ZOH simulation, open loop from the measured initial state)",
+                    g4(d.a),
+                    g4(d.b)
                 ),
                 input: "the measured voltage v",
                 t,
@@ -600,7 +613,10 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
             let meaning = FitMeaning {
                 model: format!(
                     "the P-control loop of the identified drive ({a} = {}, {b} = {}, k_P = {}), at rest at the step time {} s",
-                    e.a, e.b, o.k_p, o.step_time
+                    g4(e.a),
+                    g4(e.b),
+                    o.k_p,
+                    o.step_time
                 ),
                 input: &format!("the reference step to {}", o.target),
                 t,
@@ -690,7 +706,8 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
             let linear_meaning = FitMeaning {
                 model: format!(
                     "the book's linear oscillation (ω_n = {}, ζ = {}), released at rest from the first peak",
-                    p.omega_n, p.zeta
+                    g4(p.omega_n),
+                    g4(p.zeta)
                 ),
                 input: "no input (free swing)",
                 t,

@@ -289,6 +289,24 @@ pub(crate) fn num(x: f64) -> String {
     }
 }
 
+/// A derived number (a span, a bound) in a message: four significant digits.
+pub(crate) fn short(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() {
+        format!("{x}")
+    } else if (1e-3..1e6).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
+        let t = format!("{x:.digits$}");
+        if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t
+        }
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 /// A name as it appears in a message: plain when it consists of letters, digits, ASCII
 /// punctuation and inner spaces (in single quotes if `quoted`, `'v'`); otherwise always in
 /// double quotes with invisible and control characters escaped (`"\u{feff}t"`), so a

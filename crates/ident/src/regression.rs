@@ -28,7 +28,7 @@
 //! both routes give the same estimates up to the order of the least-squares sums.
 
 use crate::differentiate::{Derivatives, Differentiator, savgol_coefficients, three_point_at};
-use crate::error::{IdentError, Result, SamplePos, UNNAMED};
+use crate::error::{IdentError, Result, SamplePos, UNNAMED, short};
 use crate::filter::{BANK_BLOCK, BOOK_TF, FilterBank, LowPass3, Prefilter};
 use crate::least_squares::{LeastSquares, QrAccumulator, least_squares};
 
@@ -189,9 +189,10 @@ impl LsOptions {
                 value: tf,
                 unit: "s".into(),
                 reason: format!(
-                    "longer than {MAX_TF_FRACTION} of the record span {span} s (the filter \
-                     needs about 10 T_f to settle); use T_f ≤ {:.4} s or a longer record",
-                    MAX_TF_FRACTION * span
+                    "longer than {MAX_TF_FRACTION} of the record span {} s (the filter \
+                     needs about 10 T_f to settle); use T_f ≤ {} s or a longer record",
+                    short(span),
+                    short(MAX_TF_FRACTION * span)
                 ),
             });
         }
@@ -226,9 +227,10 @@ impl LsOptions {
                     value: tf,
                     unit: "s".into(),
                     reason: format!(
-                        "too short for the sample time {ts} s: the three-point derivatives err \
-                         by {pct:.3} % at {band} (limit {limit} %); use T_f ≥ {:.4} s",
-                        ts / three_point_limit()
+                        "too short for the sample time {} s: the three-point derivatives err \
+                         by {pct:.3} % at {band} (limit {limit} %); use T_f ≥ {} s",
+                        short(ts),
+                        short(ts / three_point_limit())
                     ),
                 },
                 (Differentiator::ThreePoint, None) => IdentError::UnsuitedOption {
@@ -247,7 +249,7 @@ impl LsOptions {
                     reason: format!(
                         "too long for the dynamics: spanning {} s, its derivatives err by \
                          {pct:.3} % at {band} (limit {limit} %); use a shorter window",
-                        (window - 1) as f64 * ts
+                        short((window - 1) as f64 * ts)
                     ),
                 },
             });
@@ -785,9 +787,10 @@ impl DriveLs {
                 value: self.a,
                 reason: format!(
                     "its time constant 1/{name} = {:.3e} s is shorter than the {} s the \
-                     sampling at {ts} s resolves",
+                     sampling at {} s resolves",
                     1.0 / self.a,
-                    ts / MAX_POLE_TIMES_TS
+                    short(ts / MAX_POLE_TIMES_TS),
+                    short(ts)
                 ),
             });
         }
@@ -796,8 +799,9 @@ impl DriveLs {
                 what: name.clone(),
                 value: self.a,
                 reason: format!(
-                    "its time constant 1/{name} = {:.3e} s is longer than the record ({span} s)",
-                    1.0 / self.a
+                    "its time constant 1/{name} = {:.3e} s is longer than the record ({} s)",
+                    1.0 / self.a,
+                    short(span)
                 ),
             });
         }
@@ -816,12 +820,14 @@ fn pendulum_in_record(j: (&str, f64), alpha: f64, mgl: f64, ts: f64, n: usize) -
     } else if wn * span < 1.0 {
         format!(
             "the natural frequency it implies, ω_n = √(m g l/(J + m l²)) = {wn:.3e} rad/s, \
-             would not show in the record ({span} s: ω_n·span < 1 rad)"
+             would not show in the record ({} s: ω_n·span < 1 rad)",
+            short(span)
         )
     } else if wn * ts > MAX_POLE_TIMES_TS {
         format!(
             "the natural frequency it implies, ω_n = {wn:.3e} rad/s, is faster than the \
-             sampling at {ts} s resolves (ω_n t_s > {MAX_POLE_TIMES_TS})"
+             sampling at {} s resolves (ω_n t_s > {MAX_POLE_TIMES_TS})",
+            short(ts)
         )
     } else {
         return Ok(());

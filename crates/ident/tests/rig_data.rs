@@ -409,3 +409,79 @@ fn streamed_and_explicit_regressions_agree() {
         }
     }
 }
+
+/// The checks that refuse to guess accept the book's recipe on the book's record, and refuse
+/// the careless variants of issue 21 on the same record.
+#[test]
+fn checks_accept_the_book_and_refuse_careless_inputs() {
+    let d = ls_window();
+    let ts = d.sample_time().unwrap();
+    let (z, phi, v) = (
+        d.column("z").unwrap(),
+        d.column("phi").unwrap(),
+        d.column("v").unwrap(),
+    );
+    let opts = LsOptions::default();
+    let c = CartPendulumConstants::default();
+    opts.check_data(ts, d.len()).unwrap();
+    c.check_range().unwrap();
+    let drive = cart_drive_ls(ts, z, v, &opts).unwrap();
+    let pend = cart_pendulum_ls(ts, z, phi, &c, &opts).unwrap();
+    assert!(drive.failed_checks(ts).is_empty());
+    assert!(pend.failed_checks(ts, &c).is_empty());
+    // Far inside the condition bound (table 3.5's regressions are well posed).
+    assert!(drive.lsq.scaled_condition < 1e3 && pend.lsq.scaled_condition < 1e3);
+
+    // A 3-sample window (1–1.002 s): too few samples for the stencil, and the estimate's time
+    // constant is not resolved by the sampling.
+    let w = ls_data().window(Some(1.0), Some(1.002)).unwrap();
+    assert_eq!(w.len(), 3);
+    assert!(matches!(
+        opts.check_data(ts, w.len()),
+        Err(IdentError::TooFewSamples {
+            needed: 20,
+            found: 3,
+            ..
+        })
+    ));
+    let raw = LsOptions {
+        prefilter: Prefilter::None,
+        ..LsOptions::default()
+    };
+    let short = cart_drive_ls(ts, w.column("z").unwrap(), w.column("v").unwrap(), &raw).unwrap();
+    assert!(!short.failed_checks(ts).is_empty());
+
+    // The cart position scaled by 1e150: the target is then dominated by the cart term
+    // m_p l_p cos φ z̈, so the estimates grow by about 1e150 and the pendulum's natural
+    // frequency would not show in a 4-s record.
+    let big: Vec<f64> = z.iter().map(|x| x * 1e150).collect();
+    let p = cart_pendulum_ls(ts, &big, phi, &c, &opts).unwrap();
+    let e = p.check(ts, &c).unwrap_err();
+    assert!(
+        matches!(&e, IdentError::Implausible { what, .. } if what == "Jp"),
+        "{e}"
+    );
+
+    // A 1-s time step (a millisecond column read as seconds) is refused by sample_time.
+    let text = include_str!("../../../data/rig/cdip_least_square_data.csv");
+    let ms: String = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 0 {
+                format!("{l}\n")
+            } else {
+                let (t, rest) = l.split_once(',').unwrap();
+                let t: f64 = t.parse().unwrap();
+                format!("{},{rest}\n", (t * 1000.0).round())
+            }
+        })
+        .collect();
+    let m = Dataset::from_csv_str("ms.csv", &ms).unwrap();
+    assert!(matches!(
+        m.sample_time(),
+        Err(IdentError::ImplausibleTime { .. })
+    ));
+    let m = m.with_time_unit(TimeUnit::Milliseconds).unwrap();
+    assert!((m.sample_time().unwrap() - ts).abs() < 1e-12);
+}
