@@ -10,22 +10,24 @@
 //!
 //! 1. a pole with margin `d(λ) ≤ 0` (`d = −Re λ` or `1 − |λ|`), or NaN, fails;
 //! 2. a pole near the boundary fails when the solution cannot tell it from the boundary:
-//!    the refined `X` solves *exactly* the equation whose `Q` is changed by its residual
-//!    `Res(X)`, i.e. it is exact for a pencil perturbed by `‖Res(X)‖_F` in the `Q` block; to
-//!    first order that perturbation moves the eigenvalue `λ` by at most
-//!    `ρ(λ) = κ(λ)·‖Res(X)‖_F`, with the eigenvalue condition number
-//!    `κ(λ) = ‖x‖‖y‖ / |yᴴMx|` (`x`, `y` right and left eigenvectors of the pencil, `M = I`
-//!    for the Hamiltonian). The pole is rejected when `d(λ) ≤ ρ(λ)`: an eigenvalue within
-//!    the reach of the solution's own backward error could lie on the boundary. Both `κ` and
-//!    `‖Res‖` are taken on the scaled data (`Q̃/s`, `sG`) of the module's step 3.
+//!    the refined `X` has the relative residual `η` (its backward error: `X` solves exactly
+//!    an equation whose data are changed by about `η` relative), and a relative change `η`
+//!    of the pencil moves its eigenvalue `λ`, to first order, by at most
+//!    `ρ(λ) = κ(λ)·η·(‖L‖_F + |λ|‖M‖_F)`, with the eigenvalue condition number
+//!    `κ(λ) = ‖x‖‖y‖ / |yᴴMx|` (`x`, `y` right and left eigenvectors, `L = H`, `M = I` for
+//!    the Hamiltonian). The pole is rejected when `d(λ) ≤ ρ(λ)`: an eigenvalue within the
+//!    reach of the solution's own backward error could lie on the boundary. `L`, `M` are
+//!    built from the scaled data (`Q̃/s`, `sG`) of the module's step 3. Whatever `κ`, a
+//!    distance below [`BOUNDARY_ROUNDING`]`·ε·‖L‖_F` counts as on the boundary.
 //!
 //! A rounding-split double eigenvalue on the boundary (CAREX 2.5 at `ε = 0`: the computed
-//! poles are `−3·10⁻⁸ ± j`, `κ‖Res‖ ≈ 2·d`) fails; a genuine near-boundary pole whose
-//! eigenvalue is well conditioned passes however near it is (CAREX 2.8 at `ε = 10⁻⁶`:
-//! `−5·10⁻¹³ ± j` with `d/ρ > 10`; DAREX 2.5 at `τ = 10⁸`: `1 − 2·10⁻⁸`).
+//! poles are `−3·10⁻⁸ ± j`, `d/ρ ≈ 0.1–0.7`) fails; a genuine near-boundary pole whose
+//! eigenvalue is well conditioned passes however near it is, down to the rounding floor
+//! (CAREX 2.8 at `ε = 10⁻⁶`: `−5·10⁻¹³ ± j`, `d/ρ ≈ 190`; DAREX 2.5 at `τ = 10⁸`:
+//! `1 − 2·10⁻⁸`, `d/ρ ≈ 2·10⁸`).
 //!
-//! Computing `κ(λ)` costs two complex LU factorisations of order `2n` (inverse iteration for
-//! `x` and `y`), so it is done only for the poles within [`BOUNDARY_SCREEN`] of the boundary
+//! Computing `κ(λ)` costs a complex LU factorisation of order `n` (the right eigenvector,
+//! from the structure) and one of order `2n` (the left one), so it is done only for the poles within [`BOUNDARY_SCREEN`] of the boundary
 //! (relative to the largest pole magnitude in continuous time, absolute on the unit circle),
 //! at most [`BOUNDARY_MAX_TESTED`] of them (nearest first; a conjugate pair counts once).
 
@@ -37,6 +39,12 @@ use crate::linalg::{CMat, Complex64, Mat};
 /// `1 − |λ| ≤ BOUNDARY_SCREEN` (discrete) get the conditioning test of the module
 /// documentation; poles farther from the boundary are accepted without it.
 pub const BOUNDARY_SCREEN: f64 = 1e-4;
+
+/// A pole nearer the boundary than `BOUNDARY_ROUNDING · ε · ‖L‖_F` (`‖H‖_F` in continuous
+/// time, of the scaled data) is on it numerically whatever its conditioning: a backward-stable
+/// eigenvalue computation does not resolve smaller distances (this was the Schur method's
+/// own test before the verdict had one home).
+pub const BOUNDARY_ROUNDING: f64 = 100.0;
 
 /// At most this many near-boundary poles (nearest first, one per conjugate pair) get the
 /// conditioning test.
@@ -120,7 +128,8 @@ pub(crate) fn judge(
     let mut offending = Vec::new();
     let mut tolerance = 0.0;
     for &p in near {
-        let reach = condition(&l, &m, acl, &xs, p) * backward_error * (ln + p.norm() * mn);
+        let reach = (condition(&l, &m, acl, &xs, p) * backward_error * (ln + p.norm() * mn))
+            .max(BOUNDARY_ROUNDING * f64::EPSILON * ln);
         if !inside(domain.stability_margin(p), reach) {
             if offending.is_empty() {
                 tolerance = reach;

@@ -33,7 +33,8 @@
 //!    number of the Hamiltonian matrix `L = H`, `M = I` (symplectic pencil `L − zM`) — the
 //!    computed `X` is exact for data perturbed by `η`, which can move that eigenvalue by
 //!    `ρ(λ)`, so it might lie on the boundary ([`LtiError::BoundaryEigenvalue`], naming the
-//!    poles and their mirror images). Only poles within [`BOUNDARY_SCREEN`] of the boundary
+//!    poles and their mirror images); a distance below [`BOUNDARY_ROUNDING`]`·ε·‖L‖_F` always
+//!    fails. Only poles within [`BOUNDARY_SCREEN`] of the boundary
 //!    are judged this way (at most [`BOUNDARY_MAX_TESTED`]). The relative residual is
 //!    required to be below [`RESIDUAL_LIMIT`].
 //!
@@ -63,7 +64,7 @@ mod dare;
 mod small;
 mod smith;
 
-pub use boundary::{BOUNDARY_MAX_TESTED, BOUNDARY_SCREEN};
+pub use boundary::{BOUNDARY_MAX_TESTED, BOUNDARY_ROUNDING, BOUNDARY_SCREEN};
 pub use care::care;
 pub use dare::dare;
 
