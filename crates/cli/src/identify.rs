@@ -191,8 +191,8 @@ struct Report {
     constants: Value,
     estimates: Map<String, Value>,
     std_errors: Map<String, Value>,
-    condition: Option<f64>,
-    residual_rms: Option<f64>,
+    condition: Option<Value>,
+    residual_rms: Option<Value>,
     fit: Value,
     #[serde(skip_serializing_if = "Option::is_none")]
     fit_linear: Option<Value>,
@@ -236,7 +236,7 @@ impl Gate {
         match r {
             Ok(v) => Ok(Some(v)),
             Err(e) if self.force => {
-                self.warnings.push(format!("{what}: {e}"));
+                self.warnings.push(format!("{what} not run: {e}"));
                 Ok(None)
             }
             Err(e) => Err(anyhow::Error::new(e).context(what.to_string())),
@@ -261,15 +261,23 @@ impl Gate {
         label: &str,
         v: f64,
     ) -> Result<()> {
-        if !v.is_finite() {
-            self.check(Err(IdentError::NonFiniteResult {
-                what: label.into(),
-                value: v,
-                reason: "printed as null".into(),
-            }))?;
-        }
-        map.insert(name.into(), json!(v));
+        let x = self.num(label, v)?;
+        map.insert(name.into(), x);
         Ok(())
+    }
+
+    /// A number for the output: a JSON number if finite; a NaN or ∞ is refused (forced: the
+    /// string `"NaN"`, `"inf"` or `"-inf"`, never a `null`, and a warning naming it).
+    fn num(&mut self, label: &str, v: f64) -> Result<Value> {
+        if v.is_finite() {
+            return Ok(json!(v));
+        }
+        self.check(Err(IdentError::NonFiniteResult {
+            what: label.into(),
+            value: v,
+            reason: "written as a string in the JSON output".into(),
+        }))?;
+        Ok(Value::String(format!("{v}")))
     }
 }
 
@@ -292,22 +300,22 @@ struct FitMeaning<'a> {
     t: &'a [f64],
 }
 
-fn fit_json(v: &Validation, m: &FitMeaning<'_>) -> Value {
+fn fit_json(gate: &mut Gate, v: &Validation, m: &FitMeaning<'_>) -> Result<Value> {
     let t0 = m.t[v.start.min(m.t.len() - 1)];
     let t1 = m.t[m.t.len() - 1];
     let description = format!(
         "{} simulated on {}, t = {t0}–{t1} s, compared with the measured {}",
         m.model, m.input, v.output
     );
-    json!({
+    Ok(json!({
         "output": v.output,
-        "percent": v.fit_percent,
-        "rms_error": v.rms_error,
+        "percent": gate.num("validation fit", v.fit_percent)?,
+        "rms_error": gate.num("validation RMS error", v.rms_error)?,
         "model": m.model,
         "input": m.input,
         "window": [t0, t1],
         "description": description,
-    })
+    }))
 }
 
 fn parse_window(s: &str) -> Result<(Option<f64>, Option<f64>)> {
@@ -442,7 +450,7 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
         std_errors: Map::new(),
         condition: None,
         residual_rms: None,
-        fit: Value::Null,
+        fit: json!({"skipped": "no validation was run"}),
         fit_linear: None,
         warnings: Vec::new(),
         units: Vec::new(),
@@ -512,8 +520,8 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
                 gate.put(&mut est, n, d.lsq.estimate[i])?;
                 gate.put_se(&mut se, n, d.lsq.std_error[i])?;
             }
-            report.condition = Some(d.lsq.condition);
-            report.residual_rms = Some(d.lsq.residual_rms);
+            report.condition = Some(gate.num("condition number", d.lsq.condition)?);
+            report.residual_rms = Some(gate.num("residual RMS", d.lsq.residual_rms)?);
             let meaning = FitMeaning {
                 model: format!(
                     "the identified drive {ycol}'' = −{} {ycol}' + ({}) v (exact ZOH simulation, open loop from the measured initial state)",
@@ -524,7 +532,7 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
                 t,
             };
             if let Some(val) = gate.soft("validation", validate_drive(ts, y, v, d.a, d.b, ycol))? {
-                report.fit = fit_json(&val, &meaning);
+                report.fit = fit_json(&mut gate, &val, &meaning)?;
             }
             report.options = options_json(&opts);
             report.constants = json!({});
@@ -542,8 +550,8 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
             gate.put(&mut est, "mup", p.mup)?;
             gate.put_se(&mut se, "Jp", p.lsq.std_error[0])?;
             gate.put_se(&mut se, "mup", p.lsq.std_error[1])?;
-            report.condition = Some(p.lsq.condition);
-            report.residual_rms = Some(p.lsq.residual_rms);
+            report.condition = Some(gate.num("condition number", p.lsq.condition)?);
+            report.residual_rms = Some(gate.num("residual RMS", p.lsq.residual_rms)?);
             let meaning = FitMeaning {
                 model: "the identified nonlinear cart pendulum (J_p, μ_p with the known m_p, l_p, g; RK4 from the measured initial angle and rate)".into(),
                 input: "the measured cart acceleration (three-point z'' of z)",
@@ -553,7 +561,7 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
                 "validation",
                 validate_cart_pendulum(ts, z, phi, p.jp, p.mup, &cart),
             )? {
-                report.fit = fit_json(&val, &meaning);
+                report.fit = fit_json(&mut gate, &val, &meaning)?;
             }
             report.options = options_json(&opts);
             report.constants = json!({"mp": cart.mp, "lp": cart.lp, "g": cart.g});
@@ -569,8 +577,8 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
             gate.put_se(&mut se, "J2", p.lsq.std_error[0])?;
             gate.put_se(&mut se, "mu2", p.lsq.std_error[1])?;
             gate.put_se(&mut se, "alpha2", p.lsq.std_error[0])?;
-            report.condition = Some(p.lsq.condition);
-            report.residual_rms = Some(p.lsq.residual_rms);
+            report.condition = Some(gate.num("condition number", p.lsq.condition)?);
+            report.residual_rms = Some(gate.num("residual RMS", p.lsq.residual_rms)?);
             let meaning = FitMeaning {
                 model: "the identified nonlinear arm pendulum (α₂, μ₂ with the known L1, m2, l2, g; RK4 from the measured initial angle and rate)".into(),
                 input: "the measured arm motion phi1 (with its three-point derivatives)",
@@ -580,7 +588,7 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
                 "validation",
                 validate_arm_pendulum(ts, p1, p2, p.alpha2, p.mu2, &arm),
             )? {
-                report.fit = fit_json(&val, &meaning);
+                report.fit = fit_json(&mut gate, &val, &meaning)?;
             }
             report.options = options_json(&opts);
             report.constants = json!({"L1": arm.l1, "m2": arm.m2, "l2": arm.l2, "g": arm.g});
@@ -626,7 +634,7 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
                 validate_p_step(t, y, o.step_time, o.target, o.k_p, e.a, e.b),
             )? {
                 val.output = col.clone();
-                report.fit = fit_json(&val, &meaning);
+                report.fit = fit_json(&mut gate, &val, &meaning)?;
             }
             report.options = json!({"column": col, "step_time": o.step_time});
             report.constants = json!({"kP": o.k_p, "target": o.target});
@@ -717,14 +725,14 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
                 validate_free_pendulum(ts, y, start, p.j, p.mu, (m, l, g)),
             )? {
                 nonlinear.output = col.clone();
-                report.fit = fit_json(&nonlinear, &nonlinear_meaning);
+                report.fit = fit_json(&mut gate, &nonlinear, &nonlinear_meaning)?;
             }
             if let Some(mut linear) = gate.soft(
                 "linear validation",
                 validate_oscillation(ts, y, start, p.omega_n, p.zeta),
             )? {
                 linear.output = col.clone();
-                report.fit_linear = Some(fit_json(&linear, &linear_meaning));
+                report.fit_linear = Some(fit_json(&mut gate, &linear, &linear_meaning)?);
             }
             report.options = json!({
                 "column": col,
@@ -778,8 +786,10 @@ fn print_table(r: &Report) {
         let se = r
             .std_errors
             .get(*name)
-            .and_then(Value::as_f64)
-            .map_or("—".to_string(), |s| format!("{s:.3e}"));
+            .map_or("—".to_string(), |s| match s.as_f64() {
+                Some(s) => format!("{s:.3e}"),
+                None => s.as_str().unwrap_or("—").to_string(),
+            });
         let shown = if v.is_finite() {
             format!("{v:.6e}")
         } else {
@@ -788,19 +798,25 @@ fn print_table(r: &Report) {
         println!("{name:<12} {shown:>14} {se:>12}  {unit}");
     }
     println!();
-    if let Some(c) = r.condition {
-        println!("condition number of the regressor: {c:.4}");
+    let shown = |x: &Value, digits: usize, sci: bool| match x.as_f64() {
+        Some(v) if sci => format!("{v:.digits$e}"),
+        Some(v) => format!("{v:.digits$}"),
+        None => format!("{} (not finite)", x.as_str().unwrap_or("?")),
+    };
+    if let Some(c) = &r.condition {
+        println!("condition number of the regressor: {}", shown(c, 4, false));
     }
-    if let Some(rms) = r.residual_rms {
-        println!("residual RMS: {rms:.4e}");
+    if let Some(rms) = &r.residual_rms {
+        println!("residual RMS: {}", shown(rms, 4, true));
     }
-    let describe = |f: &Value, label: &str| {
-        if let Some(p) = f.get("percent").and_then(Value::as_f64) {
-            println!(
-                "{label}: {p:.2} % — {}  (fit = 100 (1 − ‖y − ŷ‖/‖y − mean y‖))",
-                f.get("description").and_then(Value::as_str).unwrap_or("")
-            );
-        }
+    let describe = |f: &Value, label: &str| match f.get("percent") {
+        Some(p) => println!(
+            "{label}: {} % — {}  (fit = 100 (1 − ‖y − ŷ‖/‖y − mean y‖))",
+            p.as_f64()
+                .map_or_else(|| format!("{p} (not finite)"), |p| format!("{p:.2}")),
+            f.get("description").and_then(Value::as_str).unwrap_or("")
+        ),
+        None => println!("{label}: not run (see the warnings)"),
     };
     describe(&r.fit, "validation fit");
     if let Some(f) = &r.fit_linear {

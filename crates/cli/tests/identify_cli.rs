@@ -365,6 +365,16 @@ fn book_variant(header: Option<&str>, row: impl Fn(&[f64]) -> Vec<f64>) -> Strin
     out
 }
 
+/// `true` if the document holds a `null` anywhere.
+fn has_null(v: &Value) -> bool {
+    match v {
+        Value::Null => true,
+        Value::Array(a) => a.iter().any(has_null),
+        Value::Object(o) => o.values().any(has_null),
+        _ => false,
+    }
+}
+
 fn warnings(v: &Value) -> Vec<String> {
     v["warnings"]
         .as_array()
@@ -454,12 +464,20 @@ fn identification_refuses_to_guess() {
             "{name}: cause not among the warnings {w:?}"
         );
         assert!(stderr(&o).contains("warning"), "{name}");
-        for (k, x) in v["estimates"].as_object().unwrap() {
-            if x.is_null() {
-                assert!(
-                    w.iter().any(|w| w.contains(&format!("{k} = "))),
-                    "{name}: silent null {k}"
-                );
+        assert!(!has_null(&v), "{name}: a null in {v}");
+        for part in ["estimates", "std_errors"] {
+            for (k, x) in v[part].as_object().unwrap() {
+                if let Some(text) = x.as_str() {
+                    // A non-finite number is written as text, and a warning names it.
+                    assert!(
+                        ["NaN", "inf", "-inf"].contains(&text),
+                        "{name}: {k} = {text}"
+                    );
+                    assert!(
+                        w.iter().any(|w| w.contains(&format!("{k} = {text}"))),
+                        "{name}: {k}"
+                    );
+                }
             }
         }
         // The text table shows the warnings too.
