@@ -1,8 +1,12 @@
-//! `pendulab lqr`: solve an LQ regulator problem given as CSV matrices.
+//! `pendulab lqr`: solve an LQ regulator problem given as matrix text files.
 //!
-//! Matrices are plain CSV: one row per line, values separated by commas, no header; blank
-//! lines are ignored. `Q` and `R` default to identity matrices. The gain is for
-//! `u = −K x`.
+//! Matrices are plain text, one row per line, no header: values separated by commas,
+//! semicolons, or spaces/tabs (one convention per file), `#` comments, blank lines ignored, a
+//! UTF-8 byte-order mark skipped (see [`parse_matrix`]). `Q` and `R` default to identity
+//! matrices. The gain is for `u = −K x`. Only LQ problems are answered: an indefinite weight,
+//! or a problem whose Hamiltonian has eigenvalues on or numerically near the imaginary axis
+//! (unit circle), exits non-zero with the library's message (see
+//! `pendulab_lti::design::lqr`).
 
 use anyhow::{Context, Result, anyhow, bail};
 use pendulab_lti::design::{Lqr, lqr};
@@ -13,19 +17,19 @@ use std::path::{Path, PathBuf};
 /// Arguments of `pendulab lqr`.
 #[derive(Debug, clap::Args)]
 pub struct LqrArgs {
-    /// State matrix A (n×n), CSV.
+    /// State matrix A (n×n), text (commas, semicolons or whitespace; `#` comments).
     #[arg(long)]
     pub a: PathBuf,
-    /// Input matrix B (n×m), CSV.
+    /// Input matrix B (n×m), text.
     #[arg(long)]
     pub b: PathBuf,
-    /// State weight Q (n×n, symmetric), CSV; identity if omitted.
+    /// State weight Q (n×n, symmetric), text; identity if omitted.
     #[arg(long)]
     pub q: Option<PathBuf>,
-    /// Input weight R (m×m, symmetric positive definite), CSV; identity if omitted.
+    /// Input weight R (m×m, symmetric positive definite), text; identity if omitted.
     #[arg(long)]
     pub r: Option<PathBuf>,
-    /// Cross weight N (n×m), CSV; zero if omitted.
+    /// Cross weight N (n×m), text; zero if omitted.
     #[arg(long)]
     pub n: Option<PathBuf>,
     /// Treat (A, B) as a discrete-time system with this sample time in seconds (solves the
@@ -37,41 +41,113 @@ pub struct LqrArgs {
     pub json: bool,
 }
 
-/// Reads a matrix from a plain CSV file (one row per line, comma-separated, no header).
+/// Reads a matrix from a text file (see [`parse_matrix`] for the format).
 ///
 /// # Errors
-/// Unreadable file; a value that is not a number or not finite (naming line and column,
-/// 1-based); rows of different lengths; an empty file.
+/// Unreadable file; the errors of [`parse_matrix`], prefixed with the file's path.
 pub fn read_matrix(path: &Path) -> Result<Mat> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     parse_matrix(&text).with_context(|| format!("in {}", path.display()))
 }
 
-/// Parses CSV text into a matrix (see [`read_matrix`]).
+/// How the values of a row are separated; one convention per file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Separator {
+    /// `1, 2, 3`
+    Comma,
+    /// `1; 2; 3`
+    Semicolon,
+    /// `1 2 3` or `1<TAB>2<TAB>3` (any run of spaces and tabs).
+    Whitespace,
+}
+
+impl Separator {
+    /// The convention of a (comment-free, trimmed, non-empty) line; `None` for a single
+    /// value, which fits every convention.
+    fn of(line: &str) -> Option<Self> {
+        if line.contains(',') {
+            Some(Separator::Comma)
+        } else if line.contains(';') {
+            Some(Separator::Semicolon)
+        } else if line.contains(char::is_whitespace) {
+            Some(Separator::Whitespace)
+        } else {
+            None
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Separator::Comma => "commas",
+            Separator::Semicolon => "semicolons",
+            Separator::Whitespace => "spaces/tabs",
+        }
+    }
+}
+
+/// Parses matrix text: one row per line; values separated by commas, semicolons, or spaces
+/// and/or tabs — the first row fixes the convention for the whole file, and a row using
+/// another one is an error naming its line; spaces around a comma or semicolon are allowed;
+/// `#` starts a comment (to the end of the line); blank and comment-only lines are skipped;
+/// a leading UTF-8 byte-order mark (Excel's "CSV UTF-8") is skipped. No header.
 ///
 /// # Errors
-/// As [`read_matrix`].
+/// A value that is not a number or not finite, or a row mixing separators (naming line
+/// and column, both 1-based; the column counts values); rows of different lengths; no rows.
 pub fn parse_matrix(text: &str) -> Result<Mat> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let mut first_line = 0;
-    for (i, line) in text.lines().enumerate() {
+    // The convention and the line that set it (the first row with two or more values).
+    let mut convention: Option<(Separator, usize)> = None;
+    for (i, raw) in text.lines().enumerate() {
         let lineno = i + 1;
-        let line = line.trim();
+        let line = raw.split('#').next().unwrap_or("").trim();
         if line.is_empty() {
             continue;
         }
-        let mut row = Vec::new();
-        for (j, field) in line.split(',').enumerate() {
+        let sep = Separator::of(line);
+        if let Some(sep) = sep
+            && convention.is_none()
+        {
+            convention = Some((sep, lineno));
+        }
+        let expected = convention.map(|(s, _)| s);
+        let mixed = |col: usize, found: &str| {
+            let (conv, from) = convention.unwrap_or((Separator::Whitespace, lineno));
+            anyhow!(
+                "line {lineno}, column {col}: values separated by {found}, but the file \
+                 separates them by {} (from line {from}); use one separator per file",
+                conv.name()
+            )
+        };
+        if let (Some(sep), Some(exp)) = (sep, expected)
+            && sep != exp
+        {
+            return Err(mixed(1, sep.name()));
+        }
+        let fields: Vec<&str> = match expected {
+            Some(Separator::Comma) => line.split(',').collect(),
+            Some(Separator::Semicolon) => line.split(';').collect(),
+            Some(Separator::Whitespace) => line.split_whitespace().collect(),
+            None => vec![line],
+        };
+        let mut row = Vec::with_capacity(fields.len());
+        for (j, field) in fields.iter().enumerate() {
+            let col = j + 1;
             let field = field.trim();
-            let v: f64 = field.parse().map_err(|_| {
-                anyhow!("line {lineno}, column {}: '{field}' is not a number", j + 1)
-            })?;
+            if expected != Some(Separator::Whitespace) && field.contains(char::is_whitespace) {
+                return Err(mixed(col, "spaces/tabs inside a field"));
+            }
+            if expected == Some(Separator::Comma) && field.contains(';') {
+                return Err(mixed(col, "semicolons"));
+            }
+            let v: f64 = field
+                .parse()
+                .map_err(|_| anyhow!("line {lineno}, column {col}: '{field}' is not a number"))?;
             if !v.is_finite() {
-                bail!(
-                    "line {lineno}, column {}: value {field} is not finite",
-                    j + 1
-                );
+                bail!("line {lineno}, column {col}: value {field} is not finite");
             }
             row.push(v);
         }
@@ -228,5 +304,36 @@ mod tests {
         assert!(e.contains("not finite"), "{e}");
         assert!(parse_matrix("\n\n").is_err());
         assert!(parse_matrix("1,,2").is_err());
+    }
+
+    #[test]
+    fn every_separator_convention_reads_the_same_matrix() {
+        let want = Mat::from_row_slice(2, 3, &[1.0, -2.5, 3e-3, 4.0, 5.0, 6.0]);
+        for text in [
+            "1,-2.5,3e-3\n4,5,6\n",
+            "1 ; -2.5 ; 3e-3\n4;5;6",
+            "1\t-2.5\t3e-3\n4\t5\t6\n",
+            "  1   -2.5 3e-3\n4 \t 5  6  \n",
+            "\u{feff}# A written by hand\n1, -2.5, 3e-3   # first row\n\n# comment\n4, 5, 6\n",
+            "\u{feff}1 -2.5 3e-3\r\n4 5 6\r\n",
+        ] {
+            assert_eq!(parse_matrix(text).unwrap(), want, "{text:?}");
+        }
+    }
+
+    #[test]
+    fn mixed_separators_name_the_line() {
+        for (text, line) in [
+            ("1,2\n3;4\n", "line 2"),
+            ("1 2\n3,4\n", "line 2"),
+            ("# c\n1;2\n\n3 4\n", "line 4"),
+            ("1,2\n3 4,5\n", "line 2"),
+        ] {
+            let e = parse_matrix(text).unwrap_err().to_string();
+            assert!(e.contains(line) && e.contains("separat"), "{text:?}: {e}");
+        }
+        // A BOM is skipped only at the start; a field after it is read, not misnamed.
+        let e = parse_matrix("1,x\n").unwrap_err().to_string();
+        assert!(e.contains("line 1, column 2") && e.contains("'x'"), "{e}");
     }
 }

@@ -94,9 +94,10 @@ pub enum LtiError {
     /// The pair (Q, A) has an unobservable mode on the stability boundary, so the Riccati
     /// equation has no stabilising solution.
     #[error(
-        "no stabilising solution: (Q, A) is not detectable: the mode at {}{:+}j is unobservable through Q (PBH margin {margin:e}) and on or outside the stability boundary, so the Hamiltonian (symplectic pencil) has the eigenvalue {}{:+}j on the boundary",
+        "no stabilising solution: (Q, A) is not detectable: the mode at {}{:+}j is unobservable through Q (PBH margin {margin:e}) and on or outside the stability boundary, so the Hamiltonian (symplectic pencil) has eigenvalues there: {}{:+}j and {}{:+}j",
         eigenvalue.re, eigenvalue.im,
-        eigenvalue.re, eigenvalue.im
+        eigenvalue.re, eigenvalue.im,
+        eigenvalue.re, -eigenvalue.im
     )]
     NotDetectable {
         /// The offending eigenvalue of A.
