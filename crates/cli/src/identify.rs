@@ -221,7 +221,15 @@ impl Gate {
         match r {
             Ok(()) => Ok(()),
             Err(e) if self.force => {
-                self.warnings.push(e.to_string());
+                // A number already reported non-finite (by the least-squares check) is not
+                // reported again when it is written out.
+                let text = e.to_string();
+                let head = text.split(" is not a finite number").next().unwrap_or("");
+                let repeat = matches!(e, IdentError::NonFiniteResult { .. })
+                    && self.warnings.iter().any(|w| w.starts_with(head));
+                if !repeat {
+                    self.warnings.push(text);
+                }
                 Ok(())
             }
             Err(e) => Err(anyhow!(
