@@ -319,7 +319,9 @@ impl ConicData {
             .zip(&self.blocks)
             .map(|(c, blk)| {
                 let z = z.get(blk.start..blk.start + blk.len).unwrap_or(&[]);
-                let z_at = |k: usize| z.get(k).copied().unwrap_or(f64::NAN) * blk.scale;
+                // In the user's units of the objective as well (`scale_rows` divides it).
+                let z_at =
+                    |k: usize| z.get(k).copied().unwrap_or(f64::NAN) * blk.scale * self.obj_scale;
                 match blk.cone {
                     Cone::Psd => {
                         let dim = c.g.nrows();

@@ -370,6 +370,7 @@ pub struct Solution {
     /// to Clarabel (None when the dense method's answer was kept or was not tried).
     pub dense_attempt: Option<DenseAttempt>,
     x: Vec<f64>,
+    duals: Vec<Mat>,
     owner: u64,
 }
 
@@ -385,6 +386,21 @@ impl Solution {
     /// The check of constraint `id`.
     pub fn check(&self, id: ConstraintId) -> Option<&ConstraintCheck> {
         self.checks.get(id.0)
+    }
+
+    /// The solver's dual variable of constraint `id` (empty unless solved): for a
+    /// semidefinite constraint the symmetric `Z ⪰ 0` paired with `G`, the constraint in the
+    /// form the solver sees (`F − εI` for `F ⪰ εI`, `−F − εI` for `F ⪯ −εI`); for an equality
+    /// or entrywise constraint the multiplier of each entry (zero for entries not imposed).
+    ///
+    /// With `G_j(x) = G_{j,0} + Σ_v x_v G_{j,v}`, a maximisation of `cᵀx` is certified by
+    /// these duals when `c_v + Σ_j ⟨Z_j, G_{j,v}⟩ ≈ 0` for every variable `v`: then
+    /// `Σ_j ⟨Z_j, G_{j,0}⟩` bounds the optimum from above and `Σ_j ⟨Z_j, G_j(x*)⟩` is the
+    /// duality gap at the returned point (for a minimisation, `c_v − Σ_j ⟨Z_j, G_{j,v}⟩ ≈ 0`,
+    /// lower bound `−Σ_j ⟨Z_j, G_{j,0}⟩`). Callers can recompute both from their own
+    /// constraint matrices, independently of the solver.
+    pub fn dual(&self, id: ConstraintId) -> Option<&Mat> {
+        self.duals.get(id.0)
     }
 
     /// The residual check of SOS constraint `id`.
@@ -727,6 +743,7 @@ fn finish(
             reason: "the solver aborted (a dense factorisation failed)".into(),
         },
     };
+    let status_solved = status.is_solved();
     let (checks, sos_checks) = if status.is_solved() {
         let checks = recheck(problem, &raw.x, options.check_tolerance);
         let sos_checks = problem
@@ -768,6 +785,7 @@ fn finish(
         backend,
         dense_attempt,
         x: raw.x,
+        duals: if status_solved { raw.duals } else { Vec::new() },
         owner: problem.id(),
     }
 }
