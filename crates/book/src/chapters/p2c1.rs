@@ -9,9 +9,7 @@ use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_lmi::synthesis::{
-    Feedback, GainScheduleSpec, InputBound, LpvPlant, LqWeights, Region, ScheduledGain,
-    StateFeedbackDesign, Vertex, gain_scheduled_lq, lq_state_feedback,
-    multiobjective_state_feedback, robust_state_feedback, saturated_state_feedback,
+    GainScheduleSpec, LpvPlant, LqWeights, Region, ScheduledGain, Vertex, gain_scheduled_lq,
 };
 use pendulab_lmi::{Expr, Problem, SolveOptions, Status};
 use pendulab_lti::Mat;
@@ -19,7 +17,7 @@ use pendulab_lti::design::lqr;
 use pendulab_lti::linalg::eigenvalues;
 use pendulab_plants::{ArmPendulum, RigSpec};
 use pendulab_plot::{Channel, GainCurves, PoleZeroMap, RegionBound, SignalPanel, TimeResponse};
-use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
+use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo};
 use pendulab_sim::{
     Controller, RunStatus, SampledLoop, SampledOptions, SampledRun, Signal, StayWithin,
 };
@@ -29,6 +27,493 @@ const EPS: f64 = 1e-6;
 const DEG: f64 = 180.0 / PI;
 const ARM: &str = "arm pendulum, book table 3.7 (SPEC.md §1.2)";
 const GAIN_NOTE: &str = "Gains in the book's convention u = +K x.";
+
+// ------------------------------------------------------------------ the M-files' LMIs, as written
+
+/// How an M-file states an LMI: `F >= ep*eye` (`F ⪰ εI`), `F <= -ep*eye` (`F ⪯ −εI`) or
+/// `F >= 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Rel {
+    /// `F ⪰ εI`.
+    GeEps,
+    /// `F ⪯ −εI`.
+    LeNegEps,
+    /// `F ⪰ 0`.
+    Ge0,
+}
+
+/// Affine matrix algebra shared by the solver's expressions ([`Expr`]) and plain matrices
+/// ([`Mat`]): each M-file LMI is written once, generically, and both handed to the solver and
+/// evaluated at the returned point (and at the unit directions, for the duality certificate).
+trait Lin: Sized {
+    fn cst(m: &Mat) -> Self;
+    fn plus(&self, o: &Self) -> Self;
+    fn minus(&self, o: &Self) -> Self;
+    /// `m · self`.
+    fn lmul(&self, m: &Mat) -> Self;
+    /// `self · m`.
+    fn rmul(&self, m: &Mat) -> Self;
+    fn tr(&self) -> Self;
+    fn sc(&self, f: f64) -> Self;
+    fn blk(rows: &[&[&Self]]) -> Self;
+}
+
+impl Lin for Expr {
+    fn cst(m: &Mat) -> Self {
+        Expr::constant(m)
+    }
+    fn plus(&self, o: &Self) -> Self {
+        self + o
+    }
+    fn minus(&self, o: &Self) -> Self {
+        self - o
+    }
+    fn lmul(&self, m: &Mat) -> Self {
+        &Expr::constant(m) * self
+    }
+    fn rmul(&self, m: &Mat) -> Self {
+        self * &Expr::constant(m)
+    }
+    fn tr(&self) -> Self {
+        self.t()
+    }
+    fn sc(&self, f: f64) -> Self {
+        self.scale(f)
+    }
+    fn blk(rows: &[&[&Self]]) -> Self {
+        Expr::block(rows)
+    }
+}
+
+impl Lin for Mat {
+    fn cst(m: &Mat) -> Self {
+        m.clone()
+    }
+    fn plus(&self, o: &Self) -> Self {
+        self + o
+    }
+    fn minus(&self, o: &Self) -> Self {
+        self - o
+    }
+    fn lmul(&self, m: &Mat) -> Self {
+        m * self
+    }
+    fn rmul(&self, m: &Mat) -> Self {
+        self * m
+    }
+    fn tr(&self) -> Self {
+        self.transpose()
+    }
+    fn sc(&self, f: f64) -> Self {
+        self * f
+    }
+    fn blk(rows: &[&[&Self]]) -> Self {
+        let nr: usize = rows.iter().map(|r| r[0].nrows()).sum();
+        let nc: usize = rows[0].iter().map(|b| b.ncols()).sum();
+        let mut m = Mat::zeros(nr, nc);
+        let mut i = 0;
+        for r in rows {
+            let mut j = 0;
+            for b in *r {
+                m.view_mut((i, j), b.shape()).copy_from(*b);
+                j += b.ncols();
+            }
+            i += r[0].nrows();
+        }
+        m
+    }
+}
+
+/// The LMI problems of the p2c1 M-files (all maximise `trace(X)`; `obj = -trace(X)`).
+#[derive(Debug, Clone)]
+enum MfileLmi {
+    /// `p2c122_ex4_adip_oc_servo.m`, `p2c122_ex4_adip_oc_multiobjective_servo.m`,
+    /// `p2c13_ex5_adip_oc_{nominal,robust}_servo.m`: per model `(At, Bt)`, with
+    /// `M = At X + Bt L`: `LMI_lq ⪯ −εI`, optionally `M' + M + 2αX ⪯ −εI`, the sector LMI
+    /// `[k(M'+M), M−M'; M'−M, k(M'+M)] ⪯ −εI` and `M' + M + 2βX ⪰ εI`; `X ⪰ εI`.
+    Servo {
+        models: Vec<(Mat, Mat)>,
+        q: Mat,
+        r: Mat,
+        alpha: Option<f64>,
+        sector_k: Option<f64>,
+        beta: Option<f64>,
+    },
+    /// `p2c14_ex6_adip_oc_saturation.m`: `OC1(L) ⪯ −εI`, `OC2(V) ⪯ −εI`,
+    /// `MH = [X V'; V σ²] ⪰ 0`, `INI = [X x0; x0' 1] ⪰ 0`, `X ⪰ εI`.
+    Saturation {
+        a: Mat,
+        b: Mat,
+        q: Mat,
+        r: Mat,
+        sigma2: f64,
+        x0: Mat,
+    },
+}
+
+/// `sqrtm` of a diagonal weight (the M-files' Q and R are diagonal).
+fn sqrt_diag(m: &Mat) -> Mat {
+    Mat::from_fn(m.nrows(), m.ncols(), |i, j| {
+        if i == j { m[(i, i)].sqrt() } else { 0.0 }
+    })
+}
+
+/// The LQ cost LMI of the M-files: `[M'+M, X√Q, L'√R; √Q X, −I, 0; √R L, 0, −1]`.
+fn lq_block<T: Lin>(a: &Mat, b: &Mat, q: &Mat, r: &Mat, x: &T, l: &T) -> T {
+    let n = a.nrows();
+    let m = x.lmul(a).plus(&l.lmul(b));
+    let (sq, sr) = (sqrt_diag(q), sqrt_diag(r));
+    T::blk(&[
+        &[&m.tr().plus(&m), &x.rmul(&sq), &l.tr().rmul(&sr)],
+        &[
+            &x.lmul(&sq),
+            &T::cst(&(-Mat::identity(n, n))),
+            &T::cst(&Mat::zeros(n, 1)),
+        ],
+        &[
+            &l.lmul(&sr),
+            &T::cst(&Mat::zeros(1, n)),
+            &T::cst(&(-Mat::identity(1, 1))),
+        ],
+    ])
+}
+
+impl MfileLmi {
+    fn n(&self) -> usize {
+        match self {
+            MfileLmi::Servo { models, .. } => models[0].0.nrows(),
+            MfileLmi::Saturation { a, .. } => a.nrows(),
+        }
+    }
+
+    fn has_v(&self) -> bool {
+        matches!(self, MfileLmi::Saturation { .. })
+    }
+
+    /// Every LMI of the M-file, in its order, under its name, as `(name, relation, F)`.
+    fn blocks<T: Lin>(&self, x: &T, l: &T, v: Option<&T>) -> Vec<(String, Rel, T)> {
+        let n = self.n();
+        let mut out = vec![("X >= ep*eye(n)".to_string(), Rel::GeEps, x.sc(1.0))];
+        match self {
+            MfileLmi::Servo {
+                models,
+                q,
+                r,
+                alpha,
+                sector_k,
+                beta,
+            } => {
+                for (i, (a, b)) in models.iter().enumerate() {
+                    let tag = if models.len() > 1 {
+                        format!(" (vertex {})", i + 1)
+                    } else {
+                        String::new()
+                    };
+                    let m = x.lmul(a).plus(&l.lmul(b));
+                    let he = m.tr().plus(&m);
+                    out.push((
+                        format!("LMI_lq{tag}"),
+                        Rel::LeNegEps,
+                        lq_block(a, b, q, r, x, l),
+                    ));
+                    if let Some(al) = alpha {
+                        out.push((
+                            format!("LMI_alp{tag}"),
+                            Rel::LeNegEps,
+                            he.plus(&x.sc(2.0 * al)),
+                        ));
+                    }
+                    if let Some(k) = sector_k {
+                        let d = m.minus(&m.tr());
+                        out.push((
+                            format!("LMI3 (sector){tag}"),
+                            Rel::LeNegEps,
+                            T::blk(&[&[&he.sc(*k), &d], &[&d.sc(-1.0), &he.sc(*k)]]),
+                        ));
+                    }
+                    if let Some(be) = beta {
+                        out.push((
+                            format!("LMI_bet{tag}"),
+                            Rel::GeEps,
+                            he.plus(&x.sc(2.0 * be)),
+                        ));
+                    }
+                }
+            }
+            MfileLmi::Saturation {
+                a,
+                b,
+                q,
+                r,
+                sigma2,
+                x0,
+            } => {
+                out.push(("OC1".into(), Rel::LeNegEps, lq_block(a, b, q, r, x, l)));
+                if let Some(v) = v {
+                    out.push(("OC2".into(), Rel::LeNegEps, lq_block(a, b, q, r, x, v)));
+                    out.push((
+                        "MH".into(),
+                        Rel::Ge0,
+                        T::blk(&[
+                            &[x, &v.tr()],
+                            &[v, &T::cst(&Mat::from_element(1, 1, *sigma2))],
+                        ]),
+                    ));
+                }
+                out.push((
+                    "INI".into(),
+                    Rel::Ge0,
+                    T::blk(&[
+                        &[x, &T::cst(x0)],
+                        &[&T::cst(&x0.transpose()), &T::cst(&Mat::identity(1, 1))],
+                    ]),
+                ));
+                let _ = n;
+            }
+        }
+        out
+    }
+}
+
+/// The constraint as the solver sees it, `G ⪰ 0`: `F − εI`, `−F − εI` or `F`.
+fn normalised(rel: Rel, f: &Mat) -> Mat {
+    let k = f.nrows();
+    match rel {
+        Rel::GeEps => f - Mat::identity(k, k) * EPS,
+        Rel::LeNegEps => -f - Mat::identity(k, k) * EPS,
+        Rel::Ge0 => f.clone(),
+    }
+}
+
+/// An M-file LMI solved: the M-file's variables and the optimum's certificate, recomputed here
+/// from the M-file's LMIs at the returned point (not taken from the solver).
+#[derive(Debug, Clone)]
+struct MfileSolution {
+    /// `X = double(X)`.
+    x: Mat,
+    /// `L = double(L)`.
+    l: Mat,
+    /// `V = double(V)` (saturation only).
+    v: Option<Mat>,
+    /// Solver status (Solved, or AlmostSolved reported as "inaccurate").
+    status: Status,
+    /// Which method solved it.
+    backend: pendulab_lmi::Backend,
+    /// `trace(X)`, the maximised objective.
+    trace_x: f64,
+    /// `Σ_j ⟨Z_j, G_j(0)⟩`: the dual objective, an upper bound on the optimum when the
+    /// stationarity residual is zero.
+    dual_bound: f64,
+    /// `Σ_j ⟨Z_j, G_j(x*)⟩`: the duality gap at the returned point.
+    gap: f64,
+    /// `max_v |c_v + Σ_j ⟨Z_j, G_{j,v}⟩| / max(1, ‖Z‖)`: dual stationarity, relative.
+    stationarity: f64,
+    /// Smallest eigenvalue of each `Z_j` (dual feasibility), the smallest over all LMIs.
+    min_dual_eig: f64,
+    /// Per LMI (M-file name), the smallest eigenvalue of `G_j(x*)` (≥ 0: satisfied with the
+    /// M-file's margin).
+    margins: Vec<(String, f64)>,
+}
+
+impl MfileSolution {
+    /// The smallest eigenvalue of the M-file's LMIs at the point, over all of them.
+    fn min_margin(&self) -> f64 {
+        self.margins
+            .iter()
+            .map(|m| m.1)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// `Kt = L*inv(X)` (the book's sign, u = +Kt x).
+    fn kt(&self, id: &str) -> Result<Mat, BookError> {
+        let xi = self
+            .x
+            .clone()
+            .try_inverse()
+            .ok_or_else(|| fail(id, "X is singular"))?;
+        Ok(&self.l * xi)
+    }
+
+    /// The status and certificate in one sentence for the output notes.
+    fn note(&self, what: &str) -> String {
+        let st = match self.status {
+            Status::Solved => "solved".to_string(),
+            Status::AlmostSolved => "INACCURATE (solved to reduced accuracy only)".to_string(),
+            ref s => format!("{s:?}"),
+        };
+        format!(
+            "{what}: the M-file's problem, maximise trace(X), {} LMIs as written there (ε = 1e-6), no re-solve; \
+             solver status {st} ({:?}). Certificate recomputed from the M-file's LMIs at the returned point: \
+             trace(X) = {:.8}, dual bound = {:.8}, duality gap = {:.2e}, dual stationarity residual = {:.1e}, \
+             smallest LMI eigenvalue (after the margin) = {:.2e}, smallest dual eigenvalue = {:.1e}.",
+            self.margins.len(),
+            self.backend,
+            self.trace_x,
+            self.dual_bound,
+            self.gap,
+            self.stationarity,
+            self.min_margin(),
+            self.min_dual_eig
+        )
+    }
+}
+
+/// `⟨A, B⟩ = tr(AᵀB)`.
+fn inner(a: &Mat, b: &Mat) -> f64 {
+    a.iter().zip(b.iter()).map(|(x, y)| x * y).sum()
+}
+
+/// Smallest eigenvalue of a symmetric matrix (its symmetric part).
+fn min_eig(m: &Mat) -> f64 {
+    let s = (m + m.transpose()) * 0.5;
+    nalgebra::SymmetricEigen::new(s)
+        .eigenvalues
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Solves the M-file's LMI problem (maximise `trace(X)`) with `options` and certifies the
+/// answer. An unsolved status is an error naming it; "almost solved" is returned with its
+/// status (reported as inaccurate).
+fn solve_mfile(
+    id: &str,
+    spec: &MfileLmi,
+    options: &SolveOptions,
+) -> Result<MfileSolution, BookError> {
+    let n = spec.n();
+    let mut p = Problem::new();
+    let x = p.symmetric("X", n);
+    let l = p.matrix("L", 1, n);
+    let v = spec.has_v().then(|| p.matrix("V", 1, n));
+    let blocks = spec.blocks(&x, &l, v.as_ref());
+    let mut ids = Vec::new();
+    for (name, rel, f) in &blocks {
+        let cid = match rel {
+            Rel::GeEps => p.positive_definite(name, f, EPS),
+            Rel::LeNegEps => p.negative_definite(name, f, EPS),
+            Rel::Ge0 => p.positive_semidefinite(name, f),
+        }
+        .ctx(id)?;
+        ids.push(cid);
+    }
+    p.maximize(&x.trace()).ctx(id)?;
+    let sol = p.solve(options).ctx(id)?;
+    if !sol.status.is_solved() {
+        return Err(fail(
+            id,
+            format!("the M-file's LMI problem was not solved: {:?}", sol.status),
+        ));
+    }
+    let xv = sol.value(&x).ctx(id)?;
+    let xv = (&xv + xv.transpose()) * 0.5;
+    let lv = sol.value(&l).ctx(id)?;
+    let vv = match &v {
+        Some(v) => Some(sol.value(v).ctx(id)?),
+        None => None,
+    };
+    let duals: Vec<Mat> = ids
+        .iter()
+        .map(|c| {
+            sol.dual(*c)
+                .cloned()
+                .ok_or_else(|| fail(id, "the solver returned no dual variables"))
+        })
+        .collect::<Result<_, _>>()?;
+    // G_j at a point (X, L, V), in the solver's form.
+    let g_at = |xm: &Mat, lm: &Mat, vm: Option<&Mat>| -> Vec<Mat> {
+        spec.blocks(xm, lm, vm)
+            .iter()
+            .map(|(_, rel, f)| normalised(*rel, f))
+            .collect()
+    };
+    let zero_x = Mat::zeros(n, n);
+    let zero_r = Mat::zeros(1, n);
+    let pair = |gs: &[Mat]| -> f64 { gs.iter().zip(&duals).map(|(g, z)| inner(g, z)).sum() };
+    let g0 = g_at(&zero_x, &zero_r, vv.as_ref().map(|_| &zero_r));
+    let dual_bound = pair(&g0);
+    let g_star = g_at(&xv, &lv, vv.as_ref());
+    let gap = pair(&g_star);
+    // Stationarity c_v + Σ_j ⟨Z_j, G_j(E_v) − G_j(0)⟩ over every scalar variable.
+    let zn = duals.iter().map(|z| z.norm()).fold(1.0, f64::max);
+    let mut stat: f64 = 0.0;
+    let mut dirs: Vec<(Mat, Mat, Option<Mat>, f64)> = Vec::new();
+    for j in 0..n {
+        for i in 0..=j {
+            let mut e = Mat::zeros(n, n);
+            e[(i, j)] = 1.0;
+            e[(j, i)] = 1.0;
+            let c = if i == j { 1.0 } else { 0.0 };
+            dirs.push((e, zero_r.clone(), vv.as_ref().map(|_| zero_r.clone()), c));
+        }
+    }
+    for j in 0..n {
+        let mut e = Mat::zeros(1, n);
+        e[(0, j)] = 1.0;
+        dirs.push((
+            zero_x.clone(),
+            e.clone(),
+            vv.as_ref().map(|_| zero_r.clone()),
+            0.0,
+        ));
+        if vv.is_some() {
+            dirs.push((zero_x.clone(), zero_r.clone(), Some(e), 0.0));
+        }
+    }
+    for (ex, el, ev, c) in &dirs {
+        let g = g_at(ex, el, ev.as_ref());
+        stat = stat.max((c + pair(&g) - dual_bound).abs() / zn);
+    }
+    let margins = blocks
+        .iter()
+        .zip(&g_star)
+        .map(|((name, _, _), g)| (name.clone(), min_eig(g)))
+        .collect();
+    let min_dual_eig = duals.iter().map(min_eig).fold(f64::INFINITY, f64::min);
+    Ok(MfileSolution {
+        trace_x: xv.trace(),
+        x: xv,
+        l: lv,
+        v: vv,
+        status: sol.status.clone(),
+        backend: sol.backend,
+        dual_bound,
+        gap,
+        stationarity: stat,
+        min_dual_eig,
+        margins,
+    })
+}
+
+/// Reports the M-file's solution values (`X`, `L`, `trace_invX`, `trace_X`) and the
+/// certificate values under their names.
+fn report_solution(
+    id: &str,
+    s: &MfileSolution,
+    trace_inv_name: &str,
+    out: &mut ExampleOutput,
+) -> Result<(), BookError> {
+    let xi =
+        s.x.clone()
+            .try_inverse()
+            .ok_or_else(|| fail(id, "X is singular"))?;
+    out.value("X", Value::matrix(&s.x))
+        .value("L", Value::Vector(row(&s.l)))
+        .value(trace_inv_name, Value::Number(xi.trace()))
+        .value("trace_X", Value::Number(s.trace_x))
+        .value(
+            "solved_to_tolerance",
+            Value::Bool(s.status == Status::Solved),
+        )
+        .value("dual_bound", Value::Number(s.dual_bound))
+        .value("duality_gap", Value::Number(s.gap))
+        .value("dual_stationarity_residual", Value::Number(s.stationarity))
+        .value(
+            "lmi_min_eigenvalues",
+            Value::Vector(s.margins.iter().map(|m| m.1).collect()),
+        );
+    Ok(())
+}
 
 /// The chapter's examples, in book order.
 pub(crate) fn examples() -> Vec<Example> {
@@ -91,7 +576,7 @@ pub(crate) fn examples() -> Vec<Example> {
         },
         Example {
             id: "p2c14_ex6_adip_oc_saturation",
-            title: "State feedback with |u| ≤ 0.1 V by ellipsoid conditions",
+            title: "State feedback under |u| ≤ 0.1 V saturation by invariant-ellipsoid conditions (K and H)",
             section: "Part 2 §1.4",
             parameters: ARM,
             needs_data: None,
@@ -179,6 +664,8 @@ fn p2c121_ex3(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let v = |e: &Expr| -> Result<f64, BookError> { Ok(sol.value(e).ctx(id)?[(0, 0)]) };
     let (x1, x2) = (v(&xi1)?, v(&xi2)?);
     let mut out = ExampleOutput::default();
+    // p2c121_ex3_alpha_stability_opt.m lines 23-25: P = double(P), c'*xi.
+    out.value("P", Value::Matrix(vec![vec![x1, x2], vec![x2, 1.0]]));
     out.value("optimum", Value::Number(x1 + x2))
         .value("xi1", Value::Number(x1))
         .value("xi2", Value::Number(x2));
@@ -285,24 +772,69 @@ fn arm_response(
         .figure()
 }
 
+/// The book's `Kt` (u = +Kt x) as the library gain (u = −K x).
+fn library_gain(kt: &Mat) -> Mat {
+    -kt
+}
+
+/// `eig(At + Bt*Kt)`, sorted.
+fn poles_of(
+    id: &str,
+    a: &Mat,
+    b: &Mat,
+    kt: &Mat,
+) -> Result<Vec<pendulab_lti::Complex64>, BookError> {
+    Ok(sorted(eigenvalues(&(a + b * kt)).ctx(id)?))
+}
+
+/// The LMI servo of the p2c122 M-files on the nominal model, with its `Kt`, poles and the
+/// Riccati comparison (`Kt_LQ = -lqr(At, Bt, Q, R)`, `poles_LQ`).
+fn lmi_servo_values(
+    id: &str,
+    spec: &MfileLmi,
+    at: &Mat,
+    bt: &Mat,
+    out: &mut ExampleOutput,
+) -> Result<(MfileSolution, Mat, Mat), BookError> {
+    let s = solve_mfile(id, spec, &SolveOptions::default())?;
+    let kt = s.kt(id)?;
+    report_solution(id, &s, "trace_invX", out)?;
+    let poles = poles_of(id, at, bt, &kt)?;
+    let lq = riccati_servo_gain(id, at, bt)?;
+    let kt_lq = library_gain(&lq.gain);
+    out.value("Kt", Value::Vector(row(&kt)))
+        .value("K1", Value::Vector(row(&kt)[..4].to_vec()))
+        .value("K2", Value::Number(kt[(0, 4)]))
+        .value("poles", Value::Complex(poles))
+        .value("Kt_LQ", Value::Vector(row(&kt_lq)))
+        .value("poles_LQ", Value::Complex(poles_of(id, at, bt, &kt_lq)?));
+    Ok((s, kt, kt_lq))
+}
+
 fn p2c122_ex4_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c122_ex4_adip_oc_servo";
     let (at, bt) = nominal_servo(id)?;
     let (q, r) = servo_weights();
-    let d = lq_state_feedback(&at, &bt, &q, &r, &SolveOptions::default()).ctx(id)?;
-    let fb = solved(id, d)?;
-    let lq = riccati_servo_gain(id, &at, &bt)?;
+    // p2c122_ex4_adip_oc_servo.m lines 31-50: X ⪰ εI, LMI1 ⪯ −εI, obj = −trace(X).
+    let spec = MfileLmi::Servo {
+        models: vec![(at.clone(), bt.clone())],
+        q,
+        r,
+        alpha: None,
+        sector_k: None,
+        beta: None,
+    };
     let mut out = ExampleOutput::default();
-    let rel = (&fb.gain - &lq.gain).norm() / lq.gain.norm();
-    out.value("K_lmi", Value::Vector(book_row(&fb.gain)))
-        .value("K_lq", Value::Vector(book_row(&lq.gain)))
-        .value("relative_difference", Value::Number(rel))
-        .value("trace_X", Value::Number(fb.x.trace()));
+    let (s, kt, kt_lq) = lmi_servo_values(id, &spec, &at, &bt, &mut out)?;
+    let rel = (&kt - &kt_lq).norm() / kt_lq.norm();
+    out.value("relative_difference_Kt_Kt_LQ", Value::Number(rel));
     out.notes.push(GAIN_NOTE.into());
-    out.notes.push(
-        "X ≻ 0 with the Schur-complement LQ LMI, maximise tr X; K̃ = L X⁻¹ agrees with the Riccati servo gain (X⁻¹ = P)."
-            .into(),
-    );
+    out.notes
+        .push(s.note("p2c122_ex4_adip_oc_servo.m lines 36-50"));
+    out.notes.push(format!(
+        "Kt = L X⁻¹ against the Riccati gain Kt_LQ = −lqr(At, Bt, Q, R): relative difference {rel:.1e} \
+         (X⁻¹ = P up to the margin ε)."
+    ));
     if ctx.out_dir.is_some() {
         save_servo_comparison(
             ctx,
@@ -310,8 +842,8 @@ fn p2c122_ex4_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             id,
             "p2c122_ex4: LMI LQ servo vs Riccati LQ servo, r = 30°",
             "LMI",
-            &fb.gain,
-            &lq.gain,
+            &library_gain(&kt),
+            &library_gain(&kt_lq),
         )?;
     }
     Ok(out)
@@ -359,27 +891,38 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
     let id = "p2c122_ex4_adip_oc_multiobjective_servo";
     let (at, bt) = nominal_servo(id)?;
     let (q, r) = servo_weights();
+    // p2c122_ex4_adip_oc_multiobjective_servo.m lines 36-39: St = 1.5, α = 3/St, β = 8α,
+    // θ = π/4, k = tan θ; lines 45-58: LMI1, LMI2 ⪯ −εI, LMI3 ⪯ −εI, LMI4 ⪰ εI.
+    let alpha = 3.0 / 1.5;
+    let beta = 8.0 * alpha;
+    let theta = std::f64::consts::FRAC_PI_4;
+    let spec = MfileLmi::Servo {
+        models: vec![(at.clone(), bt.clone())],
+        q,
+        r,
+        alpha: Some(alpha),
+        sector_k: Some(theta.tan()),
+        beta: Some(beta),
+    };
+    let mut out = ExampleOutput::default();
+    let (s, kt, kt_lq) = lmi_servo_values(id, &spec, &at, &bt, &mut out)?;
+    let poles = poles_of(id, &at, &bt, &kt)?;
     let regions = multiobjective_regions();
-    let d = multiobjective_state_feedback(&at, &bt, &q, &r, &regions, &SolveOptions::default())
-        .ctx(id)?;
-    let fb = solved(id, d)?;
-    let poles = sorted(eigenvalues(&(&at - &bt * &fb.gain)).ctx(id)?);
     let inside = poles
         .iter()
         .all(|z| regions.iter().all(|reg| reg.contains(*z)));
-    let mut out = ExampleOutput::default();
-    out.value("K", Value::Vector(book_row(&fb.gain)))
-        .value("closed_loop_poles", Value::Complex(poles.clone()))
-        .value("poles_in_region", Value::Bool(inside));
+    out.value("poles_in_region", Value::Bool(inside));
     out.reference("poles_in_region", Value::Bool(true), "examples.md", 0.0);
     out.notes.push(GAIN_NOTE.into());
+    out.notes
+        .push(s.note("p2c122_ex4_adip_oc_multiobjective_servo.m lines 41-62"));
     out.notes.push(
-        "Region: Re λ < −2, Re λ > −16, |Im λ| < −Re λ (sector π/4), with the LQ cost LMI; max tr X, then re-solved at 0.99 tr X* for an interior point."
+        "Region: Re λ < −α = −2, Re λ > −β = −16, sector |Im λ| < tan(π/4)(−Re λ), the sector LMI written \
+         with k = tan θ as in the M-file (line 50)."
             .into(),
     );
     if ctx.out_dir.is_some() {
-        let lq = riccati_servo_gain(id, &at, &bt)?;
-        let lq_poles = sorted(lq.closed_loop_poles.clone());
+        let lq_poles = poles_of(id, &at, &bt, &kt_lq)?;
         save_figure(
             ctx,
             &mut out,
@@ -389,9 +932,9 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
                 .region(
                     "design region",
                     &[
-                        RegionBound::DecayRate(2.0),
-                        RegionBound::SpeedLimit(16.0),
-                        RegionBound::Sector(std::f64::consts::FRAC_PI_4),
+                        RegionBound::DecayRate(alpha),
+                        RegionBound::SpeedLimit(beta),
+                        RegionBound::Sector(theta),
                     ],
                 )
                 .poles("multi-objective LMI", &poles)
@@ -405,23 +948,38 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
             id,
             "p2c122_ex4: multi-objective servo vs LQ servo, r = 30°",
             "multi-objective LMI",
-            &fb.gain,
-            &lq.gain,
+            &library_gain(&kt),
+            &library_gain(&kt_lq),
         )?;
     }
     Ok(out)
 }
 
-/// The four vertices (a1, b1) ∈ {3.41, 8.99} × {8.69, 22.91}, in the order (3.41, 8.69),
-/// (3.41, 22.91), (8.99, 8.69), (8.99, 22.91).
+/// The four vertices `(a1, b1)` of the p2c13 M-files (lines 37-47 of
+/// `p2c13_ex5_adip_lqr_servo.m`): the nominal values × [0.55, 1.45], in `mvert(2)`'s column
+/// order (ρ1 min/ρ2 min, ρ1 max/ρ2 min, ρ1 min/ρ2 max, ρ1 max/ρ2 max).
 fn vertex_params() -> Vec<(f64, f64)> {
-    let mut v = Vec::new();
-    for a1 in [3.41, 8.99] {
-        for b1 in [8.69, 22.91] {
-            v.push((a1, b1));
-        }
-    }
-    v
+    let p = pendulab_plants::ArmPendulumParams::book();
+    let (lo, hi) = (0.55, 1.45);
+    // mvert(2) = [0 1 0 1; 0 0 1 1]; vertex = range(1) + diff(range) * ve.
+    let ve = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+    ve.iter()
+        .map(|&(e1, e2)| {
+            (
+                p.a1 * lo + (p.a1 * hi - p.a1 * lo) * e1,
+                p.b1 * lo + (p.b1 * hi - p.b1 * lo) * e2,
+            )
+        })
+        .collect()
+}
+
+/// `vertex` as the M-files display it: row 1 the a1 values, row 2 the b1 values.
+fn vertex_value() -> Value {
+    let v = vertex_params();
+    Value::Matrix(vec![
+        v.iter().map(|p| p.0).collect(),
+        v.iter().map(|p| p.1).collect(),
+    ])
 }
 
 fn vertices(id: &str) -> Result<Vec<Vertex>, BookError> {
@@ -448,7 +1006,10 @@ fn p2c13_report(
         maxre.push(max_re(&p));
         all_poles.push(p);
     }
-    out.value(gain_name, Value::Vector(book_row(k)))
+    let kb = book_row(k);
+    out.value(gain_name, Value::Vector(kb.clone()))
+        .value("K1", Value::Vector(kb[..4].to_vec()))
+        .value("K2", Value::Number(kb[4]))
         .value("max_real_pole_per_vertex", Value::Vector(maxre.clone()))
         .value(
             "stable_at_all_vertices",
@@ -456,7 +1017,7 @@ fn p2c13_report(
         );
     out.notes.push(GAIN_NOTE.into());
     out.notes.push(
-        "Vertices in the order (a1, b1) = (3.41, 8.69), (3.41, 22.91), (8.99, 8.69), (8.99, 22.91)."
+        "Vertices (a1, b1) in mvert(2)'s order, as the M-files number them: (3.41, 8.69), (8.99, 8.69), (3.41, 22.91), (8.99, 22.91)."
             .into(),
     );
     if ctx.out_dir.is_none() {
@@ -508,25 +1069,11 @@ fn p2c13_report(
             Some(30.0),
         ),
     )?;
-    // Animation at the vertex the nominal LQ servo cannot hold.
+    // Animation at the vertex the nominal LQ servo cannot hold (a1 max, b1 min).
     save_animation(ctx, out, id, "animation", || {
-        run_animation(Rig::Arm, &runs[2].1.trajectory, id)
+        run_animation(Rig::Arm, &runs[1].1.trajectory, id)
     })?;
     Ok(())
-}
-
-/// The gain of a solved LMI design, or a computation error naming the solver status.
-fn solved(id: &str, d: StateFeedbackDesign) -> Result<Feedback, BookError> {
-    d.feedback
-        .ok_or_else(|| fail(id, format!("LMI not solved: {:?}", d.status)))
-}
-
-/// The pole region of the p2c13 designs: `Re λ < −2` and `|λ| < 40`.
-fn p2c13_regions() -> [Region; 2] {
-    [
-        Region::DecayRate { alpha: 2.0 },
-        Region::SpeedLimit { beta: 40.0 },
-    ]
 }
 
 fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
@@ -534,7 +1081,9 @@ fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let (at, bt) = nominal_servo(id)?;
     let lq = riccati_servo_gain(id, &at, &bt)?;
     let mut out = ExampleOutput::default();
-    p2c13_report(ctx, id, "K", &lq.gain, false, &mut out)?;
+    // p2c13_ex5_adip_lqr_servo.m line 33: Kt_LQ = -lqr(At_nominal, Bt_nominal, Q, R).
+    out.value("vertex", vertex_value());
+    p2c13_report(ctx, id, "Kt_LQ", &lq.gain, false, &mut out)?;
     out.reference(
         "stable_at_all_vertices",
         Value::Bool(false),
@@ -546,37 +1095,91 @@ fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     Ok(out)
 }
 
-fn p2c13_nominal(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
-    let id = "p2c13_ex5_adip_oc_nominal_servo";
-    let (at, bt) = nominal_servo(id)?;
+/// The p2c13 LMI servo (nominal model only, or all four vertices): α = 3/St = 2,
+/// β = 20α = 40, `obj = -trace(X)`.
+fn p2c13_lmi(ctx: &RunContext, id: &str, robust: bool) -> Result<ExampleOutput, BookError> {
     let (q, r) = servo_weights();
-    let regions = p2c13_regions();
-    let d = multiobjective_state_feedback(&at, &bt, &q, &r, &regions, &SolveOptions::default())
-        .ctx(id)?;
-    let fb = solved(id, d)?;
+    let models: Vec<(Mat, Mat)> = if robust {
+        vertices(id)?.into_iter().map(|v| (v.a, v.b)).collect()
+    } else {
+        vec![nominal_servo(id)?]
+    };
+    let alpha = 3.0 / 1.5;
+    let spec = MfileLmi::Servo {
+        models,
+        q,
+        r,
+        alpha: Some(alpha),
+        sector_k: None,
+        beta: Some(20.0 * alpha),
+    };
+    let s = solve_mfile(id, &spec, &SolveOptions::default())?;
+    let kt = s.kt(id)?;
     let mut out = ExampleOutput::default();
-    p2c13_report(ctx, id, "K", &fb.gain, true, &mut out)?;
+    // The M-files display trace(inv(X)) as `trase_invX` (sic).
+    report_solution(id, &s, "trase_invX", &mut out)?;
+    out.value("vertex", vertex_value());
+    p2c13_report(ctx, id, "Kt", &library_gain(&kt), true, &mut out)?;
+    out.notes.push(s.note(if robust {
+        "p2c13_ex5_adip_oc_robust_servo.m lines 47-79 (common X, L at the four vertices)"
+    } else {
+        "p2c13_ex5_adip_oc_nominal_servo.m lines 31-58 (nominal model)"
+    }));
+    out.notes.push(
+        "Region as in the M-file: M'+M+2αX ⪯ −εI (Re λ < −2) and M'+M+2βX ⪰ εI (Re λ > −40, a half-plane)."
+            .into(),
+    );
     Ok(out)
+}
+
+fn p2c13_nominal(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+    p2c13_lmi(ctx, "p2c13_ex5_adip_oc_nominal_servo", false)
 }
 
 fn p2c13_robust(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_oc_robust_servo";
-    let verts = vertices(id)?;
-    let (q, r) = servo_weights();
-    let regions = p2c13_regions();
-    let d = robust_state_feedback(&verts, &q, &r, &regions, &SolveOptions::default()).ctx(id)?;
-    let fb = solved(id, d)?;
-    let mut out = ExampleOutput::default();
-    p2c13_report(ctx, id, "K_robust", &fb.gain, true, &mut out)?;
+    let mut out = p2c13_lmi(ctx, id, true)?;
     out.reference(
         "stable_at_all_vertices",
         Value::Bool(true),
         "examples.md",
         0.0,
     );
-    out.notes
-        .push("Common X and L at all four vertices: one gain for the whole parameter box.".into());
     Ok(out)
+}
+
+/// `u = Kx` (the book's sign) through the M-file's saturation block `±sat` (the Simulink
+/// models `adip_saturation_sim` / `adip_saturation2_sim`: Matrix Gain `K` → Saturation
+/// `[-sat, sat]` → plant; `u` is logged before, `v` after the saturation).
+#[derive(Debug, Clone)]
+struct SaturatedGain {
+    k: [f64; 4],
+    sat: f64,
+}
+
+impl Controller for SaturatedGain {
+    fn ny(&self) -> usize {
+        4
+    }
+    fn nu(&self) -> usize {
+        1
+    }
+    fn reset(&mut self) {}
+    fn sample_time(&self) -> Option<f64> {
+        Some(1e-3)
+    }
+    fn update(&mut self, _t: f64, y: &[f64], u: &mut [f64]) {
+        let v: f64 = self.k.iter().zip(y).map(|(k, x)| k * x).sum();
+        u[0] = v.clamp(-self.sat, self.sat);
+    }
+}
+
+/// A number already reported in `out` (NaN when missing).
+fn num_of(out: &ExampleOutput, name: &str) -> f64 {
+    match out.get(name) {
+        Some(Value::Number(x)) => *x,
+        _ => f64::NAN,
+    }
 }
 
 fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
@@ -585,21 +1188,42 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let lin = plant
         .linearize(pendulab_plants::ArmEquilibrium::upright(0.0))
         .ctx(id)?;
+    // p2c14_ex6_adip_oc_saturation.m lines 28-67.
     let q = diag(&[20.0, 10.0, 0.1, 0.1]);
     let r = diag(&[1.0]);
-    let x0 = vec![10f64.to_radians(), 0.0, 0.0, 0.0];
-    let bound = InputBound {
-        u_max: vec![0.1],
-        initial_states: vec![x0.clone()],
+    let sigma2: f64 = 0.1 * 0.1;
+    let x0v = [10f64.to_radians(), 0.0, 0.0, 0.0];
+    let spec = MfileLmi::Saturation {
+        a: lin.a().clone(),
+        b: lin.b().clone(),
+        q,
+        r,
+        sigma2,
+        x0: Mat::from_column_slice(4, 1, &x0v),
     };
-    let d = saturated_state_feedback(lin.a(), lin.b(), &q, &r, &bound, &SolveOptions::default())
-        .ctx(id)?;
-    let fb = solved(id, d)?;
-    // Simulation on the nonlinear plant, exact state measurement (the design's assumption),
-    // ideal amplifier, 1 ms, 10 s.
-    // Also on the rig preset with quantizer (encoders, pseudo-differentiated velocities).
-    let sim_on = |k: &Mat, rig: bool| -> Result<SampledRun, BookError> {
-        let c = StaticStateFeedback::new(k.clone()).ctx(id)?;
+    let s = solve_mfile(id, &spec, &SolveOptions::default())?;
+    let k = s.kt(id)?;
+    let xi =
+        s.x.clone()
+            .try_inverse()
+            .ok_or_else(|| fail(id, "X is singular"))?;
+    let v = s.v.clone().ok_or_else(|| fail(id, "no V"))?;
+    let h = &v * &xi;
+    let poles = poles_of(id, lin.a(), lin.b(), &k)?;
+    let sat = sigma2.sqrt();
+    let mut out = ExampleOutput::default();
+    report_solution(id, &s, "trace_invX", &mut out)?;
+    out.value("OBV", Value::Number(-s.trace_x))
+        .value("V", Value::Vector(row(&v)))
+        .value("K", Value::Vector(row(&k)))
+        .value("H", Value::Vector(row(&h)))
+        .value("poles", Value::Complex(poles))
+        .value("sat", Value::Number(sat));
+    // Simulations (lines 95-97): the exact-state model (adip_saturation_sim) and the model
+    // with D/A and encoder resolution (adip_saturation2_sim, the one the M-file runs), 10 s.
+    let kk = [k[(0, 0)], k[(0, 1)], k[(0, 2)], k[(0, 3)]];
+    let sim_on = |rig: bool| -> Result<SampledRun, BookError> {
+        let c = SaturatedGain { k: kk, sat };
         let mut l = SampledLoop::new(
             plant,
             c,
@@ -612,53 +1236,77 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         if rig {
             l = l.with_rig(quantized_rig(id, &RigSpec::arm())?).ctx(id)?;
         }
-        l.run(&x0).ctx(id)
+        l.run(&x0v).ctx(id)
     };
-    let sim = |k: &Mat| sim_on(k, false);
-    let run = sim(&fb.gain)?;
-    let max_u = max_abs_after(run.trajectory.t(), run.trajectory.u_signal(0), 0.0);
-    let lin_sys = pendulab_lti::StateSpace::continuous(
-        lin.a().clone(),
-        lin.b().clone(),
-        Mat::identity(4, 4),
-        Mat::zeros(4, 1),
-    )
-    .ctx(id)?;
-    let k_lq = lqr(&lin_sys, &q, &r, None).ctx(id)?.gain;
-    let lq_run = sim(&k_lq)?;
-    let max_u_lq = max_abs_after(lq_run.trajectory.t(), lq_run.trajectory.u_signal(0), 0.0);
-    let rig_run = sim_on(&fb.gain, true)?;
-    let max_u_rig = max_abs_after(rig_run.trajectory.t(), rig_run.trajectory.u_signal(0), 0.0);
-    let mut out = ExampleOutput::default();
-    out.value("K", Value::Vector(book_row(&fb.gain)))
-        .value("max_abs_u", Value::Number(max_u))
-        .value("max_abs_u_quantised_rig", Value::Number(max_u_rig))
-        .value("K_lq", Value::Vector(book_row(&k_lq)))
-        .value("max_abs_u_lq", Value::Number(max_u_lq));
-    out.notes.push(GAIN_NOTE.into());
-    out.notes.push(
-        "Ellipsoid conditions [[X, Vᵀ], [V, σ²]] ⪰ 0 and [[X, x0], [x0ᵀ, 1]] ⪰ 0 with σ = 0.1 V: \
-         the input stays within 0.1 V along the nonlinear run from θ1 = 10° (1 ms, exact state), and on the \
-         rig preset with quantizer as well (max_abs_u_quantised_rig)."
-            .into(),
-    );
+    let mut runs = Vec::new();
+    for (tag, rig) in [("", false), ("_quantised_rig", true)] {
+        let run = sim_on(rig)?;
+        let t = run.trajectory.t();
+        // u = K x along the run (before the saturation; from the plant's states), v applied.
+        let xs: Vec<Vec<f64>> = (0..4)
+            .map(|j| run.trajectory.x_signal(j).to_vec())
+            .collect();
+        let u: Vec<f64> = (0..t.len())
+            .map(|i| (0..4).map(|j| kk[j] * xs[j][i]).sum())
+            .collect();
+        let vv = run.trajectory.u_signal(0);
+        let sat_time = u
+            .iter()
+            .zip(t.windows(2))
+            .filter(|(u, _)| u.abs() > sat)
+            .map(|(_, w)| w[1] - w[0])
+            .sum::<f64>();
+        out.value(
+            &format!("max_abs_u{tag}"),
+            Value::Number(max_abs_after(t, &u, 0.0)),
+        )
+        .value(
+            &format!("max_abs_v{tag}"),
+            Value::Number(max_abs_after(t, vv, 0.0)),
+        )
+        .value(&format!("saturated_seconds{tag}"), Value::Number(sat_time))
+        .value(
+            &format!("final_state{tag}"),
+            Value::Vector(run.diagnostics.final_state.clone()),
+        );
+        runs.push((run, u));
+    }
+    out.notes.push("Gains in the book's convention u = +K x; H = V X⁻¹ is the auxiliary gain of the invariant-ellipsoid conditions.".into());
+    out.notes
+        .push(s.note("p2c14_ex6_adip_oc_saturation.m lines 50-72 (first solve)"));
+    out.notes.push(format!(
+        "The M-file then solves again (lines 77-78) with no objective under trace(X) ≤ {:.6} = −OBV, a bound every \
+         feasible X already meets: that feasibility solve returns whichever feasible point the solver stops at. \
+         pendulab reports the optimum of the first solve instead (this K and H), and says so.",
+        s.trace_x
+    ));
+    out.notes.push(format!(
+        "The LMIs bound |H x| ≤ sat = {sat} V on the ellipsoid xᵀX⁻¹x ≤ 1 containing x0 (MH, INI) and give both A + BK and \
+         A + BH the LQ bound (OC1, OC2), so sat(Kx) ∈ co{{Kx, Hx}} there: K itself is allowed to saturate. From θ1(0) = 10° \
+         u = K x reaches {:.3} V and is clipped to ±{sat} V for {:.2} s (exact state; {:.3} V and {:.2} s on the quantised rig).",
+        num_of(&out, "max_abs_u"),
+        num_of(&out, "saturated_seconds"),
+        num_of(&out, "max_abs_u_quantised_rig"),
+        num_of(&out, "saturated_seconds_quantised_rig"),
+    ));
     if ctx.out_dir.is_some() {
+        let (run, _) = &runs[0];
+        let (rig_run, _) = &runs[1];
         let fig = TimeResponse::new()
-            .title("p2c14_ex6: saturation-aware LMI design vs LQR, θ1(0) = 10°")
-            .run("LMI, |u| ≤ 0.1 V", &run.trajectory)
-            .run("LMI on the quantised rig", &rig_run.trajectory)
-            .run("LQR (same Q, R)", &lq_run.trajectory)
+            .title("p2c14_ex6: saturation design (book's K, |v| ≤ 0.1 V), θ1(0) = 10°")
+            .run("exact state", &run.trajectory)
+            .run("quantised rig", &rig_run.trajectory)
             .panel(SignalPanel::new(Channel::State(0), "θ1 [deg]").scaled(DEG))
             .panel(SignalPanel::new(Channel::State(1), "θ2 [deg]").scaled(DEG))
             .panel(
-                SignalPanel::new(Channel::Input(0), "u [V]")
-                    .reference(0.1, Some("±0.1 V"))
-                    .reference(-0.1, None),
+                SignalPanel::new(Channel::Input(0), "v = sat(Kx) [V]")
+                    .reference(sat, Some("±sat"))
+                    .reference(-sat, None),
             )
             .figure();
         save_figure(ctx, &mut out, id, "response", fig)?;
         save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Arm, &run.trajectory, id)
+            run_animation(Rig::Arm, &rig_run.trajectory, id)
         })?;
     }
     Ok(out)
@@ -711,7 +1359,11 @@ fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let t = run.trajectory.t();
     let th1 = run.trajectory.x_signal(0);
     let mut out = ExampleOutput::default();
-    out.value("K", Value::Vector(book_row(&lq.gain)))
+    // p2c15_ex7_adip_lqr_servo.m lines 34-36: Kt, K1, K2.
+    let kb = book_row(&lq.gain);
+    out.value("Kt", Value::Vector(kb.clone()))
+        .value("K1", Value::Vector(kb[..4].to_vec()))
+        .value("K2", Value::Number(kb[4]))
         .value("max_real_pole_frozen_at_0deg", Value::Number(frozen_re[0]))
         .value(
             "max_real_pole_frozen_at_60deg",
