@@ -99,18 +99,22 @@ enum Mutation {
     Delete(usize, usize),
     Duplicate(usize, usize, usize),
     Insert(usize, String),
+    /// Multiplies column `col % width` of every line after the first by `10^exp` (a time
+    /// column in ms read as seconds, data in other units, values near the ends of `f64`).
+    Scale(usize, i32),
 }
 
 impl Mutation {
     fn random(rng: &mut ChaCha8Rng) -> Self {
         let at = rng.random::<u32>() as usize;
-        match rng.random_range(0..7) {
+        match rng.random_range(0..8) {
             0 => Mutation::FlipBit(at, rng.random()),
             1 => Mutation::SetByte(at, rng.random()),
             2 => Mutation::Truncate(at),
             3 => Mutation::Delete(at, rng.random_range(1..64)),
             4 => Mutation::Duplicate(at, rng.random_range(1..200), rng.random::<u32>() as usize),
-            _ => Mutation::Insert(at, TOKENS.choose(rng).unwrap().to_string()),
+            5 => Mutation::Insert(at, TOKENS.choose(rng).unwrap().to_string()),
+            _ => Mutation::Scale(at, *[-300, -9, -3, 3, 9, 150, 300].choose(rng).unwrap()),
         }
     }
 
@@ -134,6 +138,29 @@ impl Mutation {
                 let t = at % (n + 1);
                 v.splice(t..t, tok.bytes());
             }
+            Mutation::Scale(col, exp) => {
+                let Ok(text) = std::str::from_utf8(v) else {
+                    return;
+                };
+                let factor = 10f64.powi(*exp);
+                let mut out = String::new();
+                for (i, line) in text.split_inclusive('\n').enumerate() {
+                    let (body, end) = match line.strip_suffix('\n') {
+                        Some(b) => (b, "\n"),
+                        None => (line, ""),
+                    };
+                    let mut fields: Vec<String> = body.split(',').map(String::from).collect();
+                    let j = col % fields.len();
+                    if i > 0
+                        && let Ok(x) = fields[j].trim().parse::<f64>()
+                    {
+                        fields[j] = format!("{:e}", x * factor);
+                    }
+                    out.push_str(&fields.join(","));
+                    out.push_str(end);
+                }
+                *v = out.into_bytes();
+            }
             _ => {}
         }
     }
@@ -146,6 +173,7 @@ impl Mutation {
             Mutation::Delete(a, l) => json!(["delete", a, l]),
             Mutation::Duplicate(a, l, t) => json!(["duplicate", a, l, t]),
             Mutation::Insert(a, s) => json!(["insert", a, s]),
+            Mutation::Scale(c, e) => json!(["scale", c, e]),
         }
     }
 }
@@ -239,14 +267,28 @@ fn judge(case: &Case, dir: &Dir) -> Option<String> {
 /// Runs a case: its exit status, or what went wrong.
 fn run(case: &Case, dir: &Dir) -> Result<i32, String> {
     let args = case.materialise(dir);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pendulab"))
-        .args(&args)
-        .current_dir(dir.join(""))
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let spawn = || {
+        Command::new(env!("CARGO_BIN_EXE_pendulab"))
+            .args(&args)
+            .current_dir(dir.join(""))
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+    };
+    // A binary being relinked by a concurrent build of the shared target directory is
+    // missing for a moment: retry for up to 10 s before giving up.
+    let mut tries = 0;
+    let mut child = loop {
+        match spawn() {
+            Ok(c) => break c,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound && tries < 100 => {
+                tries += 1;
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            Err(e) => panic!("cannot run {}: {e}", env!("CARGO_BIN_EXE_pendulab")),
+        }
+    };
     // Read both streams on threads so that a chatty child cannot block on a full pipe.
     let mut so = child.stdout.take().unwrap();
     let mut se = child.stderr.take().unwrap();
@@ -743,4 +785,23 @@ fn replay(names: Option<&[&str]>) -> usize {
 fn corpus_replays() {
     let n = replay(None);
     println!("cli corpus: {n} cases replayed");
+}
+
+#[test]
+fn mutations_apply_as_documented() {
+    let apply = |m: Mutation, s: &str| {
+        let mut v = s.as_bytes().to_vec();
+        m.apply(&mut v);
+        String::from_utf8(v).unwrap()
+    };
+    // Column 2 % 2 = 0 of the data lines, times 10³; the header is kept.
+    assert_eq!(
+        apply(Mutation::Scale(2, 3), "t,z\n1,2\n0.5,x\n"),
+        "t,z\n1e3,2\n5e2,x\n"
+    );
+    assert_eq!(apply(Mutation::Truncate(7), "abc"), "abc"); // 7 % 4 = 3
+    assert_eq!(apply(Mutation::Delete(4, 1), "abc"), "ac"); // at 4 % 3 = 1
+    assert_eq!(apply(Mutation::Duplicate(0, 2, 3), "abc"), "abcab");
+    assert_eq!(apply(Mutation::Insert(1, "nan".into()), "ab"), "ananb");
+    assert_eq!(apply(Mutation::FlipBit(0, 9), "a"), "c"); // bit 1 of 'a' (0x61)
 }

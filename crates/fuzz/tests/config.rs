@@ -301,7 +301,7 @@ fn toml_edits_of_the_examples() {
         toml::to_string(&t).expect("a table serialises")
     };
     TARGET.run(
-        cases(5000),
+        cases(15000),
         (seeds, proptest::collection::vec(edit(), 1..5)),
         |v| make(v).into_bytes(),
         |v| loads_sanely(make(v).as_bytes()),
@@ -314,7 +314,7 @@ fn byte_mutations_of_the_examples() {
     let ex = examples();
     let seeds = (0..ex.len()).prop_map(move |i| ex[i].clone());
     TARGET.run(
-        cases(5000),
+        cases(15000),
         (seeds, mutations(TEXT_TOKENS, 1, 8)),
         |(s, m)| mutate(s.as_bytes(), m),
         |(s, m)| loads_sanely(&mutate(s.as_bytes(), m)),

@@ -122,7 +122,7 @@ fn mutated_csv_files() {
     let s = seeds();
     let seed = (0..s.len()).prop_map(move |i| s[i].clone());
     TARGET.run(
-        cases(10000),
+        cases(30000),
         (seed, mutations(TEXT_TOKENS, 1, 8), bound(), bound()),
         |(s, m, _, _)| mutate(s.as_bytes(), m),
         |(s, m, t0, t1)| reads_sanely(&mutate(s.as_bytes(), m), *t0, *t1),
@@ -134,7 +134,7 @@ fn random_windows_of_valid_files() {
     let s = seeds();
     let seed = (0..s.len()).prop_map(move |i| s[i].clone());
     TARGET.run(
-        cases(5000),
+        cases(15000),
         (seed, bound(), bound()),
         |(s, _, _)| s.clone().into_bytes(),
         |(s, t0, t1)| reads_sanely(s.as_bytes(), *t0, *t1),

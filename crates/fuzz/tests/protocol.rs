@@ -205,7 +205,7 @@ fn crc_is_the_documented_ccitt_false() {
 #[test]
 fn random_datagrams() {
     TARGET.run(
-        cases(12000),
+        cases(48000),
         proptest::collection::vec(any::<u8>(), 0..80),
         |b| b.clone(),
         |b| decode_both(b),
@@ -215,7 +215,7 @@ fn random_datagrams() {
 #[test]
 fn mutated_valid_frames() {
     TARGET.run(
-        cases(18000),
+        cases(72000),
         (valid_frame(), mutations(BIN_TOKENS, 1, 6)),
         |(f, m)| mutate(f, m),
         |(f, m)| decode_both(&mutate(f, m)),
@@ -241,7 +241,7 @@ fn crc_correct_garbage_decodes_to_its_fields() {
             b
         });
     TARGET.run(
-        cases(12000),
+        cases(48000),
         garbage,
         |b| b.clone(),
         |b| {
@@ -260,7 +260,7 @@ fn crc_correct_garbage_decodes_to_its_fields() {
 fn up_to_three_flipped_bits_are_always_rejected() {
     let flips = proptest::collection::btree_set(any::<usize>(), 1..=3);
     TARGET.run(
-        cases(18000),
+        cases(72000),
         (valid_frame(), flips),
         |(f, _)| f.clone(),
         |(f, flips)| {
@@ -293,7 +293,7 @@ fn advancing_stream() {
         proptest::collection::vec((1u32..=1000, 1u32..=65536), 1..64),
     );
     GATE.run(
-        cases(9000),
+        cases(36000),
         stream,
         |(start, steps)| stream_checks(*start, steps),
         |(start, steps)| {
@@ -343,7 +343,7 @@ fn a_wild_frame_does_not_capture_the_gate() {
         proptest::bool::ANY,
     );
     GATE.run(
-        cases(6000),
+        cases(24000),
         case,
         |&(start, before, wild, exact)| {
             let wild = if exact { (1 << 31) - 1 } else { wild };
@@ -378,7 +378,7 @@ fn a_wild_frame_does_not_capture_the_gate() {
 #[test]
 fn the_sequence_gate_never_panics_on_any_stream() {
     GATE.run(
-        cases(9000),
+        cases(36000),
         proptest::collection::vec(any::<u32>(), 0..64),
         |s| {
             let text: Vec<String> = s.iter().map(u32::to_string).collect();
