@@ -118,7 +118,9 @@ pub(crate) fn judge(
     backward_error: f64,
 ) -> Result<()> {
     let (x, acl) = solution;
-    if near.is_empty() {
+    // A residual above the acceptance limit (or NaN) is the finisher's accuracy failure
+    // (`Inaccurate`), not a verdict on the boundary.
+    if near.is_empty() || backward_error.is_nan() || backward_error > super::RESIDUAL_LIMIT {
         return Ok(());
     }
     let s = scale_factor(red, true);

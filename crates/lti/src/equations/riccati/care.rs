@@ -51,8 +51,14 @@ use crate::linalg::{Mat, symmetrize_in_place};
 /// first step is solved by the Smith iteration under the doubling's Cayley shift, after
 /// Laub's method on the Hamiltonian's Schur form, otherwise by Bartels–Stewart on a new
 /// Schur form of `A − BK`) and checked: relative
-/// residual ≤ [`RESIDUAL_LIMIT`](super::RESIDUAL_LIMIT), all closed-loop poles in the open
-/// left half-plane.
+/// residual ≤ [`RESIDUAL_LIMIT`](super::RESIDUAL_LIMIT), and the boundary verdict every method
+/// ends in (the fixed-size path included): all closed-loop poles in the open left half-plane
+/// and none within the reach of the solution's backward error of the imaginary axis (see
+/// [`equations::riccati`](super), step 6).
+///
+/// `care` solves the equation for any symmetric `Q` (as MATLAB's `icare`); an indefinite `Q`
+/// or `[[Q, N], [Nᵀ, R]]` is no LQ problem and is refused by
+/// [`lqr`](crate::design::lqr), not here.
 ///
 /// # Errors
 /// - [`LtiError::DimensionMismatch`], [`LtiError::NotSquare`], [`LtiError::NonFinite`],
@@ -60,8 +66,11 @@ use crate::linalg::{Mat, symmetrize_in_place};
 /// - [`LtiError::NotPositiveDefinite`] if `R` is not positive definite;
 /// - [`LtiError::NotStabilizable`] (an uncontrollable mode that is not stable, with its PBH
 ///   margin), [`LtiError::NotDetectable`] (an unobservable mode on the imaginary axis),
-///   [`LtiError::BoundaryEigenvalue`] (Hamiltonian eigenvalue on the imaginary axis) when no
-///   stabilising solution exists;
+///   [`LtiError::BoundaryEigenvalue`] (Hamiltonian eigenvalues on or numerically near the
+///   imaginary axis, listed) when no stabilising solution exists;
+/// - [`LtiError::IllConditioned`] (with the condition estimate) when, above
+///   [`FAIL_FAST_MIN_STATES`](super::FAIL_FAST_MIN_STATES) states, the stable-subspace basis
+///   is singular to working precision (the solve stops early);
 /// - [`LtiError::Singular`], [`LtiError::Inaccurate`], [`LtiError::NoConvergence`] on numerical
 ///   breakdown of every method tried.
 #[doc(alias = "icare")]

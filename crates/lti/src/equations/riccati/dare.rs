@@ -36,14 +36,16 @@ use crate::linalg::schur::real_schur;
 ///
 /// The result is refined by Hewer–Newton steps in residual-correction form
 /// (`(A−BK)ᵀΔ(A−BK) − Δ = −Res(X)`, kept only if the residual drops) and checked: relative
-/// residual ≤ [`RESIDUAL_LIMIT`](super::RESIDUAL_LIMIT), all closed-loop poles inside the unit
-/// circle.
+/// residual ≤ [`RESIDUAL_LIMIT`](super::RESIDUAL_LIMIT), and the boundary verdict of every
+/// method: all closed-loop poles inside the unit circle and none within the reach of the
+/// solution's backward error of it (see [`equations::riccati`](super), step 6). Any symmetric
+/// `Q` is solved for; [`lqr`](crate::design::lqr) refuses weights that are no LQ cost.
 ///
 /// # Errors
 /// As [`care`](super::care), with the unit circle in place of the imaginary axis;
 /// [`LtiError::NotPositiveDefinite`] if `R` is indefinite or if `R + ρBᵀB` is singular (then
 /// `BᵀXB + R` is singular for every `X`); [`LtiError::Singular`] from the Schur method when
-/// `Ã` is singular.
+/// `Ã` is singular; [`LtiError::IllConditioned`] as for [`care`](super::care).
 #[doc(alias = "idare")]
 pub fn dare(
     a: &Mat,
