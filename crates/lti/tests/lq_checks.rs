@@ -346,9 +346,9 @@ fn splitmix(r: usize, c: usize, seed: u64) -> Mat {
 /// A random 100-state system (about half its modes unstable) driven through one input of
 /// size 1e-8: the unstable modes are all but uncontrollable, and the stable-subspace basis
 /// block U₁ is singular to working precision. Above `FAIL_FAST_MIN_STATES` states the solve
-/// stops there with the estimated condition number (it exceeds 1/(n·ε), the limit it
-/// reports), instead of diagnosing every mode (minutes at n = 600; the README of the issue
-/// report quotes the figures).
+/// stops there with the estimated condition number (above 1/(n·ε), the limit it reports)
+/// instead of trying the other method and diagnosing every mode (at n = 600 that took 187 s
+/// before this exit and takes 5 s with it; no timing is asserted here).
 #[test]
 fn ill_conditioned_large_problem_fails_fast_with_its_condition_number() {
     let n = 100;
