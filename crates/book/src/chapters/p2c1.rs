@@ -27,6 +27,11 @@ const EPS: f64 = 1e-6;
 const DEG: f64 = 180.0 / PI;
 const ARM: &str = "arm pendulum, book table 3.7 (SPEC.md §1.2)";
 const GAIN_NOTE: &str = "Gains in the book's convention u = +K x.";
+/// What the α-region servo M-files' optimum determines and what it does not.
+const ILL_DETERMINED_KT: &str = "trace(X) is certified; Kt = L X⁻¹ is not well determined by this objective: \
+     near-optimal points with trace(X) within 1e-5 (relative) of the optimum give gains differing by 5–35 % \
+     (pendulab-lmi's Clarabel backend and CVXPY + Clarabel stop there, \"almost solved\"; \
+     tools/reference/p2c1_mfile_lmi_cvxpy.py), so the gain any solver reports for this M-file depends on where it stops.";
 
 // ------------------------------------------------------------------ the M-files' LMIs, as written
 
@@ -634,7 +639,8 @@ fn p2c112_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     }
     let ev = sorted(eigenvalues(&a_ex1()).ctx(id)?);
     out.value("eigenvalues_A", Value::Complex(ev.clone()));
-    out.reference("feasible", Value::Bool(true), "examples.md", 0.0);
+    // The M-file displays P (line 21), the solver's feasible point: any P in the feasible set
+    // answers the question, so the book's printed P (not known here) cannot be a reference.
     out.notes.push(
         "α-stability: every eigenvalue of A has Re λ < −α = −1 (here −1.125 ± 0.992j), so a P exists."
             .into(),
@@ -912,10 +918,10 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
         .iter()
         .all(|z| regions.iter().all(|reg| reg.contains(*z)));
     out.value("poles_in_region", Value::Bool(inside));
-    out.reference("poles_in_region", Value::Bool(true), "examples.md", 0.0);
     out.notes.push(GAIN_NOTE.into());
     out.notes
         .push(s.note("p2c122_ex4_adip_oc_multiobjective_servo.m lines 41-62"));
+    out.notes.push(ILL_DETERMINED_KT.into());
     out.notes.push(
         "Region: Re λ < −α = −2, Re λ > −β = −16, sector |Im λ| < tan(π/4)(−Re λ), the sector LMI written \
          with k = tan θ as in the M-file (line 50)."
@@ -1084,14 +1090,11 @@ fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     // p2c13_ex5_adip_lqr_servo.m line 33: Kt_LQ = -lqr(At_nominal, Bt_nominal, Q, R).
     out.value("vertex", vertex_value());
     p2c13_report(ctx, id, "Kt_LQ", &lq.gain, false, &mut out)?;
-    out.reference(
-        "stable_at_all_vertices",
-        Value::Bool(false),
-        "examples.md (unstable at a1 = 8.99, b1 = 8.69)",
-        0.0,
+    out.notes.push(
+        "The nominal Riccati LQ servo is unstable at the second vertex (a1, b1) = (8.99, 8.69), as examples.md \
+         states; the book's printed numbers for this example are not known here, so no badge claims them."
+            .into(),
     );
-    out.notes
-        .push("The nominal Riccati LQ servo is unstable at vertex (a1, b1) = (8.99, 8.69).".into());
     Ok(out)
 }
 
@@ -1129,6 +1132,9 @@ fn p2c13_lmi(ctx: &RunContext, id: &str, robust: bool) -> Result<ExampleOutput, 
         "Region as in the M-file: M'+M+2αX ⪯ −εI (Re λ < −2) and M'+M+2βX ⪰ εI (Re λ > −40, a half-plane)."
             .into(),
     );
+    if !robust {
+        out.notes.push(ILL_DETERMINED_KT.into());
+    }
     Ok(out)
 }
 
@@ -1139,11 +1145,10 @@ fn p2c13_nominal(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 fn p2c13_robust(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_oc_robust_servo";
     let mut out = p2c13_lmi(ctx, id, true)?;
-    out.reference(
-        "stable_at_all_vertices",
-        Value::Bool(true),
-        "examples.md",
-        0.0,
+    out.notes.push(
+        "Stable at all four vertices, as examples.md states. The optimum is well conditioned: CVXPY + Clarabel \
+         (tools/reference/p2c1_mfile_lmi_cvxpy.py) agrees on trace(X) to 2e-7 and on Kt to 1e-4."
+            .into(),
     );
     Ok(out)
 }
@@ -1274,6 +1279,13 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.notes.push("Gains in the book's convention u = +K x; H = V X⁻¹ is the auxiliary gain of the invariant-ellipsoid conditions.".into());
     out.notes
         .push(s.note("p2c14_ex6_adip_oc_saturation.m lines 50-72 (first solve)"));
+    out.notes.push(
+        "H = V X⁻¹ is determined by the optimum (CVXPY + Clarabel agrees to 3e-4, tools/reference/p2c1_mfile_lmi_cvxpy.py); \
+         K = L X⁻¹ is not: X is nearly singular (smallest eigenvalue ≈ 1.5e-4) along the direction K amplifies, and \
+         near-optimal points (trace(X) within 5e-5) give K differing by 35 %. The book's K, from its feasibility \
+         re-solve, is one such point; every one of them saturates from x0."
+            .into(),
+    );
     out.notes.push(format!(
         "The M-file then solves again (lines 77-78) with no objective under trace(X) ≤ {:.6} = −OBV, a bound every \
          feasible X already meets: that feasibility solve returns whichever feasible point the solver stops at. \
@@ -1536,7 +1548,10 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         vec![lo, hi]
     };
     let mut out = ExampleOutput::default();
+    // p2c15_ex7_adip_oc_gs_servo.m line 120: gamma_obj = 1.06*double(gamma), displayed at
+    // line 249; line 250 displays double(gamma) of the second (feasibility) solve.
     out.value("gamma", Value::Number(gamma))
+        .value("gamma_obj", Value::Number(1.06 * gamma))
         .value("gamma_design", Value::Number(sched.gamma))
         .value("K_at_rho0", Value::Vector(book_row(&k0)))
         .value("K_at_rho_max", Value::Vector(book_row(&kbar)))
@@ -1551,19 +1566,20 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     if let Some(k) = &k_opt_bar {
         out.value("K_at_rho_max_at_optimum", Value::Vector(book_row(k)));
     }
-    // examples.md: the optimum solved with a 256-bit SDP solver is γ* ≈ 222; printed to three
-    // digits, and double-precision optima of this degenerate SDP spread by ±0.1 %: tolerance
-    // 0.5 % (1.1).
+    // Book p. 164: "γ = 236 程度まで可解" — the M-file's gamma_obj (1.06 times its γ*),
+    // printed as an integer: half a unit. (examples.md's 256-bit optimum γ* ≈ 222 is not a
+    // printed value; the tests check γ against it.)
     out.reference(
-        "gamma",
-        Value::Number(222.0),
-        "examples.md (256-bit SDP)",
-        1.1,
+        "gamma_obj",
+        Value::Number(236.0),
+        "book p. 164 (γ = 236 程度)",
+        0.5,
     );
     out.notes.push(GAIN_NOTE.into());
     out.notes.push(format!(
-        "γ* = {gamma:.2}; the schedule used satisfies γ ≤ 1.06 γ* = {:.1}. The book reports γ ≈ 236 from \
-         SeDuMi: that is the 1.06 γ* cap of its second (feasibility) solve, not its optimum.",
+        "γ* = {gamma:.2}; the schedule used satisfies γ ≤ gamma_obj = 1.06 γ* = {:.2}. The book reports γ ≈ 236 from \
+         SeDuMi: the 1.06 γ* cap of its second (feasibility) solve, from a γ* about 0.2 % above the optimum found here \
+         (double-precision solvers stop high on this degenerate SDP; a 256-bit solver gives γ* ≈ 222, examples.md).",
         1.06 * gamma
     ));
     out.notes.push(
