@@ -61,6 +61,29 @@ fn output_into_a_closed_pipe_exits_0_quietly() {
 }
 
 #[test]
+fn a_closed_pipe_leaves_the_commands_own_failure() {
+    // `rig run` prints its start line (into the closed pipe), goes on, finds no rig within
+    // the file's 0.2 s and fails as it would with a reader: exit 1 and the reason on stderr.
+    let d = Dir::new("norig");
+    let ctl = d.file(
+        "c.toml",
+        "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [-3.16, -13.5, -4.48, -2.26]\n[safety]\nconnect_timeout_s = 0.2\n",
+    );
+    let args = [
+        "rig",
+        "run",
+        "--connect",
+        "127.0.0.1:9",
+        "--controller",
+        &ctl,
+    ];
+    let o = into_closed_pipe(&[&args[..], &["--duration", "0.1"]].concat());
+    assert_eq!(o.status.code(), Some(1), "{:?}", o.status);
+    let err = stderr(&o);
+    assert!(err.contains("no rig") && !err.contains("panicked"), "{err}");
+}
+
+#[test]
 fn book_list_read_up_to_its_first_line_exits_0() {
     // What `pendulab book list | head -1` does: the reader takes one line and closes the pipe.
     let full = pendulab().args(["book", "list"]).output().unwrap();
