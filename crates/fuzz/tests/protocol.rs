@@ -32,17 +32,33 @@ const GATE: Target = Target {
     extension: "txt",
 };
 
-/// The numbers a gate judges in [`advancing_stream`]'s order, as text.
-fn stream_checks(start: u32, steps: &[(u32, u32)]) -> Vec<u8> {
-    let mut q = vec![start];
-    let mut last = start;
-    for &(advance, back) in steps {
-        let next = last.wrapping_add(advance);
-        q.extend([last, last.wrapping_sub(back), next]);
-        last = next;
+/// A gate reproducer as text: the property's name on the first line, then its numbers.
+fn gate_file(property: &str, numbers: &[u32]) -> Vec<u8> {
+    let mut text = format!("{property}\n");
+    for q in numbers {
+        text.push_str(&format!("{q}\n"));
     }
-    let text: Vec<String> = q.iter().map(u32::to_string).collect();
-    (text.join("\n") + "\n").into_bytes()
+    text.into_bytes()
+}
+
+/// Replays a gate reproducer written by [`gate_file`].
+fn gate_replay(bytes: &[u8]) -> Result<(), String> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut words = text.split_whitespace();
+    let property = words.next().unwrap_or("");
+    let n: Vec<u32> = words
+        .map(str::parse::<u32>)
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("not a list of u32: {e}"))?;
+    match (property, &n[..]) {
+        ("any", seqs) => gate_invariant(seqs),
+        ("advancing", [start, rest @ ..]) if rest.len() % 2 == 0 => {
+            let steps: Vec<(u32, u32)> = rest.chunks(2).map(|c| (c[0], c[1])).collect();
+            advancing(*start, &steps)
+        }
+        ("wild", &[start, before, wild]) => wild_frame(start, before, wild),
+        _ => Err(format!("unknown gate reproducer {property:?} {n:?}")),
+    }
 }
 
 /// The gate's invariant on any stream: it never panics, and a number judged fresh becomes
@@ -284,6 +300,44 @@ fn up_to_three_flipped_bits_are_always_rejected() {
     );
 }
 
+/// The advancing-stream property: from `start`, per step a repeat of the last accepted
+/// number (a replay), a number `back` behind it (never fresh) and one `advance` ahead (fresh,
+/// `advance − 1` skipped).
+fn advancing(start: u32, steps: &[(u32, u32)]) -> Result<(), String> {
+    let mut gate = SequenceGate::new();
+    if gate.check(start) != (SeqVerdict::Fresh { skipped: 0 }) {
+        return Err("the first frame is not fresh".into());
+    }
+    let mut last = start;
+    for &(advance, back) in steps {
+        if advance == 0 {
+            return Err("a reproducer with a zero advance".into());
+        }
+        // A repeat, and a number `back` behind: never acted on.
+        let v = gate.check(last);
+        if v != SeqVerdict::Replayed {
+            return Err(format!("repeat of {last} judged {v:?}"));
+        }
+        let old = last.wrapping_sub(back);
+        let v = gate.check(old);
+        if matches!(v, SeqVerdict::Fresh { .. }) {
+            return Err(format!("{old}, {back} behind {last}, judged {v:?}"));
+        }
+        let next = last.wrapping_add(advance);
+        let v = gate.check(next);
+        if v != (SeqVerdict::Fresh {
+            skipped: advance - 1,
+        }) {
+            return Err(format!("{next}, {advance} ahead of {last}, judged {v:?}"));
+        }
+        if gate.last() != Some(next) {
+            return Err(format!("last() = {:?} after accepting {next}", gate.last()));
+        }
+        last = next;
+    }
+    Ok(())
+}
+
 /// A stream: a start, then per step a repeat of the last accepted number, a number `back`
 /// behind it and one `advance` ahead.
 #[test]
@@ -295,39 +349,33 @@ fn advancing_stream() {
     GATE.run(
         cases(36000),
         stream,
-        |(start, steps)| stream_checks(*start, steps),
         |(start, steps)| {
-            let mut gate = SequenceGate::new();
-            if gate.check(*start) != (SeqVerdict::Fresh { skipped: 0 }) {
-                return Err("the first frame is not fresh".into());
-            }
-            let mut last = *start;
-            for &(advance, back) in steps {
-                // A repeat, and a number `back` behind: never acted on.
-                let v = gate.check(last);
-                if v != SeqVerdict::Replayed {
-                    return Err(format!("repeat of {last} judged {v:?}"));
-                }
-                let old = last.wrapping_sub(back);
-                let v = gate.check(old);
-                if matches!(v, SeqVerdict::Fresh { .. }) {
-                    return Err(format!("{old}, {back} behind {last}, judged {v:?}"));
-                }
-                let next = last.wrapping_add(advance);
-                let v = gate.check(next);
-                if v != (SeqVerdict::Fresh {
-                    skipped: advance - 1,
-                }) {
-                    return Err(format!("{next}, {advance} ahead of {last}, judged {v:?}"));
-                }
-                if gate.last() != Some(next) {
-                    return Err(format!("last() = {:?} after accepting {next}", gate.last()));
-                }
-                last = next;
-            }
-            Ok(())
+            let mut n = vec![*start];
+            n.extend(steps.iter().flat_map(|&(a, b)| [a, b]));
+            gate_file("advancing", &n)
         },
+        |(start, steps)| advancing(*start, steps),
     );
+}
+
+/// The wild-frame property: after `before` consecutive frames from `start`, one frame `wild`
+/// ahead of the last; the next 32 good frames must all be fresh.
+fn wild_frame(start: u32, before: u32, wild: u32) -> Result<(), String> {
+    let mut gate = SequenceGate::new();
+    for i in 0..before {
+        gate.check(start.wrapping_add(i));
+    }
+    let last = start.wrapping_add(before.max(1) - 1);
+    gate.check(last.wrapping_add(wild));
+    let rejected = (1..=32)
+        .filter(|&i| !matches!(gate.check(last.wrapping_add(i)), SeqVerdict::Fresh { .. }))
+        .count();
+    if rejected > 0 {
+        return Err(format!(
+            "after one frame {wild} ahead of {last}, {rejected} of the next 32 good frames were rejected"
+        ));
+    }
+    Ok(())
 }
 
 /// Issue 21: one frame far ahead (a corrupted sequence number that still passed the CRC, the
@@ -338,7 +386,7 @@ fn advancing_stream() {
 fn a_wild_frame_does_not_capture_the_gate() {
     let case = (
         any::<u32>(),
-        1usize..40,
+        1u32..40,
         (1u32 << 20)..(1u32 << 31),
         proptest::bool::ANY,
     );
@@ -347,30 +395,11 @@ fn a_wild_frame_does_not_capture_the_gate() {
         case,
         |&(start, before, wild, exact)| {
             let wild = if exact { (1 << 31) - 1 } else { wild };
-            let mut q: Vec<u32> = (0..before as u32).map(|i| start.wrapping_add(i)).collect();
-            let last = *q.last().unwrap();
-            q.push(last.wrapping_add(wild));
-            q.extend((1..=32).map(|i| last.wrapping_add(i)));
-            let text: Vec<String> = q.iter().map(u32::to_string).collect();
-            (text.join("\n") + "\n").into_bytes()
+            gate_file("wild", &[start, before, wild])
         },
         |&(start, before, wild, exact)| {
             let wild = if exact { (1 << 31) - 1 } else { wild };
-            let mut gate = SequenceGate::new();
-            for i in 0..before as u32 {
-                gate.check(start.wrapping_add(i));
-            }
-            let last = start.wrapping_add(before as u32 - 1);
-            gate.check(last.wrapping_add(wild));
-            let rejected = (1..=32)
-                .filter(|&i| !matches!(gate.check(last.wrapping_add(i)), SeqVerdict::Fresh { .. }))
-                .count();
-            if rejected > 0 {
-                return Err(format!(
-                    "after one frame {wild} ahead of {last}, {rejected} of the next 32 good frames were rejected"
-                ));
-            }
-            Ok(())
+            wild_frame(start, before, wild)
         },
     );
 }
@@ -380,10 +409,7 @@ fn the_sequence_gate_never_panics_on_any_stream() {
     GATE.run(
         cases(36000),
         proptest::collection::vec(any::<u32>(), 0..64),
-        |s| {
-            let text: Vec<String> = s.iter().map(u32::to_string).collect();
-            (text.join("\n") + "\n").into_bytes()
-        },
+        |s| gate_file("any", s),
         |s| gate_invariant(s),
     );
 }
@@ -393,12 +419,6 @@ fn corpus_replays() {
     // Every reproducer of this target is a datagram: decoding it must hold the properties.
     let n = TARGET.replay(&[], decode_both);
     println!("protocol corpus: {n} files replayed");
-    let n = GATE.replay(&[], |b| {
-        let seqs: Result<Vec<u32>, _> = String::from_utf8_lossy(b)
-            .split_whitespace()
-            .map(str::parse::<u32>)
-            .collect();
-        gate_invariant(&seqs.map_err(|e| format!("not a list of u32: {e}"))?)
-    });
+    let n = GATE.replay(&[], gate_replay);
     println!("sequence_gate corpus: {n} files replayed");
 }
