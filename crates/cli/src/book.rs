@@ -418,7 +418,7 @@ fn run_one(e: &Example, ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     }
 }
 
-/// The JSON line of SPEC.md §5 for one result.
+/// The JSON line of `docs/report.md` (`pendulab book`) for one result.
 pub(crate) fn json_line(e: &Entry) -> Result<String> {
     let o = e.result.as_ref().ok();
     let line = JsonLine {

@@ -1,5 +1,5 @@
-//! `pendulab book` end to end: the JSON line contract of SPEC.md §5 over the whole registry, and
-//! the errors (wrong id, unwritable output directory, missing or malformed data file) that must
+//! `pendulab book` end to end: the JSON line contract of `docs/report.md` over the whole registry,
+//! and the errors (wrong id, unwritable output directory, missing or malformed data file) that must
 //! give a message naming the problem and a non-zero exit.
 
 mod common;
@@ -68,7 +68,7 @@ fn run_all_json_follows_the_line_contract_and_writes_its_figures() {
             );
         }
         for v in line["values"].as_object().unwrap().values() {
-            // SPEC.md §5: number | bool | [..] | [[..]].
+            // docs/report.md: number | bool | [..] | [[..]].
             assert!(
                 v.is_number() || v.is_boolean() || v.is_array(),
                 "{id}: value {v} is neither number, boolean nor array"

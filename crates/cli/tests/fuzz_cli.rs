@@ -388,7 +388,7 @@ fn rig_csv_slice(name: &str, first: usize, lines: usize) -> String {
         .collect()
 }
 
-/// The cart pendulum's linearisation (SPEC.md §1.1 parameters), as CSV.
+/// The cart pendulum's linearisation (book table 3.5 parameters), as CSV.
 fn cart_ab() -> (String, String) {
     let (ac, bc, mp, lp, jp, mup, g) = (6.25f64, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
     let j = jp + mp * lp * lp;

@@ -46,7 +46,8 @@ fn rel(a: f64, b: f64) -> f64 {
 
 #[test]
 fn least_squares_on_the_rig_data() {
-    // examples.md p1c322_cdip_id_least_square: 1–5 s, T_f = 0.075 → within 1 % of table 3.5.
+    // Book part 1 §3.2 (p1c322_cdip_id_least_square.m): 1–5 s, T_f = 0.075 → within 1 % of
+    // table 3.5.
     let f = rig("cdip_least_square_data.csv");
     let v = json(&run(&[
         "cart-ls", "--data", &f, "--window", "1:5", "--tf", "0.075", "--json",
@@ -85,7 +86,7 @@ fn least_squares_on_the_rig_data() {
 
 #[test]
 fn feature_methods_on_the_rig_data() {
-    // examples.md p1c321_cdip_id_cart (t ≥ 1 s, k_P = 10, 0.2 m) and p1c321_cdip_id_pend
+    // Book part 1 §3.2.1, p1c321_cdip_id_cart.m (t ≥ 1 s, k_P = 10, 0.2 m) and p1c321_cdip_id_pend
     // (35–51 s). The values within the feature methods' bias (crates/ident/tests/rig_data.rs
     // explains it): 2 % for the drive, 20 % for J_p and 15 % for μ_p.
     let v = json(&run(&[
@@ -133,7 +134,7 @@ fn feature_methods_on_the_rig_data() {
 }
 
 /// Arm-rig data written here: the arm follows φ₁(t) = A sin(ωt) + B sin(2.3ωt) exactly (so
-/// φ̇₁, φ̈₁ are known in closed form), the pendulum obeys SPEC.md §1.2 with φ₂ = θ₂ − π,
+/// φ̇₁, φ̈₁ are known in closed form), the pendulum obeys `docs/model.md` §2 with φ₂ = θ₂ − π,
 /// integrated by RK4 at 0.1 ms and sampled at 1 ms; quantised to the arm rig's encoders.
 fn arm_pendulum_csv(j2: f64, mu2: f64) -> String {
     arm_pendulum_csv_with(j2, mu2, 1.0, 0.0, 10.0)
@@ -219,7 +220,7 @@ fn arm_methods_on_simulated_data() {
 #[test]
 fn arm_feature_methods_on_simulated_data() {
     let d = Dir::new("armfeat");
-    // Free swing of the arm pendulum with the arm held (SPEC.md §1.2 with θ̇₁ = θ̈₁ = 0):
+    // Free swing of the arm pendulum with the arm held (`docs/model.md` §2 with θ̇₁ = θ̈₁ = 0):
     // from 0.4 rad, 30 s, quantised. With the amplitude correction the period gives J₂ to 1 %
     // (the decay is viscous only, so μ₂ comes back within a few percent: 5 %).
     let f = d.file(

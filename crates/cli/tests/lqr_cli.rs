@@ -13,7 +13,7 @@ fn run(args: &[&str]) -> Output {
         .unwrap()
 }
 
-/// The linearised cart pendulum of SPEC.md §1.1 as CSV text.
+/// The linearised cart pendulum of `docs/model.md` §1 as CSV text.
 fn cdip_csv() -> (String, String) {
     let (ac, bc, mp, lp, jp, mup, g) = (6.25f64, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
     let j = jp + mp * lp * lp;
@@ -30,7 +30,7 @@ fn cdip_csv() -> (String, String) {
 
 #[test]
 fn cdip_lqr_gain_in_json() {
-    // examples.md cdip_lqr_sim: Q = diag(10, 10, 0, 0), R = 1 → book gain (u = +K x)
+    // IP Toolbox cdip_lqr_sim.m: Q = diag(10, 10, 0, 0), R = 1 → book gain (u = +K x)
     // [3.16228, 13.47175, 4.48137, 2.26289], so the CLI's K (u = −K x) is its negative;
     // printed to 5 decimals (tolerance 5e-6).
     let d = Dir::new("ok");

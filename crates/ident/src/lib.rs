@@ -1,7 +1,7 @@
 //! # pendulab-ident — parameter identification of the pendulum rigs
 //!
-//! The book's identification chapter (§2.2.1, §3.2, §3.3; SPEC.md §2) as a library that takes
-//! plain data — `&[f64]` columns sampled uniformly, or a [`Dataset`] built from CSV text or a
+//! The book's identification chapter (part 1 §2.2.1, §3.2, §3.3; eqs 3.43–3.47) as a library that
+//! takes plain data — `&[f64]` columns sampled uniformly, or a [`Dataset`] built from CSV text or a
 //! [`pendulab_lti::Trajectory`] — and returns named result structs with their diagnostics.
 //!
 //! | step | module | what it does |

@@ -1,4 +1,4 @@
-//! The book's least-squares identifications (eqs 3.43–3.47, SPEC.md §2).
+//! The book's least-squares identifications (book part 1 §3.2–3.3, eqs 3.43–3.47).
 //!
 //! Each model is written as `M(t) p = N(t)` with measured regressors `M` and target `N`:
 //!
@@ -12,8 +12,8 @@
 //! with `α₃ = m₂ L₁ l₂`, `α₅ = m₂ l₂ g`. Angles: the cart pendulum's `φ = θ − π` is measured
 //! from the hanging rest (eq. 3.44); for the arm rig, as in the book's arm data and Simulink
 //! model, `φ₁` is the arm angle θ₁ and `φ₂ = θ₂ − π` the pendulum's absolute angle from hanging.
-//! Substituting θ₂ = φ₂ + π into SPEC.md §1.2's pendulum equation gives exactly the arm row
-//! of the table.
+//! Substituting θ₂ = φ₂ + π into the arm pendulum's equation (`docs/model.md` §2) gives exactly the
+//! arm row of the table.
 //!
 //! The recipe: derivatives by a [`Differentiator`] (the book's three-point formulas applied
 //! twice by default), the nonlinear target assembled sample by sample, then **every** column
@@ -258,7 +258,7 @@ impl LsOptions {
     }
 }
 
-/// Known constants of the cart-type pendulum (SPEC.md §1.1, table 3.5).
+/// Known constants of the cart-type pendulum (book table 3.5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CartPendulumConstants {
     /// Pendulum mass `m_p`, kg (book: 0.107).
@@ -279,7 +279,7 @@ impl Default for CartPendulumConstants {
     }
 }
 
-/// Known constants of the arm-type pendulum (SPEC.md §1.2, table 3.7).
+/// Known constants of the arm-type pendulum (book table 3.7).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ArmPendulumConstants {
     /// Arm length `L₁` (pivot to pendulum joint), m (book: 0.227).
@@ -1092,8 +1092,8 @@ pub fn cart_pendulum_ls(
     })
 }
 
-/// The arm-pendulum regression (SPEC.md §2), filtered. `phi1` = θ₁ (arm), `phi2` = θ₂ − π
-/// (pendulum from hanging), radians.
+/// The arm-pendulum regression (book part 1 §3.3, the arm form of eqs 3.43–3.45), filtered.
+/// `phi1` = θ₁ (arm), `phi2` = θ₂ − π (pendulum from hanging), radians.
 ///
 /// # Errors
 /// As [`cart_pendulum_regression`].

@@ -15,7 +15,7 @@
 //!   `p1c321_cdip_id_pend` figure 4, [`validate_oscillation`]), or the nonlinear pendulum on a
 //!   held support ([`validate_free_pendulum`]), which the large-amplitude period correction
 //!   targets.
-//! * Pendulums identified by least squares: the nonlinear pendulum equation (SPEC.md §1)
+//! * Pendulums identified by least squares: the nonlinear pendulum equation (`docs/model.md` §1–2)
 //!   integrated by classical Runge–Kutta on the sample grid, driven by the measured motion of
 //!   its support (cart acceleration, or arm angle/velocity/acceleration, from three-point
 //!   differences, linearly interpolated between samples) — the pendulum model alone is tested.
@@ -259,7 +259,7 @@ pub fn validate_oscillation(
 /// Simulates the nonlinear pendulum on a held support,
 /// `(J + m l²) φ̈ = −μ φ̇ − m g l sin φ`, from the sample `start` (a peak: at rest there), and
 /// compares with `phi` from there on — the model the free-oscillation parameters belong to
-/// (SPEC.md §1 with the cart or arm held).
+/// (`docs/model.md` §1–2 with the cart or arm held).
 ///
 /// # Errors
 /// As [`validate_drive`]; [`IdentError::InvalidParameter`] for `J + m l² ≤ 0`.
@@ -372,7 +372,7 @@ pub fn validate_cart_pendulum(
     compare("phi", phi, sim, 0)
 }
 
-/// Simulates the nonlinear arm pendulum (SPEC.md §1.2 with `φ₂ = θ₂ − π`)
+/// Simulates the nonlinear arm pendulum (`docs/model.md` §2 with `φ₂ = θ₂ − π`)
 /// `α₂ φ̈₂ = α₃ cos(φ₁−φ₂) φ̈₁ − α₃ φ̇₁² sin(φ₁−φ₂) − α₅ sin φ₂ − μ₂ (φ̇₂ − φ̇₁)` driven by
 /// the measured arm motion, and compares with `phi2`.
 ///

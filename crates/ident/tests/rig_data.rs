@@ -28,8 +28,9 @@ fn ls_window() -> Dataset {
 
 #[test]
 fn least_squares_within_one_percent_of_table_3_5() {
-    // examples.md p1c322_cdip_id_least_square; SPEC.md §2: the book's recipe (three-point
-    // derivatives, causal 1/(0.075 s + 1)³ on every column, data 1–5 s) lands within 1 %.
+    // Book part 1 §3.2 (p1c322_cdip_id_least_square.m, eqs 3.43–3.47): the book's recipe
+    // (three-point derivatives, causal 1/(0.075 s + 1)³ on every column, data 1–5 s) lands
+    // within 1 %.
     let d = ls_window();
     let ts = d.sample_time().unwrap();
     assert!((ts - 1e-3).abs() < 1e-12);
@@ -95,7 +96,7 @@ fn least_squares_within_one_percent_of_table_3_5() {
 
 #[test]
 fn without_the_filter_the_estimates_degrade() {
-    // The book's point (SPEC.md §2: "without it the estimate is useless"). Three-point
+    // The book's point (part 1 §3.2: without the filter the estimate is useless). Three-point
     // differences of encoder signals (4.84e-5 m, 4.36e-4 rad steps at 1 ms) carry noise of
     // order q/(2ts)² ≈ 12 m/s² and 100 rad/s² in the accelerations; noise in the regressor
     // columns (errors in variables) biases least squares towards zero and swamps φ̈.
@@ -177,8 +178,8 @@ fn zero_phase_and_savitzky_golay_variants() {
 
 #[test]
 fn cart_step_feature_method() {
-    // examples.md p1c321_cdip_id_cart: k_P = 10, target 0.2 m, data from t ≥ 1 s (the step).
-    // The table's a_c, b_c imply, in closed form for ω_n²/(s² + 2ζω_n s + ω_n²):
+    // Book part 1 §3.2.1 (p1c321_cdip_id_cart.m): k_P = 10, target 0.2 m, data from t ≥ 1 s (the
+    // step). The table's a_c, b_c imply, in closed form for ω_n²/(s² + 2ζω_n s + ω_n²):
     // ω_n = √(b_c k_P) = 6.6030, ζ = a_c/(2ω_n) = 0.47327, T_p = π/(ω_n √(1 − ζ²)) = 0.54011 s,
     // overshoot 0.2·exp(−ζπ/√(1 − ζ²)) = 0.036978 m.
     let d = Dataset::from_csv_str(
@@ -270,7 +271,7 @@ fn cart_step_refuses_an_overdamped_loop_and_a_wrong_step_time() {
 
 #[test]
 fn pendulum_free_oscillation_feature_method() {
-    // examples.md p1c321_cdip_id_pend: window 35–51 s of cdip_pend_data.csv.
+    // Book part 1 §3.2.1 (p1c321_cdip_id_pend.m): window 35–51 s of cdip_pend_data.csv.
     let d = Dataset::from_csv_str(
         "cdip_pend_data.csv",
         include_str!("../../../data/rig/cdip_pend_data.csv"),

@@ -1,7 +1,7 @@
 //! Round trips: data simulated from known parameters with the nonlinear plant models of
-//! pendulab-plants (SPEC.md §1, written independently of this crate), under the rigs'
+//! pendulab-plants (`docs/model.md` §1–2, written independently of this crate), under the rigs'
 //! sampled-data P control (1 ms, zero-order hold, ±5 V, 16-bit D/A) with encoder
-//! quantisation (SPEC.md §1.3) and Gaussian sensor noise, identified back.
+//! quantisation (`docs/model.md` §3) and Gaussian sensor noise, identified back.
 //!
 //! The plants are integrated here by classical RK4 with ten sub-steps per 1 ms sample (the
 //! simulator crate's integrators had not landed when these tests were written); with the
@@ -15,7 +15,7 @@ use rand_distr::{Distribution, Normal};
 
 const TS: f64 = 1e-3;
 const SUB: usize = 10;
-/// Cart encoder, m; pendulum encoders, rad; arm encoder, rad (SPEC.md §1.3).
+/// Cart encoder, m; pendulum encoders, rad; arm encoder, rad (`docs/model.md` §3).
 const Q_Z: f64 = 4.8414e-5;
 const Q_PEND: f64 = 2.0 * std::f64::consts::PI / 14_400.0;
 const Q_ARM: f64 = 2.0 * std::f64::consts::PI / 200_000.0;

@@ -1,5 +1,5 @@
 //! Identification of data simulated from known parameters with pendulab-lti's exact `lsim`,
-//! quantised like the rigs' encoders (SPEC.md §1.3): the estimates must come back within
+//! quantised like the rigs' encoders (`docs/model.md` §3): the estimates must come back within
 //! tolerances derived from the quantisation.
 
 use pendulab_ident::validation::drive_model;
@@ -42,9 +42,9 @@ fn simulate_drive(a: f64, b: f64, v: &[f64]) -> Vec<f64> {
 
 #[test]
 fn p1c221_open_loop_velocity_steps() {
-    // examples.md p1c221_id_cart: open-loop steps of 0.8, 0.9, 1.0, 1.1 V on the linear drive
-    // with the book's a_c = 6.25, b_c = 4.36 (K = b/a = 0.6976 m/(s V), T = 1/a = 0.16 s), the
-    // position quantised to the encoder step; K from the mean velocity over 1.4–1.5 s, T from
+    // Book part 1 §2.2.1 (p1c221_id_cart.m): open-loop steps of 0.8, 0.9, 1.0, 1.1 V on the linear
+    // drive with the book's a_c = 6.25, b_c = 4.36 (K = b/a = 0.6976 m/(s V), T = 1/a = 0.16 s),
+    // the position quantised to the encoder step; K from the mean velocity over 1.4–1.5 s, T from
     // the first 63.2 % crossing; a = 1/T̄, b = K̄/T̄ (book: ≈ 6.250, 4.362).
     let (a, b) = (6.25, 4.36);
     let n = 1501; // 0 … 1.5 s

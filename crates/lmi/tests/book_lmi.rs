@@ -1,4 +1,4 @@
-//! The book's part 2 ch. 1 LMIs (examples.md), each against an independent reference: a
+//! The book's part 2 ch. 1 LMIs, each against an independent reference: a
 //! closed form, a defining identity, SciPy's Riccati solution or CVXPY + Clarabel
 //! (fixture `lmi_reference.json`, written by `tools/reference/lmi_reference.py`).
 
@@ -97,7 +97,8 @@ fn p2c121_optimum_matches_its_closed_form_and_the_book() {
     assert!((sol.objective.unwrap() - (x1 + x2)).abs() < tol);
     assert!((sol.value(&xi1).unwrap()[(0, 0)] - x1).abs() < tol);
     assert!((sol.value(&xi2).unwrap()[(0, 0)] - x2).abs() < tol);
-    // The book's rounded values (examples.md): 2.929, 1.911, 1.019 (±0.5 in the last digit).
+    // The book's rounded values (part 2 §1.2.1, example 1.3): 2.929, 1.911, 1.019 (±0.5 in the last
+    // digit).
     assert!((sol.objective.unwrap() - 2.929).abs() < 5e-4);
     assert!((sol.value(&xi1).unwrap()[(0, 0)] - 1.911).abs() < 5e-4);
     assert!((sol.value(&xi2).unwrap()[(0, 0)] - 1.019).abs() < 5e-4);

@@ -1,4 +1,4 @@
-//! The book's linear-analysis examples (examples.md, part 1 ch. 2, 4–7): eigenvalues,
+//! The book's linear-analysis examples (book part 1 ch. 2, 4–7): eigenvalues,
 //! stability, controllability/observability, canonical form, closed-loop poles and
 //! steady-state errors by the final-value theorem.
 
@@ -18,7 +18,7 @@ fn ss_a(a: Mat) -> StateSpace<Continuous> {
 
 #[test]
 fn cdip_open_loop_eigenvalues() {
-    // SPEC.md: open-loop eigenvalues 0, −6.25, +5.7543, −5.7867 (4 decimals printed).
+    // docs/model.md §1: open-loop eigenvalues 0, −6.25, +5.7543, −5.7867 (4 decimals).
     let (a, b) = cdip();
     let sys = StateSpace::continuous(a, b, Mat::identity(4, 4), Mat::zeros(4, 1)).unwrap();
     assert_same_poles(
@@ -27,7 +27,7 @@ fn cdip_open_loop_eigenvalues() {
         5e-5,
     );
     assert!(!sys.is_stable().unwrap());
-    // Cart fixed, upright: (−ζ ± √(ζ² + 1)) ω_np (SPEC eq. 4.45), with ω_np = √(m g l/J),
+    // Cart fixed, upright: (−ζ ± √(ζ² + 1)) ω_np (book eq. 4.45), with ω_np = √(m g l/J),
     // ζ = μ/(2 ω_np J): the θ-block of A is exactly that second-order system.
     let j = JP + MP * LP * LP;
     let wn = (MP * G * LP / j).sqrt();
@@ -287,7 +287,7 @@ fn p1c74_ex2_observability_ranks_and_p1c75_detectability() {
 #[test]
 fn p1c511_ex4_two_pendulums_on_one_cart() {
     // State [z, θ₁, θ₂, ż, θ̇₁, θ̇₂]; each pendulum J_i θ̈_i = m_i g l_i θ_i − μ θ̇_i − m_i l_i z̈
-    // with z̈ = −a_c ż + b_c v (SPEC.md §1.1 linearised). Identical pendulums: θ₁ − θ₂ obeys
+    // with z̈ = −a_c ż + b_c v (`docs/model.md` §1, linearised). Identical pendulums: θ₁ − θ₂ obeys
     // an input-free equation, so a 2-dimensional subspace is uncontrollable (rank 4).
     let build = |scale: f64| {
         let (m2, l2, j2p) = (MP * scale, LP * scale, JP * scale.powi(3));

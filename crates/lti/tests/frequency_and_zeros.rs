@@ -113,7 +113,7 @@ fn python_control_zeros_of_non_minimum_phase_systems() {
 #[test]
 fn cart_position_zeros_are_the_fixed_cart_pendulum_poles() {
     // With y = z, the zeros of the cart pendulum are the poles of the pendulum with the cart
-    // held (SPEC eq. 4.45): (−ζ ± √(ζ² + 1)) ω_np — an independent closed form.
+    // held (book eq. 4.45): (−ζ ± √(ζ² + 1)) ω_np — an independent closed form.
     let (a, b) = cdip();
     let sys =
         StateSpace::continuous(a, b, mat(1, 4, &[1.0, 0.0, 0.0, 0.0]), Mat::zeros(1, 1)).unwrap();

@@ -19,7 +19,7 @@ fn cdip_sys() -> StateSpace<Continuous> {
 
 #[test]
 fn cdip_lqr_sim_book_gains() {
-    // examples.md cdip_lqr_sim: Q = diag(10, q2, 0, 0), R = 1, book gains (u = +K x).
+    // IP Toolbox cdip_lqr_sim.m: Q = diag(10, q2, 0, 0), R = 1, book gains (u = +K x).
     let sys = cdip_sys();
     let cases = [
         (10.0, [3.16228, 13.47175, 4.48137, 2.26289]),
@@ -49,7 +49,7 @@ fn cdip_lqr_sim_book_gains() {
 
 #[test]
 fn cdip_lqr_servo_sim_book_gains() {
-    // examples.md cdip_lqr_servo_sim: Q = diag(1, 5, 0, 0, 100), R = 1 on [x; w],
+    // IP Toolbox cdip_lqr_servo_sim.m: Q = diag(1, 5, 0, 0, 100), R = 1 on [x; w],
     // w = ∫(r − z): K1 = [10.39942, 17.76307, 6.79089, 3.04513], K2 = −10 (u = K1 x + K2 w).
     let sys = cdip_sys();
     let q = diag(&[1.0, 5.0, 0.0, 0.0, 100.0]);

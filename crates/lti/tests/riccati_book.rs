@@ -1,11 +1,12 @@
-//! LQR of the book's linearised cart pendulum (SPEC §1.1, table 3.5) against the gains printed
-//! in examples.md (`cdip_lqr_sim`, `cdip_lqr_servo_sim`). The book writes u = +K x with
-//! K = −lqr(...); the library's gain is for u = −K x, so K_book = −K.
+//! LQR of the book's linearised cart pendulum (book table 3.5, `docs/model.md` §1) against the
+//! gains the IP Toolbox samples display (`cdip_lqr_sim.m`, `cdip_lqr_servo_sim.m`). The book writes
+//! u = +K x with K = −lqr(...); the library's gain is for u = −K x, so K_book = −K.
 
 use pendulab_lti::Mat;
 use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, care};
 
-/// A, B of the cart pendulum built from the formula in SPEC §1.1 with table 3.5 parameters.
+/// A, B of the cart pendulum built from the formula in `docs/model.md` §1 with table 3.5
+/// parameters.
 fn cart_pendulum() -> (Mat, Mat) {
     let (a_c, b_c, m_p, l_p, j_p, mu_p, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
     let j = j_p + m_p * l_p * l_p;

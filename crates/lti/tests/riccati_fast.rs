@@ -90,7 +90,7 @@ fn scalar_closed_form() {
     }
 }
 
-/// The `care-n4` workload: the linearised cart pendulum (SPEC.md §1.1, table 3.5),
+/// The `care-n4` workload: the linearised cart pendulum (book table 3.5, `docs/model.md` §1),
 /// `Q = diag(100, 10, 1, 1)`, `R = 1`.
 #[test]
 fn cart_pendulum_fast_path() {

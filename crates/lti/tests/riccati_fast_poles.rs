@@ -94,7 +94,7 @@ fn check_poles(id: &str, a: &Mat, b: &Mat, sol: &RiccatiSolution) {
     }
 }
 
-/// The `care-n4` workload: the linearised cart pendulum (SPEC.md §1.1, table 3.5),
+/// The `care-n4` workload: the linearised cart pendulum (book table 3.5, `docs/model.md` §1),
 /// `Q = diag(100, 10, 1, 1)`, `R = 1`.
 #[test]
 fn cart_pendulum_poles() {

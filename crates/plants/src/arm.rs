@@ -1,4 +1,4 @@
-//! The arm-type inverted pendulum (adip), SPEC §1.2 and book §3.3.
+//! The arm-type inverted pendulum (adip), book part 1 §3.3 and table 3.7 (`docs/model.md` §2).
 //!
 //! # Model
 //! A DC motor turns an arm of length `L₁` in a vertical plane; `θ₁` is the arm's angle from the
@@ -31,7 +31,7 @@
 //!
 //! # Linearisation and LPV form
 //! At any arm angle `θ₁ = θ₁ₑ` with the pendulum upright (`θ₂ = 0`) and everything at rest
-//! (SPEC §1.2):
+//! (`docs/model.md` §2):
 //!
 //! ```text
 //! A = [[0, 0, 1, 0], [0, 0, 0, 1], [0, 0, −a₁, 0], [0, α₅/α₂, (μ₂ + a₁ α₃ cos θ₁ₑ)/α₂, −μ₂/α₂]],
@@ -243,7 +243,7 @@ pub struct ArmPose {
 }
 
 /// The affine LPV model `A(ρ) = A₀ + ρ A₁`, `B(ρ) = B₀ + ρ B₁`, `ρ = 1 − cos θ₁ₑ ∈ [0, 2]`, of
-/// the arm pendulum linearised upright (SPEC §1.2).
+/// the arm pendulum linearised upright (`docs/model.md` §2).
 ///
 /// `A₀, B₀` are the `θ₁ₑ = 0` model; `A₁` has the single entry `(4, 3) = −a₁ α₃/α₂` and `B₁`
 /// the single entry `(4) = +b₁ α₃/α₂` (1-based indices).
@@ -396,8 +396,8 @@ impl ArmPendulum {
         }
     }
 
-    /// The Jacobian at an equilibrium (`θ̇₁ = θ̇₂ = 0`, `v = 0`); upright it is exactly SPEC's
-    /// `A`, `B` (module docs); hanging, `α₅/α₂` changes sign and `cos(θ₁ₑ − π) = −cos θ₁ₑ`.
+    /// The Jacobian at an equilibrium (`θ̇₁ = θ̇₂ = 0`, `v = 0`); upright it is exactly the
+    /// `A`, `B` of the module docs; hanging, `α₅/α₂` changes sign and `cos(θ₁ₑ − π) = −cos θ₁ₑ`.
     ///
     /// # Errors
     /// [`PlantError::NonFiniteOperatingPoint`] if `eq.theta1` is not finite.

@@ -1,8 +1,8 @@
 //! # pendulab-plants — the two pendulum rigs as models
 //!
 //! The cart-type (cdip) and arm-type (adip) inverted pendulums of 「倒立振子で学ぶ制御工学」,
-//! exactly as SPEC §1 writes them, in SI units and radians, angles from the **upward**
-//! vertical (upright `0`, hanging `π`).
+//! exactly as the book writes them (part 1 ch. 3, tables 3.5 and 3.7; `docs/model.md`), in SI units
+//! and radians, angles from the **upward** vertical (upright `0`, hanging `π`).
 //!
 //! | item | what it is |
 //! |---|---|
@@ -38,7 +38,7 @@
 //! use pendulab_plants::{CartEquilibrium, CartPendulum, CartPendulumParams, CartPendulumState};
 //! # fn main() -> Result<(), pendulab_plants::PlantError> {
 //! let plant = CartPendulum::new(CartPendulumParams::book())?;
-//! // The upright model and its open-loop poles 0, −6.25, +5.7543, −5.7867 (SPEC §1.1).
+//! // The upright model and its open-loop poles 0, −6.25, +5.7543, −5.7867 (`docs/model.md` §1).
 //! let sys = plant.linearize(CartEquilibrium::upright())?;
 //! let poles = sys.poles()?;
 //! assert!(poles.iter().any(|p| (p.re - 5.7543).abs() < 5e-5));

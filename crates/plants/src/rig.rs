@@ -1,4 +1,4 @@
-//! What the real rigs add to the models, as plain numbers (SPEC §1.3).
+//! What the real rigs add to the models, as plain numbers (`docs/model.md` §3).
 //!
 //! A [`RigSpec`] lists, for one rig, the sample time, the amplifier's input range and D/A
 //! converter, the encoders (which state each measures and its resolution) and the velocity
@@ -57,7 +57,7 @@ pub struct VelocityEstimatorSpec {
     pub time_constant: f64,
 }
 
-/// The numbers of one real rig (SPEC §1.3).
+/// The numbers of one real rig (`docs/model.md` §3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RigSpec {
     /// Which rig (`"cart"`, `"arm"`).

@@ -27,7 +27,7 @@ use pendulab_sim::{
 };
 use std::f64::consts::PI;
 
-/// The rig preset "with quantizer" from the rig's numbers (SPEC §1.3).
+/// The rig preset "with quantizer" from the rig's numbers (`docs/model.md` §3).
 fn quantized(rig: &RigSpec) -> RigChains {
     let enc: Vec<(usize, f64)> = rig.encoders.iter().map(|e| (e.state, e.step)).collect();
     let vel: Vec<(usize, usize, f64)> = rig
@@ -86,13 +86,13 @@ fn pcont_continuous(integrator: Integrator) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
 
 #[test]
 fn p1c34_cart_p_control_reproduces_the_book_digits() {
-    // examples.md: z peaks 0.237 m at 0.54 s and settles at 0.200 m; φ extrema +0.394 rad at
-    // 0.30 s, −0.701 at 0.79 s, +0.755 at 1.35 s. The book's digits come from the P law acting
-    // continuously (a Simulink gain block in the continuous loop) integrated at 1 ms. The
-    // same law sampled at 1 kHz with zero-order hold (an effective delay of ts/2) gives
-    // +0.3950, −0.7026, +0.7567 — off in the third decimal; tools/reference/sim_p1c34.py
-    // shows both with an independent plain-Python RK4. A P law reads only z, so the
-    // velocity estimate (derivative + 1/(0.02 s + 1)) plays no part here.
+    // Book part 1 §3.4 (p1c34_cdip_plot_pcont): z peaks 0.237 m at 0.54 s and settles at 0.200 m; φ
+    // extrema +0.394 rad at 0.30 s, −0.701 at 0.79 s, +0.755 at 1.35 s. The book's digits come from
+    // the P law acting continuously (a Simulink gain block in the continuous loop) integrated at
+    // 1 ms. The same law sampled at 1 kHz with zero-order hold (an effective delay of ts/2) gives
+    // +0.3950, −0.7026, +0.7567 — off in the third decimal; tools/reference/sim_p1c34.py shows both
+    // with an independent plain-Python RK4. A P law reads only z, so the velocity estimate
+    // (derivative + 1/(0.02 s + 1)) plays no part here.
     let rk4 = pcont_continuous(Integrator::Rk4 { dt: 1e-3 });
     // The same run by Dormand–Prince at 1e-11 (an independent algorithm; its dense output at
     // the same instants): the 1 ms RK4 is converged far below the printed digits (5e-4).
@@ -150,7 +150,7 @@ fn cdip_lqr_balances_the_nonlinear_cart_plain_and_quantised() {
         assert!((k[(0, j)] + b).abs() <= 5e-6, "K[{j}] = {}", k[(0, j)]);
     }
     let theta0 = 15f64.to_radians();
-    // One encoder count of the pendulum angle (SPEC §1.3).
+    // One encoder count of the pendulum angle (`docs/model.md` §3).
     let count = 2.0 * PI / 14400.0;
     for quantised in [false, true] {
         let what = if quantised { "quantised rig" } else { "plain" };

@@ -1,6 +1,6 @@
-//! Tests of the arm-type pendulum against independent references: SPEC §1.2's closed-form
-//! linearisation and LPV matrices, a hand-derived closed form of det M_c (book example 5.3),
-//! central finite differences, energy conservation and the energy balance along RK4
+//! Tests of the arm-type pendulum against independent references: the closed-form
+//! linearisation and LPV matrices (`docs/model.md` §2), a hand-derived closed form of det M_c (book
+//! example 5.3), central finite differences, energy conservation and the energy balance along RK4
 //! trajectories (RK4 written in `common`), and an independent SymPy derivation.
 
 mod common;
@@ -16,7 +16,7 @@ fn book() -> ArmPendulumParams {
     ArmPendulumParams::book()
 }
 
-/// SPEC §1.2, written out from the parameters.
+/// The closed form of `docs/model.md` §2, written out from the parameters.
 fn spec_model(p: &ArmPendulumParams, theta1e: f64) -> (Mat, Mat) {
     let al2 = p.J2 + p.m2 * p.l2 * p.l2;
     let al3 = p.m2 * p.L1 * p.l2;
@@ -85,8 +85,8 @@ fn lpv_form_reproduces_the_linearization() {
         let plant = ArmPendulum::new(p).unwrap();
         let lpv = plant.lpv();
         let (al2, al3) = (p.alpha2(), p.alpha3());
-        // SPEC: A₁ has the single entry (4,3) = −a₁α₃/α₂, B₁ the single entry (4) = b₁α₃/α₂;
-        // A₀, B₀ are the θ₁ₑ = 0 model.
+        // docs/model.md §2: A₁ has the single entry (4,3) = −a₁α₃/α₂, B₁ the single entry (4) =
+        // b₁α₃/α₂; A₀, B₀ are the θ₁ₑ = 0 model.
         let mut a1 = Mat::zeros(4, 4);
         a1[(3, 2)] = -p.a1 * al3 / al2;
         let mut b1 = Mat::zeros(4, 1);

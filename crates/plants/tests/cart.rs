@@ -1,5 +1,5 @@
 //! Tests of the cart-type pendulum, the cart drive and the fixed-cart pendulum against
-//! independent references: SPEC §1.1's printed numbers and closed forms, the book's eqs
+//! independent references: the numbers and closed forms of `docs/model.md` §1, the book's eqs
 //! 4.39–4.45, central finite differences, energy conservation and the energy balance along
 //! RK4 trajectories (RK4 written in `common`), and an independent SymPy derivation.
 
@@ -17,7 +17,7 @@ fn book() -> CartPendulumParams {
 
 #[test]
 fn upright_open_loop_poles_are_specs() {
-    // SPEC §1.1: 0, −6.25, +5.7543, −5.7867. Printed to 4 decimals: half a unit of the last
+    // docs/model.md §1: 0, −6.25, +5.7543, −5.7867. Printed to 4 decimals: half a unit of the last
     // printed digit is the tolerance.
     let sys = CartPendulum::book()
         .linearize(CartEquilibrium::upright())
@@ -27,12 +27,12 @@ fn upright_open_loop_poles_are_specs() {
     let expected = [-6.25, -5.7867, 0.0, 5.7543];
     for (p, e) in poles.iter().zip(expected) {
         assert!(p.im.abs() < 1e-12, "real poles expected, got {p}");
-        assert!((p.re - e).abs() <= 5e-5, "pole {p} vs SPEC {e}");
+        assert!((p.re - e).abs() <= 5e-5, "pole {p} vs docs/model.md {e}");
     }
 }
 
-/// SPEC §1.1's closed-form A, B (upright); the hanging model by substituting cos π = −1 in the
-/// Jacobian of the SPEC equations.
+/// The closed-form A, B of `docs/model.md` §1 (upright); the hanging model by substituting
+/// cos π = −1 in the Jacobian of the model's equations.
 fn spec_model(p: &CartPendulumParams, posture: Posture) -> (Mat, Mat) {
     let j = p.J_p + p.m_p * p.l_p * p.l_p;
     let c = match posture {
@@ -280,7 +280,7 @@ fn energy_levels_and_geometry() {
     let p = book();
     let up = CartEquilibrium::upright().state();
     let down = CartEquilibrium::hanging().state();
-    // SPEC: 0 hanging at rest, 2 m_p g l_p upright at rest.
+    // docs/model.md §1: 0 hanging at rest, 2 m_p g l_p upright at rest.
     assert!(plant.energy(&down).abs() <= 1e-17);
     assert!((plant.energy(&up) - 2.0 * p.m_p * p.g * p.l_p).abs() <= 1e-16);
     assert_eq!(plant.upright_energy(), plant.energy(&up));

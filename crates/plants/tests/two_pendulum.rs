@@ -167,7 +167,7 @@ fn invalid_parameters_name_the_pendulum() {
 
 #[test]
 fn rig_numbers_are_specs() {
-    // SPEC §1.3.
+    // docs/model.md §3.
     for rig in [RigSpec::cart(), RigSpec::arm()] {
         assert_eq!(rig.sample_time, 1e-3);
         assert_eq!(rig.input_limit, 5.0);

@@ -2,9 +2,9 @@
 //! size of each: `cargo run --release -p pendulab-plot --example gallery -- [DIR]` (default
 //! `target/gallery`).
 //!
-//! The data are computed here from the book's cart-type pendulum (SPEC §1.1) with a small RK4
-//! loop, so that the pictures look like the book's; the plotting calls are what the book
-//! examples and the report use.
+//! The data are computed here from the book's cart-type pendulum (book table 3.5, `docs/model.md`
+//! §1) with a small RK4 loop, so that the pictures look like the book's; the plotting calls are
+//! what the book examples and the report use.
 
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -68,7 +68,8 @@ fn simulate(x0: [f64; 4], t_end: f64, u: impl Fn(f64, &[f64; 4]) -> f64) -> Traj
     Trajectory::from_row_major(t, (4, &xs), (1, &us), (0, &[])).expect("consistent buffers")
 }
 
-/// LQ gains of examples.md (`cdip_lqr_sim`), book convention u = +K x with the book's sign.
+/// LQ gains of the IP Toolbox sample `cdip_lqr_sim.m`, book convention u = +K x with the book's
+/// sign.
 const K_Q: [(&str, [f64; 4]); 3] = [
     ("q₂ = 10", [3.16228, 13.47175, 4.48137, 2.26289]),
     ("q₂ = 50", [3.16228, 15.81695, 4.72006, 2.44448]),
@@ -363,7 +364,7 @@ fn main() {
     // 10. Animations: cart swing-up (energy pumping, then LQR) and the arm pendulum.
     {
         let k = K_Q[0].1;
-        // Energy pumping (SPEC §3, book part 2 ch. 3): commanded acceleration −K₁ θ' cos θ scaled
+        // Energy pumping (book part 2 §3.2.3): commanded acceleration −K₁ θ' cos θ scaled
         // by the energy still missing, with a weak pull of the cart to the rail's centre; LQR
         // once the pendulum is within 20° of upright.
         let j = JP + MP * LP * LP;

@@ -1,6 +1,6 @@
-//! Animations of the two rigs, drawn with the book's geometry (SPEC §1, the book's `cdip_anime`
-//! and `adip_anime`), as animated GIF (any viewer) and as animated SVG (SMIL, plays in a browser
-//! without scripts or network, also inside `<img>`).
+//! Animations of the two rigs, drawn with the book's geometry (`docs/model.md` §1–2, the IP
+//! Toolbox's `cdip_anime` and `adip_anime`), as animated GIF (any viewer) and as animated SVG
+//! (SMIL, plays in a browser without scripts or network, also inside `<img>`).
 //!
 //! The state comes in as plain numbers sampled at any rate (typically 1 kHz); frames are taken
 //! at the playback frame rate by linear interpolation, so a 10 s run at 25 frames/s needs 251

@@ -85,7 +85,7 @@ pub struct Safety {
 }
 
 impl Safety {
-    /// The largest cart travel limit \[m\]. Neither the book's numbers (SPEC §1.3,
+    /// The largest cart travel limit \[m\]. Neither the rig's numbers (`docs/model.md` §3,
     /// `pendulab_plants::RigSpec`) nor the book's recordings give the length of the cart's
     /// track; the book's recorded experiments move the cart at most to its 0.2 m reference
     /// (`data/rig/`), but its servo examples take it to `r = 0.5 m` (`cdip_lqr_servo_sim`,
@@ -108,7 +108,7 @@ impl Safety {
     /// only stop every run at its first sample.
     pub const ANGLE_WINDOW_MIN: f64 = std::f64::consts::PI / 180.0;
     /// The longest time \[s\] the watchdog may let the loop run blind: 0.5 s. The upright cart
-    /// pendulum's unstable pole is 5.75 s⁻¹ (SPEC §1.1), so in 0.5 s an error grows by
+    /// pendulum's unstable pole is 5.75 s⁻¹ (`docs/model.md` §1), so in 0.5 s an error grows by
     /// `e^{2.9} ≈ 18×`; longer makes the watchdog useless.
     pub const WATCHDOG_MAX_TIME: f64 = 0.5;
     /// The longest time \[s\] a command may be held without a fresh measurement: 0.1 s

@@ -4,7 +4,7 @@
 //! two presets are [`RigChains::plain`] (ideal full-state measurement, ideal actuator) and
 //! [`RigChains::with_quantizer`] (encoders on the measured positions, pseudo-differentiated
 //! velocities, input saturation and D/A quantisation), built from the numbers a rig
-//! description gives — for the cart rig of SPEC.md §1.3 (`pendulab_plants::RigSpec::cart()`):
+//! description gives — for the cart rig of `docs/model.md` §3 (`pendulab_plants::RigSpec::cart()`):
 //!
 //! ```
 //! use pendulab_sim::rig::RigChains;

@@ -9,7 +9,7 @@
 //!   ([`PseudoDifferentiator`]), plus its own noise if enabled.
 //!
 //! Each imperfection is off by default and switched on by one builder call. The book rig's
-//! cart-pendulum chain, from plain numbers (SPEC.md §1.3):
+//! cart-pendulum chain, from plain numbers (`docs/model.md` §3):
 //!
 //! ```
 //! use pendulab_sim::SensorChain;

@@ -1,6 +1,6 @@
-//! `linearize` against analytic Jacobians: the cart pendulum (SPEC.md §1.1 printed matrices
+//! `linearize` against analytic Jacobians: the cart pendulum (the matrices of `docs/model.md` §1
 //! and hand-derived Jacobians away from equilibrium), the arm pendulum at a tilted arm
-//! equilibrium (SPEC.md §1.2 formula), and a linear system with an output map.
+//! equilibrium (the formula of `docs/model.md` §2), and a linear system with an output map.
 
 mod common;
 
@@ -36,7 +36,7 @@ fn cart_pendulum_upright_matches_spec_matrices() {
     // No output map: C = I, D = 0.
     assert_eq!(l.system.c(), &Mat::identity(4, 4));
     assert_eq!(l.system.d(), &Mat::zeros(4, 1));
-    // SPEC.md §1.1: open-loop eigenvalues 0, −6.25, +5.7543, −5.7867.
+    // docs/model.md §1: open-loop eigenvalues 0, −6.25, +5.7543, −5.7867.
     let mut ev: Vec<f64> = pendulab_lti::linalg::eigenvalues(l.system.a())
         .unwrap()
         .iter()
@@ -101,7 +101,7 @@ fn cart_pendulum_away_from_equilibrium_matches_hand_derived_jacobians() {
     }
 }
 
-/// The arm-type pendulum of SPEC.md §1.2 (book table 3.7), solved for the accelerations.
+/// The arm-type pendulum of `docs/model.md` §2 (book table 3.7), solved for the accelerations.
 fn arm_pendulum() -> impl Dynamics {
     let (a1, b1, l1, m2, l2, j2, mu2, g) =
         (6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81);

@@ -1,6 +1,6 @@
 //! `care-n4` and `care-n100`: the continuous algebraic Riccati equation.
 //!
-//! - `care-n4`: the linearised cart pendulum of the book (SPEC.md §1.1, table 3.5),
+//! - `care-n4`: the linearised cart pendulum of the book (table 3.5, `docs/model.md` §1),
 //!   `Q = diag(100, 10, 1, 1)`, `R = 1`. Figure: microseconds per `care` call (default
 //!   options: method choice, scaling, refinement, gain, closed-loop poles and residual
 //!   included). For this size `care` takes its fixed-size doubling path (`method` in the
@@ -27,7 +27,7 @@ use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, RiccatiSolution, ca
 use pendulab_lti::linalg::eigenvalues;
 use serde_json::json;
 
-/// The linearised cart pendulum (SPEC.md §1.1, table 3.5 parameters).
+/// The linearised cart pendulum (`docs/model.md` §1, book table 3.5 parameters).
 fn cart_pendulum() -> (Mat, Mat) {
     let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
     let j = jp + mp * lp * lp;
@@ -116,7 +116,7 @@ pub fn run_n4(budget: &Budget) -> Result<BenchReport> {
         check: json!({
             "n": 4,
             "m": 1,
-            "system": "linearised cart pendulum (SPEC 1.1), Q = diag(100, 10, 1, 1), R = 1",
+            "system": "linearised cart pendulum (book table 3.5), Q = diag(100, 10, 1, 1), R = 1",
             "relative_residual": residual,
             "solver_reported_residual": sol.residual,
             "closed_loop_max_real_part": max_re,

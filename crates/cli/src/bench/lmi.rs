@@ -32,7 +32,7 @@ pub fn workloads() -> Vec<Workload> {
     ]
 }
 
-/// Arm-type pendulum at θ1e = 0 (SPEC.md §1.2, table 3.7), augmented with ∫(r − θ1);
+/// Arm-type pendulum at θ1e = 0 (book table 3.7, `docs/model.md` §2), augmented with ∫(r − θ1);
 /// returns (Ã0, Ã1, B̃0, B̃1) of the LPV form ρ = 1 − cos θ1.
 fn arm_servo() -> (Mat, Mat, Mat, Mat) {
     let (a1, b1, l1, m2, l2, j2, mu2, g) =

@@ -4,13 +4,13 @@
 //! allocation-free recursion into reused buffers); the `lsim` convenience call, which also
 //! allocates its result, is reported in the check.
 //!
-//! The system is the cart pendulum of the book (SPEC.md §1.1) with the integral-servo
-//! augmentation `Ã = [[A, 0], [−C, 0]]`, `B̃ = [B; 0]`, `y = z`, closed by a pole-placement
-//! gain (poles −2, −3, −4, −5 ± 1j), driven through the integrator by a reference `r(t)`: a
-//! triangle wave (amplitude 0.5 m, period 200 s) whose corners fall on the sample grid, so
-//! the FOH simulation is exact. The accuracy check recomputes the final state by an
-//! independent route: one block exponential per linear segment of `r` (5 exponentials of a
-//! 7×7 matrix over 200 s each instead of 10⁶ steps of 1 ms).
+//! The system is the cart pendulum of the book (table 3.5, `docs/model.md` §1) with the
+//! integral-servo augmentation `Ã = [[A, 0], [−C, 0]]`, `B̃ = [B; 0]`, `y = z`, closed by a
+//! pole-placement gain (poles −2, −3, −4, −5 ± 1j), driven through the integrator by a reference
+//! `r(t)`: a triangle wave (amplitude 0.5 m, period 200 s) whose corners fall on the sample grid,
+//! so the FOH simulation is exact. The accuracy check recomputes the final state by an independent
+//! route: one block exponential per linear segment of `r` (5 exponentials of a 7×7 matrix over
+//! 200 s each instead of 10⁶ steps of 1 ms).
 
 use super::{BenchReport, Budget, time};
 use anyhow::Result;

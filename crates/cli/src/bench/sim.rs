@@ -1,8 +1,8 @@
 //! The simulator's workloads: `sim-rk4`, `sim-batch` and `cartpole-step`.
 //!
-//! All three run the nonlinear cart pendulum of `pendulab-plants` (book parameters, SPEC §1.1)
-//! under the LQR gain of its upright linearisation with `Q = diag(10, 10, 0, 0)`, `R = 1`
-//! (the book's `cdip_lqr_sim` design, `u = −K x`):
+//! All three run the nonlinear cart pendulum of `pendulab-plants` (book table 3.5, `docs/model.md`
+//! §1) under the LQR gain of its upright linearisation with `Q = diag(10, 10, 0, 0)`, `R = 1` (the
+//! book's `cdip_lqr_sim` design, `u = −K x`):
 //!
 //! - `sim-rk4`: one 10 s closed-loop run from θ₀ = 15°, controller at 1 kHz with zero-order
 //!   hold, classic RK4 at 1 ms, every sample recorded into the `Trajectory` (recycling the

@@ -1,5 +1,5 @@
-//! The arm-type pendulum of SPEC.md §1.2 (table 3.7 parameters), linearised at θ1e = 0, and
-//! its integral-servo augmentation, built from the formulas in the tests themselves.
+//! The arm-type pendulum of `docs/model.md` §2 (book table 3.7 parameters), linearised at θ1e = 0,
+//! and its integral-servo augmentation, built from the formulas in the tests themselves.
 #![allow(dead_code)]
 
 use pendulab_lti::Mat;

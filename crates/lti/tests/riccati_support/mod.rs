@@ -11,7 +11,7 @@
 use pendulab_lti::Mat;
 use pendulab_lti::equations::{RiccatiSolution, dlyap, lyap};
 
-/// The `care-n4` workload: the linearised cart pendulum (SPEC.md §1.1, table 3.5) as
+/// The `care-n4` workload: the linearised cart pendulum (book table 3.5, `docs/model.md` §1) as
 /// `(A, B, Q, R)` with `Q = diag(100, 10, 1, 1)`, `R = 1`.
 pub fn cart_pendulum() -> (Mat, Mat, Mat, Mat) {
     let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);

@@ -1,10 +1,10 @@
 //! Shared helpers of the pendulab-lti system tests: the book's plant matrices built from
-//! SPEC.md formulas, fixture loading and comparisons.
+//! the formulas of `docs/model.md`, fixture loading and comparisons.
 #![allow(dead_code)]
 
 use pendulab_lti::{Complex64, Mat};
 
-/// Cart-type pendulum parameters (SPEC.md §1.1, book table 3.5).
+/// Cart-type pendulum parameters (book table 3.5).
 pub const AC: f64 = 6.25;
 pub const BC: f64 = 4.36;
 pub const MP: f64 = 0.107;
@@ -13,7 +13,7 @@ pub const JP: f64 = 1.59e-3;
 pub const MUP: f64 = 2.35e-4;
 pub const G: f64 = 9.81;
 
-/// The linearised cart pendulum at the upright rest (SPEC.md §1.1), state `[z, θ, ż, θ̇]`.
+/// The linearised cart pendulum at the upright rest (`docs/model.md` §1), state `[z, θ, ż, θ̇]`.
 pub fn cdip() -> (Mat, Mat) {
     let j = JP + MP * LP * LP;
     let a = Mat::from_row_slice(

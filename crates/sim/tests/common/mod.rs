@@ -1,12 +1,12 @@
 //! Test systems of the simulator's tests (independent of pendulab-plants): the cart-type
-//! pendulum of SPEC.md §1.1 written from its equations, and its linearisation at the upright
-//! rest as printed there.
+//! pendulum of `docs/model.md` §1 (book eqs 3.7 and 3.21) written from its equations, and its
+//! linearisation at the upright rest as written there.
 #![allow(dead_code)]
 
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
 
-/// SPEC.md §1.1, book table 3.5.
+/// Book table 3.5 (`docs/model.md` §1).
 #[derive(Debug, Clone, Copy)]
 pub struct CartPendulum {
     pub ac: f64,
@@ -38,7 +38,7 @@ impl CartPendulum {
         self.jp + self.mp * self.lp * self.lp
     }
 
-    /// The linearisation at the upright rest, SPEC.md §1.1.
+    /// The linearisation at the upright rest, `docs/model.md` §1.
     pub fn linear(&self) -> StateSpace<Continuous> {
         let j = self.j();
         let a = Mat::from_row_slice(

@@ -721,7 +721,7 @@ mod tests {
 
     #[test]
     fn predicted_stop_only_skips_a_rounding_level_step() {
-        // The cart pendulum of `care-n4` (SPEC.md §1.1 parameters, table 3.5).
+        // The cart pendulum of `care-n4` (book table 3.5 parameters, `docs/model.md` §1).
         let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
         let j = jp + mp * lp * lp;
         #[rustfmt::skip]
