@@ -2,10 +2,10 @@
 //!
 //! Each example of 「倒立振子で学ぶ制御工学」 is an [`Example`] in the [`registry()`], named by the
 //! stem of the book's MATLAB file (e.g. `p1c63_ex5_cdip_lqr_servo`). Running one returns an
-//! [`ExampleOutput`]: its numbers under the names `examples.md` gives them (gains in the book's
-//! convention `u = +K x`), the book's printed values beside them where the book prints any, and
-//! the figures it drew. The command line (`pendulab book`), the tests and the lab report all use
-//! this one registry.
+//! [`ExampleOutput`]: its numbers under fixed names built from the book's symbols (gains in the
+//! book's convention `u = +K x`), the book's printed values beside them where the book prints any,
+//! and the figures it drew. The command line (`pendulab book`), the tests and the lab report all
+//! use this one registry.
 //!
 //! - [`registry`](mod@registry) — [`Example`], [`RunContext`], [`registry()`], [`find`];
 //! - [`output`] — [`ExampleOutput`], [`Value`], the book's [`Reference`] values and their

@@ -53,14 +53,14 @@ impl Value {
     }
 }
 
-/// A value printed in the book (or given in `examples.md`), shown beside pendulab's.
+/// A value printed in the book or displayed by its M-files, shown beside pendulab's.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Reference {
     /// Name of the value, as in [`ExampleOutput::values`].
     pub name: String,
     /// The printed value.
     pub value: Value,
-    /// Where it is printed (e.g. "book p. 74", "examples.md").
+    /// Where it is printed (e.g. "book p. 74", "book Part 1 §7.4, example 7.1").
     pub source: String,
     /// Largest absolute difference per element that still counts as reproducing the printed
     /// value: half a unit in the last printed digit for a rounded number, or a stated tolerance.

@@ -1,9 +1,11 @@
-//! The registry holds every example `examples.md` lists, once, under the book's file stem.
+//! The registry holds every example of the book, once, under the book's file stem.
 //!
-//! The id list below is copied from the project's `examples.md` (the checklist of the book's
-//! examples), in its order; it is the independent source this test checks the registry against.
+//! The id list below is the checklist of the book's examples, written out by hand from the
+//! book's M-files (one stem per example, part 1 ch. 2 to part 2 ch. 3, then the IP Toolbox
+//! samples) in the book's order; it is the independent source this test checks the registry
+//! against.
 
-const EXAMPLES_MD_IDS: &[&str] = &[
+const BOOK_EXAMPLE_IDS: &[&str] = &[
     "p1c211_pcont",
     "p1c212_pdcont",
     "p1c213_picont",
@@ -71,16 +73,16 @@ const EXAMPLES_MD_IDS: &[&str] = &[
 ];
 
 #[test]
-fn registry_lists_every_example_of_examples_md_once() {
+fn registry_lists_every_book_example_once() {
     let ids: Vec<&str> = pendulab_book::registry().iter().map(|e| e.id).collect();
-    for id in EXAMPLES_MD_IDS {
+    for id in BOOK_EXAMPLE_IDS {
         let n = ids.iter().filter(|x| *x == id).count();
         assert_eq!(n, 1, "{id} appears {n} times in the registry");
     }
     for id in &ids {
         assert!(
-            EXAMPLES_MD_IDS.contains(id),
-            "{id} is in the registry but not in examples.md"
+            BOOK_EXAMPLE_IDS.contains(id),
+            "{id} is in the registry but not in the book's list of examples"
         );
     }
 }

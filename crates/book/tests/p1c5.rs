@@ -1,6 +1,6 @@
 //! Part 1 ch. 5 examples: controllability, canonical form, pole placement, LQR.
 //!
-//! Independent references: examples.md's printed values, closed forms worked out in the
+//! Independent references: the book's printed values (part 1 ch. 5), closed forms worked out in the
 //! comments, and SciPy 1.17.1 / SymPy 1.14.0 values printed by
 //! `tools/reference/book_p1c5_reference.py`.
 
@@ -24,7 +24,7 @@ fn p1c511_ex1() {
 #[test]
 fn p1c511_ex2() {
     let out = run("p1c511_ex2");
-    // M_c = [B, AB, A²B] = [[0,0,0],[0,1,0],[1,0,0]]: rank 2 (examples.md).
+    // M_c = [B, AB, A²B] = [[0,0,0],[0,1,0],[1,0,0]]: rank 2 (book example 5.2).
     assert_eq!(num(&out, "rank"), 2.0);
     all_reproduced(&out);
 }
@@ -51,7 +51,7 @@ fn p1c511_ex3_adip() {
 #[test]
 fn p1c511_ex4_cdip() {
     let out = run("p1c511_ex4_cdip");
-    // Different pendulums: controllable (examples.md), full rank 6. Identical pendulums:
+    // Different pendulums: controllable (book example 5.4), full rank 6. Identical pendulums:
     // θa − θb and its rate obey an input-free equation, so exactly 2 directions are lost.
     assert_eq!(num(&out, "rank_different"), 6.0);
     assert_eq!(num(&out, "rank_identical"), 4.0);
@@ -61,7 +61,7 @@ fn p1c511_ex4_cdip() {
 #[test]
 fn p1c512_ex5() {
     let out = run("p1c512_ex5");
-    // examples.md: T = [[−1, 1], [0, 1]], Â = [[0, 1], [−1, 2]] (integers; 1e-12 for rounding
+    // Book example 5.5: T = [[−1, 1], [0, 1]], Â = [[0, 1], [−1, 2]] (integers; 1e-12 for rounding
     // in the eigen-solver's characteristic polynomial of the double root 1).
     let Some(Value::Matrix(t)) = out.get("T") else {
         panic!()

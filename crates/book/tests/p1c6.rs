@@ -1,6 +1,6 @@
 //! Part 1 ch. 6 examples: P/PI control of the cart drive and the LQ integral servo.
 //!
-//! Independent references: the book's printed values (examples.md), closed forms of the
+//! Independent references: the book's printed values (part 1 §6.2–6.3), closed forms of the
 //! second/third-order loops, and SciPy 1.17.1 values printed by
 //! `tools/reference/book_p1c5_reference.py`.
 

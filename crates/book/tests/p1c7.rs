@@ -1,6 +1,6 @@
 //! Part 1 ch. 7 examples: observer-based output feedback, observability, detectability.
 //!
-//! Independent references: examples.md's printed gain and ranks, the design specification
+//! Independent references: the book's gain and ranks (part 1 §7.4–7.5), the design specification
 //! (observer poles 4× the state-feedback poles), and the separation principle.
 
 mod common;
@@ -12,7 +12,7 @@ use pendulab_lti::Complex64;
 #[test]
 fn p1c74_ex1_cdip_ob_design() {
     let out = run("p1c74_ex1_cdip_ob_design");
-    // examples.md: K = [3.06513, 12.57293, 4.32424, 2.16707] (5 decimals: ±5e-6).
+    // Book example 7.1: K = [3.06513, 12.57293, 4.32424, 2.16707] (5 decimals: ±5e-6).
     let Some(Value::Vector(k)) = out.get("K") else {
         panic!()
     };

@@ -1,6 +1,6 @@
 //! Part 1 ch. 8 examples: ZOH and bilinear discretisation.
 //!
-//! Independent references: the book's printed coefficients (examples.md), closed forms of both
+//! Independent references: the book's printed coefficients (part 1 §8.3–8.4), closed forms of both
 //! discretisations of 1/(s² + s + 1), SciPy 1.17.1 `cont2discrete` values printed by
 //! `tools/reference/book_p1c5_reference.py`, and the eigenvalue maps of ZOH (z = e^{λ ts})
 //! and Tustin (z = (1 + λ ts/2)/(1 − λ ts/2)).

@@ -1,4 +1,4 @@
-//! Part 2 ch. 2 examples against independent references: examples.md's printed gains, a
+//! Part 2 ch. 2 examples against independent references: the book's gains, a
 //! closed form, and SciPy (`tools/reference/book_p2c2.py`: Van Loan by the block matrix
 //! exponential, checked by Simpson quadrature; `solve_discrete_are` with the cross term; the
 //! I–PD loop on the exact ZOH sampling of the drive).
@@ -9,7 +9,7 @@ use common::*;
 #[test]
 fn p2c234_dynamic_quantizer_beats_static_rounding() {
     let out = run("p2c234_ex1_cdip_odq");
-    // K = [3.16228, 13.47175, 4.48137, 2.26289] (examples.md, 5 decimals).
+    // K = [3.16228, 13.47175, 4.48137, 2.26289] (IP Toolbox cdip_lqr_sim.m, 5 decimals).
     all_reproduced(&out);
     assert_eq!(num(&out, "quantizer_order"), 2.0);
     let (s, q) = (
@@ -33,7 +33,7 @@ fn p2c234_dynamic_quantizer_beats_static_rounding() {
 #[test]
 fn p2c242_ipd_gains_and_overshoots() {
     let out = run("p2c242_ex2_cart_ipd");
-    // k_I = 3583.7, k_P = 430.05, k_D = 15.768 (examples.md, 5 significant digits).
+    // k_I = 3583.7, k_P = 430.05, k_D = 15.768 (book part 2 §2.4.2, 5 significant digits).
     all_reproduced(&out);
     let g = vector(&out, "gains");
     assert!((g[1] - 430.05).abs() < 0.005 && (g[2] - 15.768).abs() < 0.0005);
@@ -77,7 +77,7 @@ fn p2c244_sampled_data_lqr_matches_scipy() {
     // 0.1 s (measured with the same Van Loan weights; K_d is the optimum on the linear model).
     let (jd, jh) = (num(&out, "cost_Kd"), num(&out, "cost_K_held"));
     assert!(jd > 0.0 && jd < jh, "K_d {jd}, K held {jh}");
-    // The continuous gain is the examples.md one (ch. 2 ex. 1 uses the same LQR).
+    // The continuous gain is the book's (cdip_lqr_sim.m, q2 = 10; ch. 2 ex. 1 uses the same LQR).
     let k = vector(&out, "K");
     for (x, y) in k.iter().zip([3.16228, 13.47175, 4.48137, 2.26289]) {
         assert!((x - y).abs() <= 5e-6);

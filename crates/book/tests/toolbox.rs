@@ -1,6 +1,6 @@
 //! IP Toolbox samples on the quantised rig at 1 ms.
 //!
-//! Independent references: examples.md's printed gains and pendulum dips, closed forms
+//! Independent references: the IP Toolbox samples' gains and pendulum dips, closed forms
 //! (integrator gains √(q/R)), SciPy 1.17.1 values printed by
 //! `tools/reference/book_p1c5_reference.py`, and for the PD samples a linear model of the
 //! drive alone (the drive is an acceleration source, so the hanging pendulum does not act on
@@ -67,7 +67,7 @@ fn adip_pdcont_sim() {
 #[test]
 fn cdip_lqr_sim() {
     let out = run("cdip_lqr_sim");
-    // examples.md (5 decimals).
+    // cdip_lqr_sim.m displays K (5 decimals).
     for (name, k) in [
         ("K_q10", [3.16228, 13.47175, 4.48137, 2.26289]),
         ("K_q50", [3.16228, 15.81695, 4.72006, 2.44448]),
@@ -128,7 +128,7 @@ fn adip_lqr_sim() {
         assert_rel(&got, &k, 1e-8, name);
         assert!((got[0] - f64::sqrt(q1)).abs() < 1e-9, "{name}");
     }
-    // Brief / examples.md: the pendulum dips ≈ −2°, −4°, −6.7° (read off the book's figure;
+    // adip_lqr_sim: the pendulum dips ≈ −2°, −4°, −6.7° (read off the book's figure;
     // ±0.5°).
     let dips = vector(&out, "theta2_min_deg");
     for (g, w) in dips.iter().zip([-2.0, -4.0, -6.7]) {

@@ -141,8 +141,8 @@ fn velocities(rig: &RigSpec) -> Vec<(usize, usize, f64)> {
         .collect()
 }
 
-/// The book's rig preset "with quantizer" (SPEC §1.3): encoders on the positions, velocities
-/// by the pseudo-differentiator `s/(0.02 s + 1)`, ±5 V and a 16-bit D/A.
+/// The book's rig preset "with quantizer" (`docs/model.md` §3): encoders on the positions,
+/// velocities by the pseudo-differentiator `s/(0.02 s + 1)`, ±5 V and a 16-bit D/A.
 ///
 /// # Errors
 /// The preset's construction errors (none for the built-in rigs).
@@ -158,7 +158,7 @@ pub(crate) fn quantized_rig(id: &str, rig: &RigSpec) -> Result<RigChains, BookEr
     .ctx(id)
 }
 
-/// The nonlinear plant "plain" with the book's default measurement (examples.md preamble):
+/// The nonlinear plant "plain" with the book's default measurement (`docs/model.md` §3):
 /// exact positions, velocities by derivative + `1/(0.02 s + 1)`, ideal actuator.
 ///
 /// # Errors

@@ -280,7 +280,7 @@ fn p1c211_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "poles_kP10",
         Value::Complex(complex(&[(-3.125, 5.817), (-3.125, -5.817)])),
-        "examples.md (book §2.1.1)",
+        "book Part 1 §2.1.1",
         0.0005 * std::f64::consts::SQRT_2,
     );
     out.notes.push(NOTE_GAINS.into());
@@ -593,13 +593,13 @@ fn p1c221_id_cart(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "ac",
         Value::Number(6.250),
-        "examples.md (book §2.2.1)",
+        "book Part 1 §2.2.1 (cdip_para2.m)",
         0.0005,
     );
     out.reference(
         "bc",
         Value::Number(4.362),
-        "examples.md (book §2.2.1)",
+        "book Part 1 §2.2.1 (cdip_para2.m)",
         0.001,
     );
     out.notes.push(

@@ -1205,7 +1205,7 @@ fn p1c34_cdip_plot_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "phi_peaks_1ms",
         Value::Vector(ext_1ms.iter().take(3).map(|e| e.1).collect()),
     );
-    let src = "examples.md (book §3.4)";
+    let src = "book Part 1 §3.4";
     out.reference("z_peak", Value::Number(0.237), src, 0.0005);
     out.reference("t_z_peak", Value::Number(0.54), src, 0.005);
     out.reference("z_final", Value::Number(0.200), src, 0.0005);

@@ -159,10 +159,10 @@ fn p1c43_stability1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             (-0.426, 0.0),
             (-1.387, 0.0),
         ])),
-        "examples.md (book §4.3)",
+        "book Part 1 §4.3",
         0.0005 * std::f64::consts::SQRT_2,
     );
-    out.reference("stable", Value::Bool(false), "examples.md (book §4.3)", 0.0);
+    out.reference("stable", Value::Bool(false), "book Part 1 §4.3", 0.0);
     if let Some(dir) = &ctx.out_dir {
         let fig = eig_figure("p1c43_stability1: eigenvalues of A (not stable)", &ev);
         write_figure(ID431, &mut out, dir, "p1c43_stability1_eig", &fig)?;
@@ -207,7 +207,7 @@ fn p1c43_stability2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "P_eig",
         Value::Vector(vec![0.505, 0.650, 2.247, 45.22, 61.13]),
-        "examples.md (book §4.3)",
+        "book Part 1 §4.3",
         0.005,
     );
     out.notes.push(

@@ -106,10 +106,15 @@ fn ex1(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "Mc",
         Value::Matrix(vec![vec![1.0, 1.0], vec![1.0, 2.0]]),
-        "examples.md",
+        "book Part 1 §5.1.1, example 5.1",
         0.0,
     )
-    .reference("rank", Value::Number(2.0), "examples.md", 0.0);
+    .reference(
+        "rank",
+        Value::Number(2.0),
+        "book Part 1 §5.1.1, example 5.1",
+        0.0,
+    );
     out.notes
         .push("M_c = [B, AB] has full rank 2: the pair is controllable.".into());
     Ok(out)
@@ -123,7 +128,12 @@ fn ex2(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut out = ExampleOutput::default();
     out.value("Mc", Value::matrix(&mc))
         .value("rank", Value::Number(rank(&mc).rank as f64));
-    out.reference("rank", Value::Number(2.0), "examples.md", 0.0);
+    out.reference(
+        "rank",
+        Value::Number(2.0),
+        "book Part 1 §5.1.1, example 5.2",
+        0.0,
+    );
     out.notes.push(
         "The mode x1' = a x1 receives no input: rank M_c = 2 < 3, uncontrollable (a = 1).".into(),
     );
@@ -217,7 +227,7 @@ fn ex4_cdip(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "rank_different",
         Value::Number(6.0),
-        "examples.md (controllable: full rank 6)",
+        "book Part 1 §5.1.1, example 5.4 (controllable: full rank 6)",
         0.0,
     );
     out.notes.push(
@@ -246,13 +256,13 @@ fn ex5(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "T",
         Value::Matrix(vec![vec![-1.0, 1.0], vec![0.0, 1.0]]),
-        "examples.md",
+        "book Part 1 §5.1.2, example 5.5",
         1e-9,
     )
     .reference(
         "A_hat",
         Value::Matrix(vec![vec![0.0, 1.0], vec![-1.0, 2.0]]),
-        "examples.md",
+        "book Part 1 §5.1.2, example 5.5",
         1e-9,
     );
     out.notes
@@ -295,7 +305,7 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     );
     out.notes.push(format!(
         "The book solves det(λI − A − BK) = (λ − s1)(λ − s2) symbolically: k1 = s1 s2 − 1, \
-         k2 = s1 + s2 − s1 s2 − 1. Shown for s1 = −1, s2 = −2 (examples.md gives no poles), \
+         k2 = s1 + s2 − s1 s2 − 1. Shown for s1 = −1, s2 = −2 (the book keeps them symbolic), \
          through the controllable canonical form. {BOOK_CONVENTION}."
     ));
     Ok(out)
@@ -318,7 +328,7 @@ fn ex7_adip_place(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "poles",
         Value::Complex(sorted(want)),
-        "examples.md (design poles)",
+        "book Part 1 §5.2.2, example 5.7 (design poles)",
         1e-6,
     );
     out.notes.push(BOOK_CONVENTION.into());

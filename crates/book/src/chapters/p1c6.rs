@@ -300,7 +300,7 @@ fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookE
         out.reference(
             "poles",
             Value::Complex(sorted(complex(p))),
-            "book / examples.md",
+            "book Part 1 §6.2",
             5e-4 * 2f64.sqrt(),
         );
     }
@@ -309,7 +309,7 @@ fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookE
     out.reference(
         "e_inf",
         Value::Number(c.book_e_inf),
-        "book / examples.md",
+        "book Part 1 §6.2",
         1e-12,
     );
     out.notes.push(format!(
@@ -458,7 +458,7 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "e_inf",
         Value::Number(0.0),
-        "book eq. 6.33 / examples.md",
+        "book Part 1 §6.3, eq. 6.33",
         1e-9,
     );
     out.notes.push(format!(

@@ -50,7 +50,8 @@ pub(crate) fn examples() -> Vec<Example> {
 /// The state-feedback poles of example 7.1.
 pub(crate) const EX1_POLES: [(f64, f64); 4] = [(-6.5, 1.5), (-6.5, -1.5), (-4.0, 0.0), (-2.5, 0.0)];
 
-/// The book's gain of example 7.1 (examples.md, u = +K x).
+/// The book's gain of example 7.1 (Part 1 §7.4, displayed by `p1c74_ex1_cdip_ob_design.m`;
+/// u = +K x).
 pub(crate) const EX1_BOOK_K: [f64; 4] = [3.06513, 12.57293, 4.32424, 2.16707];
 
 /// The observer-based design of example 7.1: the measured linear model (`y = [z, θ]`), the
@@ -144,13 +145,18 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     .value("L", Value::matrix(&(-&l)))
     .value("observer_poles", Value::Complex(obs_poles.clone()));
     // Printed to 5 decimals: half a unit of the last digit.
-    out.reference("K", Value::vector(&EX1_BOOK_K), "examples.md", 5e-6);
+    out.reference(
+        "K",
+        Value::vector(&EX1_BOOK_K),
+        "book Part 1 §7.4, example 7.1",
+        5e-6,
+    );
     // Four times the state-feedback poles; placed to ~1e-12 relative on |λ| ≤ 27.
     let want: Vec<Complex64> = complex(&EX1_POLES).iter().map(|p| p * 4.0).collect();
     out.reference(
         "observer_poles",
         Value::Complex(sorted(want)),
-        "examples.md (4× the state-feedback poles)",
+        "book Part 1 §7.4, example 7.1 (4× the state-feedback poles)",
         1e-6,
     );
     // Continuous controller: stood in for by its Tustin discretisation at the 1 ms loop rate.
@@ -233,13 +239,18 @@ fn ex2_cdip_mo(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let mo = obsv(sys.a(), sys.c()).ctx(id)?;
         out.value(name, Value::Number(rank(&mo).rank as f64));
     }
-    out.reference("rank_y_z", Value::Number(2.0), "book / examples.md", 0.0)
-        .reference(
-            "rank_y_theta",
-            Value::Number(3.0),
-            "book / examples.md",
-            0.0,
-        );
+    out.reference(
+        "rank_y_z",
+        Value::Number(2.0),
+        "book Part 1 §7.4, example 7.2",
+        0.0,
+    )
+    .reference(
+        "rank_y_theta",
+        Value::Number(3.0),
+        "book Part 1 §7.4, example 7.2",
+        0.0,
+    );
     out.notes
         .push("Neither sensor alone makes the cart pendulum observable (rank M_o < 4).".into());
     Ok(out)
@@ -255,13 +266,13 @@ fn ex3_cdip_detectability(_ctx: &RunContext) -> Result<ExampleOutput, BookError>
     out.reference(
         "detectable_y_z",
         Value::Bool(false),
-        "book / examples.md",
+        "book Part 1 §7.5, example 7.3",
         0.0,
     )
     .reference(
         "detectable_y_theta",
         Value::Bool(false),
-        "book / examples.md",
+        "book Part 1 §7.5, example 7.3",
         0.0,
     );
     out.notes.push(

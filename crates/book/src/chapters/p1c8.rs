@@ -70,8 +70,9 @@ fn tf_example(
     let mut out = ExampleOutput::default();
     out.value("num", Value::vector(&num))
         .value("den", Value::vector(&den));
-    out.reference("num", Value::vector(book.0), "book / examples.md", tol)
-        .reference("den", Value::vector(book.1), "book / examples.md", tol);
+    let source = format!("book Part 1 ch. 8, {id}.m");
+    out.reference("num", Value::vector(book.0), &source, tol)
+        .reference("den", Value::vector(book.1), &source, tol);
     out.notes.push(format!(
         "{what}: C[z] = num/den in descending powers of z, den monic."
     ));

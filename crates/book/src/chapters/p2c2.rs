@@ -17,7 +17,7 @@ use pendulab_sim::{Integrator, SampledLoop, SampledOptions, SampledRun, Signal};
 use std::f64::consts::PI;
 
 const DEG: f64 = 180.0 / PI;
-const CART: &str = "cart pendulum, book table 3.5 (SPEC.md §1.1)";
+const CART: &str = "cart pendulum, book table 3.5";
 
 /// The chapter's examples, in book order.
 pub(crate) fn examples() -> Vec<Example> {
@@ -137,11 +137,11 @@ fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         )
         .value("deviation_static", Value::Vector(dev_s.clone()))
         .value("deviation_odq", Value::Vector(dev_q.clone()));
-    // examples.md prints K to 6 significant digits (5 decimals): half a unit of the last.
+    // The gain is known to 6 significant digits (5 decimals): half a unit of the last.
     out.reference(
         "K",
         Value::Vector(vec![3.16228, 13.47175, 4.48137, 2.26289]),
-        "examples.md",
+        "IP Toolbox cdip_lqr_sim.m, q2 = 10 (the same LQR)",
         5e-6,
     );
     out.notes
@@ -265,11 +265,11 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "gains",
         Value::Vector(vec![3583.7, 430.05, 15.768]),
-        "examples.md",
+        "book Part 2 §2.4.2, example 2.2",
         0.05,
     );
     out.notes.push(
-        "gains = [k_I, k_P, k_D] (the order examples.md prints them). Overshoot in % of r = 0.1 m; the discrete one at the 25 ms samples."
+        "gains = [k_I, k_P, k_D] (the order p2c242_ex2_cart_ipd.m defines them). Overshoot in % of r = 0.1 m; the discrete one at the 25 ms samples."
             .into(),
     );
     out.notes.push(format!(

@@ -304,7 +304,12 @@ fn cdip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         (50, [3.16228, 15.81695, 4.72006, 2.44448]),
         (100, [3.16228, 18.12126, 4.93879, 2.61065]),
     ] {
-        out.reference(&format!("K_q{q2}"), Value::vector(&k), "examples.md", 5e-6);
+        out.reference(
+            &format!("K_q{q2}"),
+            Value::vector(&k),
+            "IP Toolbox cdip_lqr_sim.m",
+            5e-6,
+        );
     }
     out.notes.push(BOOK_CONVENTION.into());
     lqr_figures(ctx, id, "LQR, θ0 = 15°", &runs, &poles, Rig::Cart, &mut out)?;
@@ -389,7 +394,7 @@ fn adip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.reference(
         "theta2_min_deg",
         Value::vector(&[-2.0, -4.0, -6.7]),
-        "examples.md (read off the book's figure)",
+        "IP Toolbox adip_lqr_sim (read off the book's figure)",
         0.5,
     );
     out.notes.push(format!(
@@ -471,10 +476,15 @@ fn servo_sample(ctx: &RunContext, c: &ServoCase) -> Result<ExampleOutput, BookEr
         out.reference(
             "K1",
             Value::vector(&[10.39942, 17.76307, 6.79089, 3.04513]),
-            "examples.md",
+            "IP Toolbox cdip_lqr_servo_sim.m",
             5e-6,
         )
-        .reference("K2", Value::vector(&[-10.0]), "examples.md", 5e-6);
+        .reference(
+            "K2",
+            Value::vector(&[-10.0]),
+            "IP Toolbox cdip_lqr_servo_sim.m",
+            5e-6,
+        );
     }
     out.notes.push(format!(
         "{BOOK_CONVENTION} Reference step {:.1} {unit} from 0, +0.5 V input disturbance from 4 s; \

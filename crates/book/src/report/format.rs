@@ -169,7 +169,7 @@ mod tests {
 
     #[test]
     fn numbers_keep_seven_significant_digits_and_drop_trailing_zeros() {
-        // Book-printed values (examples.md) must survive formatting digit for digit.
+        // Book-printed values must survive formatting digit for digit.
         assert_eq!(number(3.16228), "3.16228");
         assert_eq!(number(13.47175), "13.47175");
         assert_eq!(number(-0.0220), "-0.022");

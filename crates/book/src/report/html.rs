@@ -509,7 +509,7 @@ mod tests {
             5e-4,
         );
         // 5.7339 against 5.70 with tolerance 5e-3: |Δ| = 0.0339 > 5e-3 (shown to two digits).
-        o.reference("kP", Value::Number(5.70), "examples.md", 5e-3);
+        o.reference("kP", Value::Number(5.70), "book Part 1 §2.2.3", 5e-3);
         o.reference("missing_value", Value::Number(1.0), "book p. 1", 0.5);
         let page = html(
             &[entry("cmp", "Part 1 §6.2", Ok(o))],

@@ -197,7 +197,7 @@ pub(crate) struct Chapter {
     pub members: Vec<usize>,
 }
 
-/// Titles of the book's chapters (as `examples.md` heads them).
+/// Titles of the book's chapters, in English.
 fn chapter_title(part: u32, chapter: u32) -> Option<&'static str> {
     Some(match (part, chapter) {
         (1, 2) => "PID control of the cart position",
