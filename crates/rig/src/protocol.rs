@@ -347,10 +347,12 @@ pub struct SequenceGate {
 }
 
 impl SequenceGate {
-    /// The largest forward jump accepted without confirmation: 2¹⁶ frames, over a minute of
-    /// frames at 1 kHz and more than any loss the runtime's watchdog lets through (at most
-    /// 0.5 s, i.e. 50 000 frames at the fastest 100 kHz a rig could send).
-    pub const MAX_JUMP: u32 = 1 << 16;
+    /// The largest forward jump accepted without confirmation: 16 frames. A wild number that
+    /// slips through (up to 16 ahead) makes at most 16 following good frames look old, fewer
+    /// than the runtime's default stale hold of 20 periods, so the loop bridges it by holding
+    /// its command instead of losing the run; a real loss of more frames costs one frame, the
+    /// one whose successor confirms the jump.
+    pub const MAX_JUMP: u32 = 16;
     /// A far jump is confirmed by a next far frame at most this far after it.
     pub const CONFIRM_WINDOW: u32 = 16;
 
@@ -689,6 +691,17 @@ mod tests {
         );
         let far = 2 * SequenceGate::MAX_JUMP + 1;
         assert_eq!(e.check(far), SeqVerdict::Jump);
+        // A wild number within MAX_JUMP is taken, and costs exactly the good frames it
+        // overtook: at most MAX_JUMP of them, fewer than the runtime's default stale hold.
+        let mut w = SequenceGate::new();
+        w.check(500);
+        let m = SequenceGate::MAX_JUMP;
+        assert!(matches!(w.check(500 + m), SeqVerdict::Fresh { .. }));
+        let lost = (501..=500 + 2 * m)
+            .filter(|&q| !matches!(w.check(q), SeqVerdict::Fresh { .. }))
+            .count();
+        assert_eq!(lost as u32, m);
+        assert!(m < crate::runtime::Safety::default_for(crate::PlantKind::Cart).stale_hold_periods);
         let mut c = RejectCounts::default();
         c.count_verdict(SeqVerdict::Jump);
         assert_eq!(c.jump, 1);
