@@ -1,7 +1,7 @@
 //! Part 2 ch. 1 examples against independent references: closed forms, eigenvalues of
 //! closed loops rebuilt here from the model formulas, SciPy's Riccati gain and CVXPY +
 //! Clarabel (the committed fixture of pendulab-lmi, `tools/reference/lmi_reference.py`), and
-//! examples.md's printed values.
+//! the book's printed values.
 
 mod common;
 use common::*;
@@ -25,7 +25,7 @@ fn k_lq_book() -> Vec<f64> {
 
 type M = nalgebra::DMatrix<f64>;
 
-/// The arm pendulum (SPEC.md §1.2, table 3.7) linearised at θ1 = 0 with drive (a1, b1),
+/// The arm pendulum (book table 3.7) linearised at θ1 = 0 with drive (a1, b1),
 /// optionally with the LPV term ρ, augmented with ∫(r − θ1): written out from the formulas.
 fn arm_servo(a1: f64, b1: f64, rho: f64) -> (M, M) {
     let (l1, m2, lc2, j2, mu2, g) = (0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81);
@@ -171,7 +171,7 @@ fn p2c13_nominal_lq_is_unstable_at_one_vertex_and_the_robust_design_is_not() {
         assert!((x - y).abs() < 1e-9 * y.abs().max(1.0));
     }
     let m = check_vertices(&lq, "Kt_LQ");
-    // examples.md: nominal LQ is unstable at vertex (a1 = 8.99, b1 = 8.69).
+    // The nominal LQ is unstable at vertex (a1 = 8.99, b1 = 8.69).
     assert!(m[1] > 0.0, "{m:?}");
     assert_eq!(lq.get("stable_at_all_vertices"), Some(&Value::Bool(false)));
 
@@ -255,7 +255,7 @@ fn p2c15_gain_scheduled_servo_reaches_the_known_optimum() {
         .unwrap();
     assert!((g - g_ref).abs() < 0.002 * g_ref, "{g} vs {g_ref}");
     assert!(num(out, "gamma_design") <= 1.06 * g * (1.0 + 1e-9));
-    // At the optimum the gain at ρ̄ is well determined (examples.md): CVXPY's agrees to 2 %
+    // At the optimum the gain at ρ̄ is well determined: CVXPY's agrees to 2 %
     // (both solvers stop at reduced accuracy on this boundary point; the fixture is in the
     // library sign).
     let k_ref: Vec<f64> = fixture()["p2c15_gain_schedule"]["K_at_rho_max_at_optimum"][0]

@@ -1,7 +1,7 @@
 //! Part 2 ch. 1 — LMI and control: α-stability, the LMI LQ servo of the arm pendulum,
 //! D-stability, polytopic robust design, input saturation and the gain-scheduled servo.
 //!
-//! Every LMI uses the margin ε = 1e-6 for strict inequalities (examples.md). Gains are
+//! Every LMI uses the margin ε = 1e-6 for strict inequalities (the M-files' `ep = 1e-6`). Gains are
 //! reported in the book's convention `u = +K x` (pendulab's library uses `u = −K x`).
 
 use super::common::*;
@@ -25,7 +25,7 @@ use std::f64::consts::PI;
 
 const EPS: f64 = 1e-6;
 const DEG: f64 = 180.0 / PI;
-const ARM: &str = "arm pendulum, book table 3.7 (SPEC.md §1.2)";
+const ARM: &str = "arm pendulum, book table 3.7";
 const GAIN_NOTE: &str = "Gains in the book's convention u = +K x.";
 /// What the α-region servo M-files' optimum determines and what it does not.
 const ILL_DETERMINED_KT: &str = "trace(X) is certified; Kt = L X⁻¹ is not well determined by this objective: \
@@ -378,6 +378,98 @@ fn min_eig(m: &Mat) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The M-file's variables `X`, `L` (`V`) and LMIs on a fresh problem, with the constraints'
+/// ids in the M-file's order.
+#[allow(clippy::type_complexity)]
+fn mfile_problem(
+    id: &str,
+    spec: &MfileLmi,
+) -> Result<
+    (
+        Problem,
+        Expr,
+        Expr,
+        Option<Expr>,
+        Vec<pendulab_lmi::ConstraintId>,
+    ),
+    BookError,
+> {
+    let n = spec.n();
+    let mut p = Problem::new();
+    let x = p.symmetric("X", n);
+    let l = p.matrix("L", 1, n);
+    let v = spec.has_v().then(|| p.matrix("V", 1, n));
+    let mut ids = Vec::new();
+    for (name, rel, f) in &spec.blocks(&x, &l, v.as_ref()) {
+        let cid = match rel {
+            Rel::GeEps => p.positive_definite(name, f, EPS),
+            Rel::LeNegEps => p.negative_definite(name, f, EPS),
+            Rel::Ge0 => p.positive_semidefinite(name, f),
+        }
+        .ctx(id)?;
+        ids.push(cid);
+    }
+    Ok((p, x, l, v, ids))
+}
+
+/// A point of the M-file's feasibility solve (`solvesdp(CON)` with no objective).
+#[derive(Debug, Clone)]
+struct FeasiblePoint {
+    x: Mat,
+    l: Mat,
+    v: Option<Mat>,
+    status: Status,
+    backend: pendulab_lmi::Backend,
+    /// Per constraint (M-file name), the smallest eigenvalue after the margin (for the trace
+    /// cap, `cap − trace(X)`), recomputed from the M-file's LMIs at the point.
+    margins: Vec<(String, f64)>,
+}
+
+/// `p2c14_ex6_adip_oc_saturation.m` lines 77-78: the same LMIs plus `trace(X) <= cap`, solved
+/// with no objective: whichever feasible point the interior-point method stops at.
+fn feasible_point(
+    id: &str,
+    spec: &MfileLmi,
+    cap: f64,
+    options: &SolveOptions,
+) -> Result<FeasiblePoint, BookError> {
+    let (mut p, x, l, v, _) = mfile_problem(id, spec)?;
+    let cap_name = "trace(X) <= -double(OBV)";
+    p.less_equal(cap_name, &x.trace(), &Expr::scalar(cap))
+        .ctx(id)?;
+    let sol = p.solve(options).ctx(id)?;
+    if !sol.status.is_solved() {
+        return Err(fail(
+            id,
+            format!(
+                "the M-file's feasibility solve was not solved: {:?}",
+                sol.status
+            ),
+        ));
+    }
+    let xv = sol.value(&x).ctx(id)?;
+    let xv = (&xv + xv.transpose()) * 0.5;
+    let lv = sol.value(&l).ctx(id)?;
+    let vv = match &v {
+        Some(v) => Some(sol.value(v).ctx(id)?),
+        None => None,
+    };
+    let mut margins: Vec<(String, f64)> = spec
+        .blocks(&xv, &lv, vv.as_ref())
+        .iter()
+        .map(|(name, rel, f)| (name.clone(), min_eig(&normalised(*rel, f))))
+        .collect();
+    margins.push((cap_name.into(), cap - xv.trace()));
+    Ok(FeasiblePoint {
+        x: xv,
+        l: lv,
+        v: vv,
+        status: sol.status.clone(),
+        backend: sol.backend,
+        margins,
+    })
+}
+
 /// Solves the M-file's LMI problem (maximise `trace(X)`) with `options` and certifies the
 /// answer. An unsolved status is an error naming it; "almost solved" is returned with its
 /// status (reported as inaccurate).
@@ -387,21 +479,8 @@ fn solve_mfile(
     options: &SolveOptions,
 ) -> Result<MfileSolution, BookError> {
     let n = spec.n();
-    let mut p = Problem::new();
-    let x = p.symmetric("X", n);
-    let l = p.matrix("L", 1, n);
-    let v = spec.has_v().then(|| p.matrix("V", 1, n));
+    let (mut p, x, l, v, ids) = mfile_problem(id, spec)?;
     let blocks = spec.blocks(&x, &l, v.as_ref());
-    let mut ids = Vec::new();
-    for (name, rel, f) in &blocks {
-        let cid = match rel {
-            Rel::GeEps => p.positive_definite(name, f, EPS),
-            Rel::LeNegEps => p.negative_definite(name, f, EPS),
-            Rel::Ge0 => p.positive_semidefinite(name, f),
-        }
-        .ctx(id)?;
-        ids.push(cid);
-    }
     p.maximize(&x.trace()).ctx(id)?;
     let sol = p.solve(options).ctx(id)?;
     if !sol.status.is_solved() {
@@ -676,9 +755,9 @@ fn p2c121_ex3(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .value("xi1", Value::Number(x1))
         .value("xi2", Value::Number(x2));
     // Printed to 3 decimals: tolerance half a unit of the last digit.
-    out.reference("optimum", Value::Number(2.929), "examples.md", 5e-4)
-        .reference("xi1", Value::Number(1.911), "examples.md", 5e-4)
-        .reference("xi2", Value::Number(1.019), "examples.md", 5e-4);
+    out.reference("optimum", Value::Number(2.929), "book, example 1.3", 5e-4)
+        .reference("xi1", Value::Number(1.911), "book, example 1.3", 5e-4)
+        .reference("xi2", Value::Number(1.019), "book, example 1.3", 5e-4);
     Ok(out)
 }
 
@@ -1088,11 +1167,14 @@ fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let lq = riccati_servo_gain(id, &at, &bt)?;
     let mut out = ExampleOutput::default();
     // p2c13_ex5_adip_lqr_servo.m line 33: Kt_LQ = -lqr(At_nominal, Bt_nominal, Q, R).
-    out.value("vertex", vertex_value());
+    out.value(
+        "ve",
+        Value::Matrix(vec![vec![0.0, 1.0, 0.0, 1.0], vec![0.0, 0.0, 1.0, 1.0]]),
+    )
+    .value("vertex", vertex_value());
     p2c13_report(ctx, id, "Kt_LQ", &lq.gain, false, &mut out)?;
     out.notes.push(
-        "The nominal Riccati LQ servo is unstable at the second vertex (a1, b1) = (8.99, 8.69), as examples.md \
-         states; the book's printed numbers for this example are not known here, so no badge claims them."
+        "The nominal Riccati LQ servo is unstable at the second vertex (a1, b1) = (8.99, 8.69); the book's printed numbers for this example are not known here, so no badge claims them."
             .into(),
     );
     Ok(out)
@@ -1121,7 +1203,11 @@ fn p2c13_lmi(ctx: &RunContext, id: &str, robust: bool) -> Result<ExampleOutput, 
     let mut out = ExampleOutput::default();
     // The M-files display trace(inv(X)) as `trase_invX` (sic).
     report_solution(id, &s, "trase_invX", &mut out)?;
-    out.value("vertex", vertex_value());
+    out.value(
+        "ve",
+        Value::Matrix(vec![vec![0.0, 1.0, 0.0, 1.0], vec![0.0, 0.0, 1.0, 1.0]]),
+    )
+    .value("vertex", vertex_value());
     p2c13_report(ctx, id, "Kt", &library_gain(&kt), true, &mut out)?;
     out.notes.push(s.note(if robust {
         "p2c13_ex5_adip_oc_robust_servo.m lines 47-79 (common X, L at the four vertices)"
@@ -1146,7 +1232,7 @@ fn p2c13_robust(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c13_ex5_adip_oc_robust_servo";
     let mut out = p2c13_lmi(ctx, id, true)?;
     out.notes.push(
-        "Stable at all four vertices, as examples.md states. The optimum is well conditioned: CVXPY + Clarabel \
+        "Stable at all four vertices. The optimum is well conditioned: CVXPY + Clarabel \
          (tools/reference/p2c1_mfile_lmi_cvxpy.py) agrees on trace(X) to 2e-7 and on Kt to 1e-4."
             .into(),
     );
@@ -1206,23 +1292,51 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         sigma2,
         x0: Mat::from_column_slice(4, 1, &x0v),
     };
+    // Lines 69-74: maximise trace(X) (OBV = -trace(X)), display double(OBV).
     let s = solve_mfile(id, &spec, &SolveOptions::default())?;
-    let k = s.kt(id)?;
-    let xi =
-        s.x.clone()
+    let inv = |x: &Mat| -> Result<Mat, BookError> {
+        x.clone()
             .try_inverse()
-            .ok_or_else(|| fail(id, "X is singular"))?;
-    let v = s.v.clone().ok_or_else(|| fail(id, "no V"))?;
+            .ok_or_else(|| fail(id, "X is singular"))
+    };
+    let k_max = s.kt(id)?;
+    let h_max = s.v.as_ref().ok_or_else(|| fail(id, "no V"))? * inv(&s.x)?;
+    // Lines 77-92: the same LMIs with trace(X) <= -double(OBV), no objective; the M-file's
+    // X, K = L*inv(X), H = V*inv(X), eig(A+B*K), trace_invX and trace_X are of this point.
+    let f = feasible_point(id, &spec, s.trace_x, &SolveOptions::default())?;
+    let xi = inv(&f.x)?;
+    let k = &f.l * &xi;
+    let v = f.v.clone().ok_or_else(|| fail(id, "no V"))?;
     let h = &v * &xi;
     let poles = poles_of(id, lin.a(), lin.b(), &k)?;
     let sat = sigma2.sqrt();
     let mut out = ExampleOutput::default();
-    report_solution(id, &s, "trace_invX", &mut out)?;
     out.value("OBV", Value::Number(-s.trace_x))
+        .value("dual_bound", Value::Number(s.dual_bound))
+        .value("duality_gap", Value::Number(s.gap))
+        .value("dual_stationarity_residual", Value::Number(s.stationarity))
+        .value(
+            "lmi_min_eigenvalues_at_max_trace",
+            Value::Vector(s.margins.iter().map(|m| m.1).collect()),
+        )
+        .value("K_at_max_trace", Value::Vector(row(&k_max)))
+        .value("H_at_max_trace", Value::Vector(row(&h_max)))
+        .value("X", Value::matrix(&f.x))
+        .value("L", Value::Vector(row(&f.l)))
         .value("V", Value::Vector(row(&v)))
         .value("K", Value::Vector(row(&k)))
         .value("H", Value::Vector(row(&h)))
         .value("poles", Value::Complex(poles))
+        .value("trace_invX", Value::Number(xi.trace()))
+        .value("trace_X", Value::Number(f.x.trace()))
+        .value(
+            "solved_to_tolerance",
+            Value::Bool(f.status == Status::Solved),
+        )
+        .value(
+            "lmi_min_eigenvalues",
+            Value::Vector(f.margins.iter().map(|m| m.1).collect()),
+        )
         .value("sat", Value::Number(sat));
     // Simulations (lines 95-97): the exact-state model (adip_saturation_sim) and the model
     // with D/A and encoder resolution (adip_saturation2_sim, the one the M-file runs), 10 s.
@@ -1278,19 +1392,20 @@ fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     }
     out.notes.push("Gains in the book's convention u = +K x; H = V X⁻¹ is the auxiliary gain of the invariant-ellipsoid conditions.".into());
     out.notes
-        .push(s.note("p2c14_ex6_adip_oc_saturation.m lines 50-72 (first solve)"));
-    out.notes.push(
-        "H = V X⁻¹ is determined by the optimum (CVXPY + Clarabel agrees to 3e-4, tools/reference/p2c1_mfile_lmi_cvxpy.py); \
-         K = L X⁻¹ is not: X is nearly singular (smallest eigenvalue ≈ 1.5e-4) along the direction K amplifies, and \
-         near-optimal points (trace(X) within 5e-5) give K differing by 35 %. The book's K, from its feasibility \
-         re-solve, is one such point; every one of them saturates from x0."
-            .into(),
-    );
+        .push(s.note("p2c14_ex6_adip_oc_saturation.m lines 50-74 (first solve, OBV)"));
     out.notes.push(format!(
-        "The M-file then solves again (lines 77-78) with no objective under trace(X) ≤ {:.6} = −OBV, a bound every \
-         feasible X already meets: that feasibility solve returns whichever feasible point the solver stops at. \
-         pendulab reports the optimum of the first solve instead (this K and H), and says so.",
-        s.trace_x
+        "Then, as the M-file does (lines 77-78), the same LMIs with trace(X) ≤ −OBV = {:.6} and no objective, \
+         solver status {} ({:?}): a bound every feasible X meets, so this solve returns whichever interior \
+         point the method stops at (trace(X) = {:.4} here; pendulab-lmi's Clarabel backend and CVXPY + Clarabel \
+         stop elsewhere, with K differing by tens of %, tools/reference/p2c1_mfile_lmi_cvxpy.py). X, K, H, poles, \
+         trace_invX and trace_X are of this point, as in the M-file; smallest LMI eigenvalue there (after the \
+         margin) {:.2e}. At the max-trace point itself K_at_max_trace is extreme (X nearly singular), H_at_max_trace \
+         is well determined.",
+        s.trace_x,
+        if f.status == Status::Solved { "solved" } else { "INACCURATE" },
+        f.backend,
+        f.x.trace(),
+        f.margins.iter().map(|m| m.1).fold(f64::INFINITY, f64::min),
     ));
     out.notes.push(format!(
         "The LMIs bound |H x| ≤ sat = {sat} V on the ellipsoid xᵀX⁻¹x ≤ 1 containing x0 (MH, INI) and give both A + BK and \
@@ -1567,7 +1682,7 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         out.value("K_at_rho_max_at_optimum", Value::Vector(book_row(k)));
     }
     // Book p. 164: "γ = 236 程度まで可解" — the M-file's gamma_obj (1.06 times its γ*),
-    // printed as an integer: half a unit. (examples.md's 256-bit optimum γ* ≈ 222 is not a
+    // printed as an integer: half a unit. (the 256-bit SDP optimum γ* ≈ 222 is not a
     // printed value; the tests check γ against it.)
     out.reference(
         "gamma_obj",
@@ -1579,7 +1694,7 @@ fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.notes.push(format!(
         "γ* = {gamma:.2}; the schedule used satisfies γ ≤ gamma_obj = 1.06 γ* = {:.2}. The book reports γ ≈ 236 from \
          SeDuMi: the 1.06 γ* cap of its second (feasibility) solve, from a γ* about 0.2 % above the optimum found here \
-         (double-precision solvers stop high on this degenerate SDP; a 256-bit solver gives γ* ≈ 222, examples.md).",
+         (double-precision solvers stop high on this degenerate SDP; a 256-bit SDP solver gives γ* ≈ 222).",
         1.06 * gamma
     ));
     out.notes.push(
