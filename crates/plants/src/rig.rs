@@ -156,3 +156,64 @@ impl RigSpec {
         [self.encoders[0].state, self.encoders[1].state]
     }
 }
+
+/// Which rig: the cart-type or the arm-type pendulum. The one rig enum of the workspace:
+/// the emulator, the runtime, the log and the controller factory
+/// (`pendulab_control::spec::build`) all take it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlantKind {
+    /// The cart-type pendulum, state `[z, θ, ż, θ̇]`.
+    Cart,
+    /// The arm-type pendulum, state `[θ₁, θ₂, θ̇₁, θ̇₂]`.
+    Arm,
+}
+
+impl PlantKind {
+    /// The rig's numbers (encoders, D/A, sample time).
+    pub fn spec(self) -> RigSpec {
+        match self {
+            PlantKind::Cart => RigSpec::cart(),
+            PlantKind::Arm => RigSpec::arm(),
+        }
+    }
+
+    /// `"cart"` or `"arm"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PlantKind::Cart => "cart",
+            PlantKind::Arm => "arm",
+        }
+    }
+
+    /// Parses `"cart"` or `"arm"`.
+    ///
+    /// # Errors
+    /// [`UnknownPlant`] for any other name.
+    pub fn parse(s: &str) -> Result<Self, UnknownPlant> {
+        match s {
+            "cart" => Ok(PlantKind::Cart),
+            "arm" => Ok(PlantKind::Arm),
+            other => Err(UnknownPlant(other.to_string())),
+        }
+    }
+}
+
+/// A plant name other than `"cart"` or `"arm"` ([`PlantKind::parse`]), as written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("plant '{0}': expected 'cart' or 'arm'")]
+pub struct UnknownPlant(pub String);
+
+#[cfg(test)]
+mod plant_kind_tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_back_and_others_are_refused_by_name() {
+        for p in [PlantKind::Cart, PlantKind::Arm] {
+            assert_eq!(PlantKind::parse(p.name()), Ok(p));
+            assert_eq!(p.spec().name, p.name());
+        }
+        let e = PlantKind::parse("boat").unwrap_err();
+        assert_eq!(e.to_string(), "plant 'boat': expected 'cart' or 'arm'");
+    }
+}

@@ -31,7 +31,7 @@
 use crate::protocol::{
     CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags, status,
 };
-use pendulab_plants::{ArmPendulum, CartPendulum, RigSpec, wrap_angle as wrap};
+use pendulab_plants::{ArmPendulum, CartPendulum, wrap_angle as wrap};
 use pendulab_sim::actuator::karnopp;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -48,46 +48,8 @@ use std::time::{Duration, Instant};
 use crate::RigError;
 use crate::clock::sleep_until;
 
-/// Which rig is emulated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PlantKind {
-    /// The cart-type pendulum, state `[z, θ, ż, θ̇]`.
-    Cart,
-    /// The arm-type pendulum, state `[θ₁, θ₂, θ̇₁, θ̇₂]`.
-    Arm,
-}
-
-impl PlantKind {
-    /// The rig's numbers (encoders, D/A, sample time).
-    pub fn spec(self) -> RigSpec {
-        match self {
-            PlantKind::Cart => RigSpec::cart(),
-            PlantKind::Arm => RigSpec::arm(),
-        }
-    }
-
-    /// `"cart"` or `"arm"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            PlantKind::Cart => "cart",
-            PlantKind::Arm => "arm",
-        }
-    }
-
-    /// Parses `"cart"` or `"arm"`.
-    ///
-    /// # Errors
-    /// [`RigError::Config`] for any other name.
-    pub fn parse(s: &str) -> Result<Self, RigError> {
-        match s {
-            "cart" => Ok(PlantKind::Cart),
-            "arm" => Ok(PlantKind::Arm),
-            other => Err(RigError::Config(format!(
-                "plant '{other}': expected 'cart' or 'arm'"
-            ))),
-        }
-    }
-}
+/// Which rig is emulated (the workspace's rig enum, re-exported from `pendulab-plants`).
+pub use pendulab_plants::rig::PlantKind;
 
 /// Settings of the emulator. [`EmulatorConfig::new`] gives the book rig "with quantizer":
 /// 1 kHz, ±5 V, 16-bit D/A, no noise, friction, loss or latency, 50 ms watchdog.
