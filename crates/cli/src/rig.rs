@@ -17,6 +17,7 @@
 //! imperfections (the `*_MAX` constants below).
 
 use anyhow::{Context, Result, bail};
+use pendulab_control::spec::{Built, build};
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::runtime::{RunConfig, StopReason, run as run_loop};
 use pendulab_rig::{Logger, Safety, config};
@@ -319,11 +320,23 @@ fn uses_serial(_: &RunArgs) -> bool {
     false
 }
 
+/// Reads and checks a controller file (`pendulab_rig::config::load`: the rig's settings and
+/// the `[controller]` spec), then designs and builds its controller with the factory
+/// `pendulab_control::spec::build` at the file's loop period.
+///
+/// # Errors
+/// The loader's or the factory's error, naming the key, its value and what is wrong.
+pub(crate) fn load_and_build(text: &str) -> Result<(config::Loaded, Built)> {
+    let loaded = config::load(text)?;
+    let built = build(&loaded.spec, loaded.plant, loaded.ts)?;
+    Ok((loaded, built))
+}
+
 fn run_controller(a: &RunArgs) -> Result<()> {
     let text = std::fs::read_to_string(&a.controller)
         .with_context(|| format!("reading {}", a.controller.display()))?;
-    let mut loaded =
-        config::load(&text).with_context(|| format!("in {}", a.controller.display()))?;
+    let (mut loaded, mut built) =
+        load_and_build(&text).with_context(|| format!("in {}", a.controller.display()))?;
     if !(a.duration.is_finite() && (0.0..=config::DURATION_MAX).contains(&a.duration)) {
         bail!(
             "--duration {}: must be in [0, {}] s (0: until Ctrl-C)",
@@ -356,7 +369,7 @@ fn run_controller(a: &RunArgs) -> Result<()> {
     cfg.duration = (a.duration > 0.0).then_some(a.duration);
     cfg.safety = loaded.safety;
     cfg.differentiator_t = loaded.differentiator_t;
-    cfg.pendulum_centre = loaded.pendulum_centre;
+    cfg.pendulum_centre = built.pendulum_centre;
     cfg.realtime_priority = a.rt_priority;
     cfg.cpu = a.cpu;
     #[cfg(feature = "serial")]
@@ -375,12 +388,12 @@ fn run_controller(a: &RunArgs) -> Result<()> {
     };
     println!(
         "running {} on the {} rig at {:.0} Hz against {against}",
-        loaded.kind,
+        built.kind,
         loaded.plant.name(),
         1.0 / cfg.ts,
     );
     std::io::stdout().flush().ok();
-    let report = run_loop(&cfg, loaded.controller.as_mut(), &stop, log)?;
+    let report = run_loop(&cfg, built.controller.as_mut(), &stop, log)?;
     println!("{report}");
     std::io::stdout().flush().ok();
     if report.reason != StopReason::Completed {

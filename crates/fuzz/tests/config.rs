@@ -1,4 +1,5 @@
-//! Fuzz target `config`: the rig controller-file loader `pendulab_rig::config::load`, on the
+//! Fuzz target `config`: the rig controller-file loader `pendulab_rig::config::load` followed by
+//! the controller factory `pendulab_control::spec::build` (as `pendulab rig run` does), on the
 //! example files of `docs/rig/examples/` mutated as text (bytes, tokens) and as TOML (keys
 //! deleted, foreign keys added, values replaced by NaN, ±∞, huge, negative, zero or
 //! wrong-typed ones).
@@ -8,11 +9,12 @@
 //!   rate in [10, 50 000] Hz (`config::load`), the `[safety]` table as
 //!   `Safety::validate_at` checks it, a positive finite estimator time constant, and a
 //!   controller that maps finite measurements to finite commands; or
-//! - returns `RigError::Config` with a non-empty message.
+//! - returns `RigError::Config` with a non-empty message (the factory's error as one).
 
+use pendulab_control::spec::{Built, build};
 use pendulab_fuzz::{TEXT_TOKENS, Target, cases, mutate, mutations};
 use pendulab_rig::RigError;
-use pendulab_rig::config::load;
+use pendulab_rig::config::Loaded;
 use pendulab_sim::Controller;
 use proptest::prelude::*;
 use std::path::PathBuf;
@@ -48,6 +50,13 @@ fn examples() -> Vec<String> {
 static JUDGED: AtomicUsize = AtomicUsize::new(0);
 static LOADED: AtomicUsize = AtomicUsize::new(0);
 
+/// What `pendulab rig run` does with a file: load and check it, then build its controller.
+fn load(text: &str) -> Result<(Loaded, Built), RigError> {
+    let l = pendulab_rig::config::load(text)?;
+    let b = build(&l.spec, l.plant, l.ts).map_err(|e| RigError::Config(e.to_string()))?;
+    Ok((l, b))
+}
+
 /// The property on a file's bytes (corpus files are replayed through this).
 fn loads_sanely(bytes: &[u8]) -> Result<(), String> {
     // The CLI refuses non-UTF-8 files before the loader sees them; the lossy conversion
@@ -63,7 +72,7 @@ fn loads_sanely(bytes: &[u8]) -> Result<(), String> {
         Err(e) => Err(format!(
             "an error that is not a non-empty Config error: {e:?}"
         )),
-        Ok(l) => {
+        Ok((l, b)) => {
             if !(l.ts.is_finite() && (1.0 / 50_000.0..=1.0 / 10.0).contains(&l.ts)) {
                 return Err(format!("loop period {} s outside [1/50000, 1/10]", l.ts));
             }
@@ -74,7 +83,7 @@ fn loads_sanely(bytes: &[u8]) -> Result<(), String> {
             if !(t.is_finite() && t > 0.0) {
                 return Err(format!("estimator time constant {t}"));
             }
-            let mut c = l.controller;
+            let mut c = b.controller;
             let (ny, nu) = (c.ny(), c.nu());
             if ny != 4 || nu != 1 {
                 return Err(format!("controller with ny = {ny}, nu = {nu}"));

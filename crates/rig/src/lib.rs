@@ -8,7 +8,7 @@
 //! | [`protocol`] | wire protocol v1: 36-byte sensor and 24-byte command frames, CRC-16/CCITT-FALSE, sequence gate (replayed / out-of-order frames rejected and counted, far jumps held until confirmed); layout and a page of C in `docs/rig/protocol.md` |
 //! | [`emulator`] | [`Emulator`]: the nonlinear cart or arm plant in real time behind the protocol on UDP, with the book's encoders, ±5 V, 16-bit D/A, seeded noise, friction, loss, latency, a stall switch, a pendulum-encoder turn shift, a validated run duration and a watchdog that zeroes the motor |
 //! | [`runtime`] | [`runtime::run`]: the fixed-rate loop (sleep + spin, missed deadlines skipped), pseudo-differentiated velocities, the pendulum angle wrapped about the controller's equilibrium ([`RunConfig::pendulum_centre`]), any `pendulab_sim::Controller`, safety with documented ranges ([`Safety::validate`]: clamp, travel limit, angle window, watchdog, stale-data hold, NaN guard, stop flag), statistics (jitter, lateness, computation, round trip, deadline misses, stale data, held commands) and a [`StopReason`] for every stop; lab-PC setup in `docs/rig/lab-pc.md` |
-//! | [`config`] | controller files (TOML): state feedback, LQ servo, gain-scheduled, swing-up + balance, with LQR designs on the book plants |
+//! | [`config`] | controller files (TOML): the loop rate, `[safety]`, `[estimator]` and the `[controller]` table as a `pendulab_control::spec::ControllerSpec`, read and checked; the controller is designed and built by the front end through `pendulab_control::spec::build` (this crate runs controllers, it does not design them) |
 //! | [`log`] | [`Logger`]: lossless CSV off the control thread, flushed on every stop path; readable by `pendulab identify` |
 //! | [`clock`] | the sleep-then-spin wait and nearest-rank percentiles |
 //! | `serial` (feature `serial`, off by default) | the same frames over a serial port; `RunConfig::serial` makes the runtime use it |
@@ -17,15 +17,19 @@
 //! use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 //! use pendulab_rig::runtime::{RunConfig, run};
 //! use std::sync::atomic::AtomicBool;
-//! # fn main() -> Result<(), pendulab_rig::RigError> {
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! // The cart rig at θ = 10°, balanced by the LQR of `cdip_lqr_sim` for 2 s at 1 kHz.
 //! let emu = Emulator::spawn(EmulatorConfig::new(PlantKind::Cart, [0.0, 10f64.to_radians(), 0.0, 0.0]))?;
-//! let mut loaded = pendulab_rig::config::load(
+//! let loaded = pendulab_rig::config::load(
 //!     "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 }\n",
 //! )?;
-//! let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+//! // The design happens outside the real-time crate, in the controller factory.
+//! let mut built = pendulab_control::spec::build(&loaded.spec, loaded.plant, loaded.ts)?;
+//! let mut cfg = RunConfig::new(loaded.plant, emu.addr());
 //! cfg.duration = Some(2.0);
-//! let report = run(&cfg, loaded.controller.as_mut(), &AtomicBool::new(false), None)?;
+//! cfg.safety = loaded.safety;
+//! cfg.pendulum_centre = built.pendulum_centre;
+//! let report = run(&cfg, built.controller.as_mut(), &AtomicBool::new(false), None)?;
 //! println!("{report}");
 //! # Ok(()) }
 //! ```

@@ -1,8 +1,10 @@
 //! The controller files shipped in docs/rig/examples, and those the README's tour and the
-//! loopback tests write, load and give a 4-in, 1-out controller with limits inside their
+//! loopback tests write, load, build (`pendulab_control::spec::build`) and give a 4-in, 1-out controller with limits inside their
 //! documented ranges.
 
-use pendulab_rig::config::{ControllerSpec, load};
+mod common;
+use common::load;
+use pendulab_rig::config::ControllerSpec;
 
 #[test]
 fn every_example_controller_file_loads() {
@@ -19,7 +21,7 @@ fn every_example_controller_file_loads() {
                 "{}",
                 p.display()
             );
-            assert!(ControllerSpec::KINDS.contains(&l.kind.as_str()));
+            assert!(ControllerSpec::KINDS.contains(&l.spec.kind()));
             l.safety
                 .validate_at(l.plant, l.ts)
                 .unwrap_or_else(|e| panic!("{}: {e}", p.display()));

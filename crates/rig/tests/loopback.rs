@@ -5,7 +5,8 @@
 //! what reached the motor); timing figures are printed, never asserted, so the tests hold on a
 //! loaded 2-core machine.
 
-use pendulab_rig::config::load;
+mod common;
+use common::load;
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::protocol::{COMMAND_LEN, CommandFrame, SENSOR_LEN, SensorFrame, flags};
 use pendulab_rig::runtime::{RunConfig, run};

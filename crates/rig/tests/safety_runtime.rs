@@ -7,7 +7,8 @@
 //! As in `loopback.rs`, assertions are about behaviour and counters, never about timing; every
 //! run is short (≤ 2.5 s).
 
-use pendulab_rig::config::load;
+mod common;
+use common::load;
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::protocol::{CommandFrame, SensorFrame, flags, status};
 use pendulab_rig::runtime::{RunConfig, RunReport, run};

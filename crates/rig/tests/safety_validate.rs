@@ -7,7 +7,9 @@
 use pendulab_plants::RigSpec;
 use pendulab_rig::emulator::PlantKind;
 use pendulab_rig::runtime::{RunConfig, Safety, run};
-use pendulab_rig::{RigError, config::load};
+mod common;
+use common::load;
+use pendulab_rig::RigError;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 

@@ -20,9 +20,9 @@
 //! check says whether the OS granted it (it needs root or an `rtprio` limit).
 
 use super::{BenchReport, Budget, Workload};
+use crate::rig::load_and_build;
 use anyhow::{Result, bail};
 use pendulab_rig::clock::host_steal_seconds;
-use pendulab_rig::config::load;
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::runtime::{RunConfig, RunReport, StopReason, run};
 use serde_json::{Value, json};
@@ -48,14 +48,19 @@ fn one(rate: f64, seconds: f64) -> Result<(RunReport, [f64; 4], Option<f64>)> {
     ec.watchdog = Duration::from_millis(500);
     ec.realtime_priority = Some(79);
     let emu = Emulator::spawn(ec)?;
-    let mut l = load(LQR)?;
+    let (l, mut built) = load_and_build(LQR)?;
     let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
     cfg.ts = 1.0 / rate;
     cfg.duration = Some(seconds);
     cfg.safety = l.safety;
     cfg.safety.watchdog_periods = (0.5 * rate) as u32;
     cfg.realtime_priority = Some(80);
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None)?;
+    let r = run(
+        &cfg,
+        built.controller.as_mut(),
+        &AtomicBool::new(false),
+        None,
+    )?;
     let tel = emu.stop()?;
     let steal_ms = steal0.zip(host_steal_seconds()).map(|(a, b)| (b - a) * 1e3);
     Ok((r, tel.state, steal_ms))

@@ -1,0 +1,715 @@
+//! Controller specifications and the factory that turns one into a running controller.
+//!
+//! A [`ControllerSpec`] describes a controller for one of the book rigs as plain data
+//! (serde: the `[controller]` table of the rig's controller files, `docs/rig/examples/`);
+//! [`build`] designs what the spec asks for on the book plant and returns a [`Built`]: the
+//! `Box<dyn Controller>` the simulator or the rig runtime runs, and what a runtime needs to
+//! know about it. Front ends (the CLI's `pendulab rig run`, and the coming ones) read these
+//! types; the real-time crate runs the result and designs nothing.
+//!
+//! # Conventions
+//!
+//! The controller measures `y = [q₀, q₁, q̇₀, q̇₁]`: the drive position `q₀` (cart position
+//! `z` \[m\] or arm angle `θ₁` \[rad\]), the pendulum angle `q₁` \[rad\] from the **upward**
+//! vertical, and their rates \[m/s or rad/s\]; it returns the motor voltage `u` \[V\].
+//! Gains follow the library's sign, `u = −K y` (as `pendulab_lti::design::StateFeedback`);
+//! a gain copied from the book, whose laws read `u = +K_book y`, is written `k_book` and
+//! converted by `K = −K_book`.
+//!
+//! # Kinds and keys
+//!
+//! The tag is `kind`; each kind accepts only its own keys (plus `kind`): a key of another kind
+//! is a deserialisation error naming the key, never ignored.
+//!
+//! | kind | keys | runs |
+//! |---|---|---|
+//! | `state-feedback` | one of `k`, `k_book`, `lqr = {q, r}`; `reference` | `StaticStateFeedback` |
+//! | `lq-servo` | `k1` + `k2` (library) or `lqr = {q (5 entries), r}`; `reference` (servo output `q₀`), `step_time` | `LqIntegralServo` (forward Euler), `lq_servo` design on `C = [1 0 0 0]` |
+//! | `gain-scheduled` | `coefficients = [K₀, K₁, …]` (library sign), `schedule`; or `lqr` + `design_points_deg` (arm) | `GainScheduled` polynomial in `ρ` |
+//! | `swing-up-balance` | `balance = { k \| k_book \| lqr }`, `switch_deg` (default 17) | energy shaping ([`crate::swing_up`], gains `EnergyShapingGains::{cart_rig, arm_rig}`), then the balance gain (latched) |
+//!
+//! The `lqr` designs use `pendulab_lti::design::lqr` (continuous, `u = −K x`) on the book
+//! plant's upright linearisation (`CartPendulum::book()`, `ArmPendulum::book()` at
+//! `θ₁ₑ = 0`): the gains of the book's `cdip_lqr_sim` and `adip_lqr_sim`.
+//!
+//! # Checks made by [`build`]
+//!
+//! | key | range |
+//! |---|---|
+//! | gains `k`, `k_book`, `k1`, `k2`, `coefficients`, `lqr.q`, `lqr.r` | finite; 4 entries (`lqr.q` 5 for the servo); `q ≥ 0`, `r > 0` |
+//! | `reference` | finite; 4 entries (state feedback) or 1 (servo) |
+//! | `step_time` | 0 to [`DURATION_MAX`] s |
+//! | `switch_deg` | above 0, at most [`SWITCH_DEG_MAX`] |
+//! | `design_points_deg` | finite, two angles with different `|θ₁|`, arm only |
+//!
+//! Limits that depend on the rig's safety settings (a reference inside the travel limit and
+//! the angle window) are checked by the front end that knows them (`pendulab_rig::config`).
+//!
+//! ```
+//! use pendulab_control::spec::{ControllerSpec, StateFeedbackSpec, build};
+//! use pendulab_plants::rig::PlantKind;
+//! # fn main() -> Result<(), pendulab_control::spec::SpecError> {
+//! // The book's cart gain (u = +K_book y) as a spec, built at 1 kHz.
+//! let spec = ControllerSpec::StateFeedback(StateFeedbackSpec {
+//!     k_book: Some(vec![3.16228, 13.47175, 4.48137, 2.26289]),
+//!     ..Default::default()
+//! });
+//! let mut built = build(&spec, PlantKind::Cart, 1e-3)?;
+//! let mut u = [0.0];
+//! built.controller.update(0.0, &[0.0, 1.0, 0.0, 0.0], &mut u);
+//! assert_eq!(u[0], 13.47175); // u = +K_book y
+//! # Ok(()) }
+//! ```
+
+use crate::swing_up::{
+    ArmEnergyShaping, CartEnergyShaping, EnergyShapingGains, swing_up_then_balance,
+};
+use pendulab_lti::design::{lq_servo, lqr};
+use pendulab_lti::{LtiError, Mat, StateSpace};
+use pendulab_plants::rig::PlantKind;
+use pendulab_plants::{ArmEquilibrium, ArmPendulum, CartEquilibrium, CartPendulum, PlantError};
+use pendulab_sim::Controller;
+use pendulab_sim::controllers::{
+    GainScheduled, IntegrationRule, LqIntegralServo, StaticStateFeedback,
+};
+use pendulab_sim::signal::Signal;
+use serde::{Deserialize, Serialize};
+
+/// Longest run \[s\], and the latest `step_time` of an `lq-servo`: an experiment on the rig lasts
+/// seconds to minutes; an hour bounds the log (3.6 million rows at 1 kHz, about 400 MB) and
+/// catches a duration typed in milliseconds. (`pendulab_rig::config::DURATION_MAX` is this
+/// constant.)
+pub const DURATION_MAX: f64 = 3600.0;
+
+/// Largest `switch_deg` \[°\] of `swing-up-balance`: the balance gain is designed on the upright
+/// linearisation, and at 45° `sin θ` is already 10 % below `θ` (0.707 against 0.785).
+pub const SWITCH_DEG_MAX: f64 = 45.0;
+
+/// Default `switch_deg` \[°\] of `swing-up-balance`.
+pub const SWITCH_DEG_DEFAULT: f64 = 17.0;
+
+/// An LQR design request on the book plant's linearisation: `Q = diag(q)`, `R = r`, the
+/// continuous-time cost `∫ xᵀQx + uᵀRu dt`, result in library sign `u = −K x`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LqrSpec {
+    /// Diagonal of `Q` (finite, ≥ 0): 4 entries for `[q₀, q₁, q̇₀, q̇₁]` (units 1/m², 1/rad², …
+    /// so that each term is V²), 5 for the servo's `[x; ∫(r − q₀)]`.
+    pub q: Vec<f64>,
+    /// `R` \[1/V²\] (finite, > 0).
+    pub r: f64,
+}
+
+/// A balance gain: exactly one of the three.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GainSpec {
+    /// Library gain `K` (`u = −K y`), 4 finite entries \[V/m or V/rad, V·s/m or V·s/rad\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k: Option<Vec<f64>>,
+    /// The book's gain `K_book` (`u = +K_book y`, so `K = −K_book`), 4 finite entries.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_book: Option<Vec<f64>>,
+    /// An LQR design on the upright linearisation (`q` of length 4).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lqr: Option<LqrSpec>,
+}
+
+/// A controller for one of the book rigs: one variant per `kind`, each with its own keys only
+/// (`deny_unknown_fields`: a key of another kind is an error). Measurement
+/// `y = [q₀, q₁, q̇₀, q̇₁]`, command `u` \[V\], library sign `u = −K y` (module documentation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum ControllerSpec {
+    /// `kind = "state-feedback"`: `u = −K (y − reference)`.
+    StateFeedback(StateFeedbackSpec),
+    /// `kind = "lq-servo"`: the LQ integral servo on the drive position `q₀`,
+    /// `u = −K₁ y − K₂ w`, `w = ∫(r − q₀) dt` (forward Euler at the loop period).
+    LqServo(LqServoSpec),
+    /// `kind = "gain-scheduled"`: `u = −K(ρ) y`, `K(ρ) = K₀ + K₁ ρ + K₂ ρ² + …`.
+    GainScheduled(GainScheduledSpec),
+    /// `kind = "swing-up-balance"`: energy shaping from the hanging rest, then a balance gain
+    /// once `|wrap(q₁)| < switch_deg` (latched).
+    SwingUpBalance(SwingUpBalanceSpec),
+}
+
+impl ControllerSpec {
+    /// `kind` of [`ControllerSpec::SwingUpBalance`] as written in a file.
+    pub const SWING_UP_BALANCE: &str = "swing-up-balance";
+    /// Every `kind`, as written in a file.
+    pub const KINDS: [&str; 4] = [
+        "state-feedback",
+        "lq-servo",
+        "gain-scheduled",
+        Self::SWING_UP_BALANCE,
+    ];
+
+    /// The `kind` as written in a file.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ControllerSpec::StateFeedback(_) => Self::KINDS[0],
+            ControllerSpec::LqServo(_) => Self::KINDS[1],
+            ControllerSpec::GainScheduled(_) => Self::KINDS[2],
+            ControllerSpec::SwingUpBalance(_) => Self::KINDS[3],
+        }
+    }
+
+    /// Whether the controller starts from the hanging rest and swings the pendulum up (then a
+    /// run has no balance window on the pendulum angle).
+    pub fn is_swing_up(&self) -> bool {
+        matches!(self, ControllerSpec::SwingUpBalance(_))
+    }
+
+    /// The pendulum angle \[rad\] the controller stabilises (0 = upright): 0 for every kind
+    /// (`swing-up-balance` swings up to and then balances upright).
+    pub fn pendulum_centre(&self) -> f64 {
+        match self {
+            ControllerSpec::StateFeedback(_)
+            | ControllerSpec::LqServo(_)
+            | ControllerSpec::GainScheduled(_)
+            | ControllerSpec::SwingUpBalance(_) => 0.0,
+        }
+    }
+}
+
+/// Keys of `kind = "state-feedback"`: exactly one of `k`, `k_book`, `lqr`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StateFeedbackSpec {
+    /// Library gain (`u = −K (y − reference)`), 4 entries.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k: Option<Vec<f64>>,
+    /// Book gain (`u = +K_book y`), 4 entries.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k_book: Option<Vec<f64>>,
+    /// LQR design (`q` of length 4).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lqr: Option<LqrSpec>,
+    /// State reference `[q₀, q₁, q̇₀, q̇₁]` \[m or rad, rad, m/s or rad/s, rad/s\] (default 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference: Option<Vec<f64>>,
+}
+
+/// Keys of `kind = "lq-servo"`: `k1` with `k2`, or `lqr`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LqServoSpec {
+    /// Servo state gain `K₁` (library sign, 4 entries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k1: Option<Vec<f64>>,
+    /// Servo integral gain `K₂` (library sign: `u = −K₁ y − K₂ w`) \[V/(m·s) or V/(rad·s)\].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k2: Option<f64>,
+    /// LQR design on `[x; ∫(r − q₀)]` (`q` of length 5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lqr: Option<LqrSpec>,
+    /// Servo reference of `q₀` (one entry, m or rad, default 0), applied as a step at
+    /// `step_time`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference: Option<Vec<f64>>,
+    /// Time of the reference step \[s\], from 0 to [`DURATION_MAX`] (default 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_time: Option<f64>,
+}
+
+/// Keys of `kind = "gain-scheduled"`: `coefficients`, or `lqr` with `design_points_deg`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GainScheduledSpec {
+    /// Gain-polynomial coefficients `K₀, K₁, …` (library sign, 4 entries each).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coefficients: Option<Vec<Vec<f64>>>,
+    /// Scheduling variable `ρ`: `"one-minus-cos-q0"` (`ρ = 1 − cos q₀`, default) or
+    /// `"q0-squared"` (`ρ = q₀²`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub schedule: Option<String>,
+    /// LQR design at each of `design_points_deg`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lqr: Option<LqrSpec>,
+    /// Arm angles \[°\] of two LQR designs interpolated linearly in `ρ = 1 − cos θ₁`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub design_points_deg: Option<Vec<f64>>,
+}
+
+/// Keys of `kind = "swing-up-balance"`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwingUpBalanceSpec {
+    /// Balance gain (required).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub balance: Option<GainSpec>,
+    /// Switch to balance when `|wrap(q₁)|` is below this \[°\], above 0 and at most
+    /// [`SWITCH_DEG_MAX`] (default [`SWITCH_DEG_DEFAULT`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub switch_deg: Option<f64>,
+}
+
+/// What [`build`] refuses. Each message names the key as written in a controller file
+/// (`controller.…`), its value and what is wrong.
+#[derive(Debug, thiserror::Error)]
+pub enum SpecError {
+    /// The loop period is not a positive finite number.
+    #[error("sample time ts = {ts}: must be finite and > 0")]
+    SampleTime {
+        /// The period given \[s\].
+        ts: f64,
+    },
+    /// An entry is NaN or infinite.
+    #[error("{key}[{index}] = {value}: must be finite")]
+    NotFinite {
+        /// The key.
+        key: String,
+        /// The entry's index.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// A list has the wrong number of entries.
+    #[error("{key} has {got} {entries}, expected {expected}")]
+    Length {
+        /// The key.
+        key: String,
+        /// `"entries"` or `"diagonal entries"`.
+        entries: &'static str,
+        /// Entries given.
+        got: usize,
+        /// Entries required.
+        expected: usize,
+    },
+    /// The servo's reference is not one value.
+    #[error("controller.reference of an lq-servo is one value (of q0), got {got}")]
+    ServoReferenceLength {
+        /// Entries given.
+        got: usize,
+    },
+    /// A diagonal weight entry is negative.
+    #[error("{key}[{index}] = {value}: must be ≥ 0")]
+    Negative {
+        /// The key.
+        key: String,
+        /// The entry's index.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// The input weight `r` is not positive and finite.
+    #[error("{key}.r = {value}: must be finite and > 0")]
+    InputWeight {
+        /// The `lqr` key.
+        key: String,
+        /// Its `r`.
+        value: f64,
+    },
+    /// A number outside its documented range.
+    #[error("{key} = {value}: must be in {range}")]
+    OutOfRange {
+        /// The key.
+        key: &'static str,
+        /// Its value.
+        value: f64,
+        /// The range, with unit.
+        range: String,
+    },
+    /// A required key is missing, or keys that exclude each other are given together.
+    #[error("{key}: {expected}")]
+    Keys {
+        /// The table (`controller`, `controller (lq-servo)`, …).
+        key: String,
+        /// What it must hold.
+        expected: &'static str,
+    },
+    /// An unknown scheduling variable.
+    #[error("controller.schedule = '{0}': expected 'one-minus-cos-q0' or 'q0-squared'")]
+    Schedule(String),
+    /// `design_points_deg` given for a plant or a schedule it does not apply to, or points
+    /// that do not determine the interpolation.
+    #[error("controller.design_points_deg{detail}")]
+    DesignPoints {
+        /// What is wrong (with the points when they are the problem).
+        detail: String,
+    },
+    /// The book plant could not be linearised.
+    #[error("linearising the {at}: {source}")]
+    Linearisation {
+        /// Which plant and where (`cart plant`, `arm at 60°`).
+        at: String,
+        /// The plant's error.
+        source: PlantError,
+    },
+    /// An LQR or LQ-servo design failed.
+    #[error("{what} failed: {source}")]
+    Design {
+        /// The design (`controller: LQR design`, `LQR design at θ₁ = 60°`, …).
+        what: String,
+        /// The design's error.
+        source: LtiError,
+    },
+    /// The servo's design model could not be formed.
+    #[error("servo model: {0}")]
+    ServoModel(LtiError),
+    /// A run-time controller refused its parameters.
+    #[error("controller: {0}")]
+    Controller(#[from] pendulab_sim::SimError),
+    /// The swing-up controller refused its parameters.
+    #[error("controller: {0}")]
+    SwingUp(#[from] crate::ControlError),
+    /// The servo's reference signal could not be formed.
+    #[error("controller.step_time = {time}: {source}")]
+    Step {
+        /// The step time \[s\].
+        time: f64,
+        /// The signal's error.
+        source: pendulab_sim::SimError,
+    },
+}
+
+/// A controller built from a [`ControllerSpec`], with what a runtime needs to know about it.
+pub struct Built {
+    /// The controller: 4 measurements `[q₀, q₁, q̇₀, q̇₁]` in, the voltage \[V\] out.
+    pub controller: Box<dyn Controller>,
+    /// The pendulum angle \[rad\] the controller stabilises ([`ControllerSpec::pendulum_centre`]):
+    /// a runtime wraps the measured pendulum angle to within π of it.
+    pub pendulum_centre: f64,
+    /// The `kind` as written in a file ([`ControllerSpec::kind`]).
+    pub kind: &'static str,
+    /// Whether it swings up from the hanging rest ([`ControllerSpec::is_swing_up`]): a run has no
+    /// balance window then.
+    pub swing_up: bool,
+}
+
+impl std::fmt::Debug for Built {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Built")
+            .field("kind", &self.kind)
+            .field("pendulum_centre", &self.pendulum_centre)
+            .field("swing_up", &self.swing_up)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Designs and builds the controller `spec` describes for the book rig `plant`, running at
+/// loop period `ts` \[s\] (used by the servo's integrator).
+///
+/// `lqr` requests are designed on the book plant (`CartPendulum::book()`,
+/// `ArmPendulum::book()`), as the module documentation says; given gains are used as written
+/// (`k_book` negated).
+///
+/// # Errors
+/// [`SpecError`] naming the key, its value and what is wrong: a gain or weight of the wrong
+/// length or not finite, a negative `q` or non-positive `r`, keys missing or given together,
+/// `step_time`/`switch_deg` out of range, a failed design, or `ts` not positive.
+pub fn build(spec: &ControllerSpec, plant: PlantKind, ts: f64) -> Result<Built, SpecError> {
+    if !(ts.is_finite() && ts > 0.0) {
+        return Err(SpecError::SampleTime { ts });
+    }
+    let controller: Box<dyn Controller> = match spec {
+        ControllerSpec::StateFeedback(c) => state_feedback(plant, c)?,
+        ControllerSpec::LqServo(c) => servo(plant, c, ts)?,
+        ControllerSpec::GainScheduled(c) => gain_scheduled(plant, c)?,
+        ControllerSpec::SwingUpBalance(c) => swing_up_balance(plant, c)?,
+    };
+    Ok(Built {
+        controller,
+        pendulum_centre: spec.pendulum_centre(),
+        kind: spec.kind(),
+        swing_up: spec.is_swing_up(),
+    })
+}
+
+fn finite(key: &str, v: &[f64]) -> Result<(), SpecError> {
+    if let Some((index, &value)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(SpecError::NotFinite {
+            key: key.to_string(),
+            index,
+            value,
+        });
+    }
+    Ok(())
+}
+
+fn row(key: &str, v: &[f64], n: usize) -> Result<Mat, SpecError> {
+    if v.len() != n {
+        return Err(SpecError::Length {
+            key: key.to_string(),
+            entries: "entries",
+            got: v.len(),
+            expected: n,
+        });
+    }
+    finite(key, v)?;
+    Ok(Mat::from_row_slice(1, n, v))
+}
+
+/// The upright linearisation of the book plant (`C = I`).
+fn upright(plant: PlantKind) -> Result<StateSpace<pendulab_lti::Continuous>, SpecError> {
+    match plant {
+        PlantKind::Cart => CartPendulum::book().linearize(CartEquilibrium::upright()),
+        PlantKind::Arm => ArmPendulum::book().linearize(ArmEquilibrium::upright(0.0)),
+    }
+    .map_err(|source| SpecError::Linearisation {
+        at: format!("{} plant", plant.name()),
+        source,
+    })
+}
+
+fn diag(key: &str, q: &[f64], n: usize) -> Result<Mat, SpecError> {
+    if q.len() != n {
+        return Err(SpecError::Length {
+            key: key.to_string(),
+            entries: "diagonal entries",
+            got: q.len(),
+            expected: n,
+        });
+    }
+    finite(key, q)?;
+    if let Some((index, &value)) = q.iter().enumerate().find(|(_, x)| **x < 0.0) {
+        return Err(SpecError::Negative {
+            key: key.to_string(),
+            index,
+            value,
+        });
+    }
+    Ok(Mat::from_diagonal(&nalgebra::DVector::from_row_slice(q)))
+}
+
+fn check_r(key: &str, r: f64) -> Result<Mat, SpecError> {
+    if !(r.is_finite() && r > 0.0) {
+        return Err(SpecError::InputWeight {
+            key: key.to_string(),
+            value: r,
+        });
+    }
+    Ok(Mat::from_element(1, 1, r))
+}
+
+/// The library gain `K` (1 × 4) of a [`GainSpec`]-like triple under the table `key`.
+fn gain(
+    plant: PlantKind,
+    k: &Option<Vec<f64>>,
+    k_book: &Option<Vec<f64>>,
+    l: &Option<LqrSpec>,
+    key: &str,
+) -> Result<Mat, SpecError> {
+    match (k, k_book, l) {
+        (Some(k), None, None) => row(&format!("{key}.k"), k, 4),
+        (None, Some(kb), None) => Ok(-row(&format!("{key}.k_book"), kb, 4)?),
+        (None, None, Some(l)) => {
+            let sys = upright(plant)?;
+            let d = lqr(
+                &sys,
+                &diag(&format!("{key}.lqr.q"), &l.q, 4)?,
+                &check_r(&format!("{key}.lqr"), l.r)?,
+                None,
+            )
+            .map_err(|source| SpecError::Design {
+                what: format!("{key}: LQR design"),
+                source,
+            })?;
+            Ok(d.gain)
+        }
+        _ => Err(SpecError::Keys {
+            key: key.to_string(),
+            expected: "give exactly one of k, k_book, lqr",
+        }),
+    }
+}
+
+fn state_feedback(
+    plant: PlantKind,
+    c: &StateFeedbackSpec,
+) -> Result<Box<dyn Controller>, SpecError> {
+    let k = gain(plant, &c.k, &c.k_book, &c.lqr, "controller")?;
+    let r = c.reference.clone().unwrap_or(vec![0.0; 4]);
+    if r.len() != 4 {
+        return Err(SpecError::Length {
+            key: "controller.reference".into(),
+            entries: "entries",
+            got: r.len(),
+            expected: 4,
+        });
+    }
+    finite("controller.reference", &r)?;
+    Ok(Box::new(StaticStateFeedback::new(k)?.with_reference(&r)?))
+}
+
+fn servo(plant: PlantKind, c: &LqServoSpec, ts: f64) -> Result<Box<dyn Controller>, SpecError> {
+    let c_q0 = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
+    let (k1, k2) = match (&c.k1, c.k2, &c.lqr) {
+        (Some(k1), Some(k2), None) => {
+            finite("controller.k2", &[k2])?;
+            (row("controller.k1", k1, 4)?, Mat::from_element(1, 1, k2))
+        }
+        (None, None, Some(l)) => {
+            let lin = upright(plant)?;
+            let sys = StateSpace::continuous(
+                lin.a().clone(),
+                lin.b().clone(),
+                c_q0.clone(),
+                Mat::zeros(1, 1),
+            )
+            .map_err(SpecError::ServoModel)?;
+            let d = lq_servo(
+                &sys,
+                &diag("controller.lqr.q", &l.q, 5)?,
+                &check_r("controller.lqr", l.r)?,
+            )
+            .map_err(|source| SpecError::Design {
+                what: "controller: LQ servo design".into(),
+                source,
+            })?;
+            (d.state_gain, d.integral_gain)
+        }
+        _ => {
+            return Err(SpecError::Keys {
+                key: "controller (lq-servo)".into(),
+                expected: "give k1 and k2, or lqr = { q = [5 entries], r }",
+            });
+        }
+    };
+    let r = c.reference.clone().unwrap_or(vec![0.0]);
+    if r.len() != 1 {
+        return Err(SpecError::ServoReferenceLength { got: r.len() });
+    }
+    finite("controller.reference", &r)?;
+    let t_step = c.step_time.unwrap_or(0.0);
+    if !(t_step.is_finite() && (0.0..=DURATION_MAX).contains(&t_step)) {
+        return Err(SpecError::OutOfRange {
+            key: "controller.step_time",
+            value: t_step,
+            range: format!("[0, {DURATION_MAX}] s"),
+        });
+    }
+    let sig = Signal::step(t_step, r[0]).map_err(|source| SpecError::Step {
+        time: t_step,
+        source,
+    })?;
+    Ok(Box::new(LqIntegralServo::new(
+        &k1,
+        &k2,
+        &c_q0,
+        vec![sig],
+        ts,
+        IntegrationRule::ForwardEuler,
+    )?))
+}
+
+/// Two LQR designs of the arm at `θ₁ₑ = a, b` (degrees), joined by the line in `ρ = 1 − cos θ₁`
+/// through both: `K(ρ) = K_a + (ρ − ρ_a)/(ρ_b − ρ_a)·(K_b − K_a)` as coefficients `[K₀, K₁]`.
+fn scheduled_lqr(
+    plant: PlantKind,
+    l: &LqrSpec,
+    pts: &[f64],
+    schedule: Option<&str>,
+) -> Result<Vec<Mat>, SpecError> {
+    if plant != PlantKind::Arm {
+        return Err(SpecError::DesignPoints {
+            detail: ": only the arm's linearisation depends on the drive position".into(),
+        });
+    }
+    if schedule.is_some_and(|s| s != "one-minus-cos-q0") {
+        return Err(SpecError::DesignPoints {
+            detail: " interpolates in one-minus-cos-q0 only".into(),
+        });
+    }
+    finite("controller.design_points_deg", pts)?;
+    let rho = |deg: f64| 1.0 - deg.to_radians().cos();
+    if pts.len() != 2 || (rho(pts[0]) - rho(pts[1])).abs() < 1e-6 {
+        return Err(SpecError::DesignPoints {
+            detail: format!(" = {pts:?}: give two angles with different |θ₁|"),
+        });
+    }
+    let q = diag("controller.lqr.q", &l.q, 4)?;
+    let r = check_r("controller.lqr", l.r)?;
+    let mut k = Vec::new();
+    for &deg in pts {
+        let sys = ArmPendulum::book()
+            .linearize(ArmEquilibrium::upright(deg.to_radians()))
+            .map_err(|source| SpecError::Linearisation {
+                at: format!("arm at {deg}°"),
+                source,
+            })?;
+        k.push(
+            lqr(&sys, &q, &r, None)
+                .map_err(|source| SpecError::Design {
+                    what: format!("LQR design at θ₁ = {deg}°"),
+                    source,
+                })?
+                .gain,
+        );
+    }
+    let (ra, rb) = (rho(pts[0]), rho(pts[1]));
+    let k1 = (&k[1] - &k[0]) / (rb - ra);
+    let k0 = &k[0] - &k1 * ra;
+    Ok(vec![k0, k1])
+}
+
+fn gain_scheduled(
+    plant: PlantKind,
+    c: &GainScheduledSpec,
+) -> Result<Box<dyn Controller>, SpecError> {
+    let mats = match (&c.coefficients, &c.lqr, &c.design_points_deg) {
+        (Some(coefs), None, None) => {
+            if coefs.is_empty() {
+                return Err(SpecError::Keys {
+                    key: "controller.coefficients".into(),
+                    expected: "give at least K0",
+                });
+            }
+            coefs
+                .iter()
+                .enumerate()
+                .map(|(i, k)| row(&format!("controller.coefficients[{i}]"), k, 4))
+                .collect::<Result<Vec<_>, _>>()?
+        }
+        (None, Some(l), Some(pts)) => scheduled_lqr(plant, l, pts, c.schedule.as_deref())?,
+        _ => {
+            return Err(SpecError::Keys {
+                key: "controller (gain-scheduled)".into(),
+                expected: "give coefficients, or lqr with design_points_deg (arm)",
+            });
+        }
+    };
+    let g = match c.schedule.as_deref().unwrap_or("one-minus-cos-q0") {
+        "one-minus-cos-q0" => GainScheduled::polynomial(&mats, |y| 1.0 - y[0].cos()),
+        "q0-squared" => GainScheduled::polynomial(&mats, |y| y[0] * y[0]),
+        other => return Err(SpecError::Schedule(other.to_string())),
+    }?;
+    Ok(Box::new(g))
+}
+
+fn swing_up_balance(
+    plant: PlantKind,
+    c: &SwingUpBalanceSpec,
+) -> Result<Box<dyn Controller>, SpecError> {
+    let b = c.balance.as_ref().ok_or(SpecError::Keys {
+        key: "controller (swing-up-balance)".into(),
+        expected: "balance = { … } is missing",
+    })?;
+    let k = gain(plant, &b.k, &b.k_book, &b.lqr, "controller.balance")?;
+    let sw = c.switch_deg.unwrap_or(SWITCH_DEG_DEFAULT);
+    if !(sw.is_finite() && sw > 0.0 && sw <= SWITCH_DEG_MAX) {
+        return Err(SpecError::OutOfRange {
+            key: "controller.switch_deg",
+            value: sw,
+            range: format!("(0, {SWITCH_DEG_MAX}]"),
+        });
+    }
+    let balance = StaticStateFeedback::new(k)?;
+    let windows = vec![(1, sw.to_radians())];
+    Ok(match plant {
+        PlantKind::Cart => Box::new(swing_up_then_balance(
+            CartEnergyShaping::new(&CartPendulum::book(), EnergyShapingGains::cart_rig())?,
+            balance,
+            windows,
+        )?),
+        PlantKind::Arm => Box::new(swing_up_then_balance(
+            ArmEnergyShaping::new(&ArmPendulum::book(), EnergyShapingGains::arm_rig())?,
+            balance,
+            windows,
+        )?),
+    })
+}
+
+#[cfg(test)]
+#[path = "spec_tests.rs"]
+mod tests;

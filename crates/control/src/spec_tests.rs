@@ -1,0 +1,257 @@
+//! Tests of the controller specs and the factory (moved here from the rig's controller-file
+//! loader with the code; the file-level tests stay in `pendulab_rig::config`).
+
+use super::*;
+
+/// The parts of a rig controller file the factory reads (other tables are ignored here).
+#[derive(Deserialize)]
+struct File {
+    plant: String,
+    controller: ControllerSpec,
+}
+
+/// Parses a controller file's `plant` and `[controller]` and builds at 1 kHz (the files'
+/// default rate).
+fn load(text: &str) -> Result<Built, String> {
+    let f: File = toml::from_str(text).map_err(|e| e.to_string())?;
+    let plant = PlantKind::parse(&f.plant).map_err(|e| e.to_string())?;
+    build(&f.controller, plant, 1e-3).map_err(|e| e.to_string())
+}
+
+#[test]
+fn cart_lqr_design_reproduces_the_book_gain() {
+    // The book's cdip_lqr_sim: Q = diag(10, 10, 0, 0), R = 1 gives
+    // K_book = [3.16228, 13.47175, 4.48137, 2.26289]; u = +K_book x means the library's
+    // u = −K x has K = −K_book. The printed digits bound the agreement (5e-5).
+    let l = load(
+        "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 }\n",
+    )
+    .unwrap();
+    let mut u = [0.0];
+    let mut c = l.controller;
+    let kb = [3.16228, 13.47175, 4.48137, 2.26289];
+    for i in 0..4 {
+        let mut y = [0.0; 4];
+        y[i] = 1.0;
+        c.update(0.0, &y, &mut u);
+        assert!((u[0] - kb[i]).abs() < 5e-5, "K[{i}] = {}", u[0]);
+    }
+}
+
+#[test]
+fn cart_lq_servo_design_reproduces_the_book_gains() {
+    // The book's cdip_lqr_servo_sim: Q = diag(1, 5, 0, 0, 100), R = 1 gives
+    // K1_book = [10.39942, 17.76307, 6.79089, 3.04513], K2_book = −10 (u = K1 x + K2 w,
+    // w = ∫(r − z)). At rest with y = e_i and r = 0 the first command is +K1_book·e_i
+    // (forward Euler: w is still 0). Printed digits bound the agreement (5e-5).
+    let text = "plant = \"cart\"\n[controller]\nkind = \"lq-servo\"\nlqr = { q = [1.0, 5.0, 0.0, 0.0, 100.0], r = 1.0 }\nreference = [0.0]\n";
+    let k1b = [10.39942, 17.76307, 6.79089, 3.04513];
+    for i in 0..4 {
+        let mut c = load(text).unwrap().controller;
+        let mut y = [0.0; 4];
+        y[i] = 1.0;
+        let mut u = [0.0];
+        c.update(0.0, &y, &mut u);
+        assert!((u[0] - k1b[i]).abs() < 5e-5, "K1[{i}] = {}", u[0]);
+    }
+    // Integral gain: with y = 0 and r = 0.1, w = 0.1·ts after the first period and
+    // u = K2_book · w = −10 · 1e-4 at the second.
+    let mut c = load(&text.replace("[0.0]", "[0.1]")).unwrap().controller;
+    let mut u = [0.0];
+    c.update(0.0, &[0.0; 4], &mut u);
+    assert_eq!(u[0], 0.0);
+    c.update(1e-3, &[0.0; 4], &mut u);
+    assert!((u[0] - (-10.0 * 1e-4)).abs() < 5e-9, "{}", u[0]);
+}
+
+#[test]
+fn bad_controller_tables_are_typed_errors_naming_the_key() {
+    let cases = [
+        (
+            "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1.0,1.0]\n",
+            "controller.k",
+        ),
+        (
+            "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\n",
+            "exactly one",
+        ),
+        (
+            "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [1.0, -1.0, 0.0, 0.0], r = 1.0 }\n",
+            "lqr.q[1]",
+        ),
+        (
+            "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [1.0, 1.0, 0.0, 0.0], r = nan }\n",
+            "lqr.r",
+        ),
+    ];
+    for (text, needle) in cases {
+        let e = load(text).unwrap_err();
+        assert!(e.contains(needle), "{e:?} should mention {needle:?}");
+    }
+    // A non-positive loop period is refused, not integrated with.
+    let spec = ControllerSpec::LqServo(LqServoSpec {
+        k1: Some(vec![0.0; 4]),
+        k2: Some(0.0),
+        ..Default::default()
+    });
+    for ts in [0.0, -1e-3, f64::NAN] {
+        let e = build(&spec, PlantKind::Cart, ts).unwrap_err();
+        assert!(matches!(e, SpecError::SampleTime { .. }), "{e}");
+    }
+}
+
+/// The keys of each kind, as the module documentation lists them.
+const KEYS: [(&str, &[&str]); 4] = [
+    ("state-feedback", &["k", "k_book", "lqr", "reference"]),
+    ("lq-servo", &["k1", "k2", "lqr", "reference", "step_time"]),
+    (
+        "gain-scheduled",
+        &["coefficients", "schedule", "lqr", "design_points_deg"],
+    ),
+    ("swing-up-balance", &["balance", "switch_deg"]),
+];
+
+/// A file of each kind that loads, for the plant given.
+fn base(kind: &str) -> String {
+    let body = match kind {
+        "state-feedback" => "k = [0.0, 0.0, 0.0, 0.0]\n",
+        "lq-servo" => "k1 = [0.0, 0.0, 0.0, 0.0]\nk2 = 0.0\n",
+        "gain-scheduled" => "coefficients = [[0.0, 0.0, 0.0, 0.0]]\n",
+        "swing-up-balance" => "balance = { k = [0.0, 0.0, 0.0, 0.0] }\n",
+        _ => unreachable!(),
+    };
+    format!("plant = \"cart\"\n[controller]\nkind = \"{kind}\"\n{body}")
+}
+
+#[test]
+fn integers_still_read_as_numbers_inside_the_kind_tables() {
+    // The tagged enum buffers the table before reading it: `k = [1, 2, 3, 4]` must still
+    // read as the floats it did, giving u = −K·e_i = −(i + 1).
+    let mut c =
+        load("plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nk = [1, 2, 3, 4]\n")
+            .unwrap()
+            .controller;
+    let mut u = [0.0];
+    for i in 0..4 {
+        let mut y = [0.0; 4];
+        y[i] = 1.0;
+        c.update(0.0, &y, &mut u);
+        assert_eq!(u[0], -((i + 1) as f64));
+    }
+}
+
+#[test]
+fn switch_and_step_time_are_bounded() {
+    for (text, key) in [
+        (
+            format!("{}switch_deg = 90.0\n", base("swing-up-balance")),
+            "controller.switch_deg = 90",
+        ),
+        (
+            format!("{}switch_deg = 0.0\n", base("swing-up-balance")),
+            "controller.switch_deg = 0",
+        ),
+        (
+            format!("{}step_time = -1.0\n", base("lq-servo")),
+            "controller.step_time = -1",
+        ),
+        (
+            format!("{}step_time = 1e9\n", base("lq-servo")),
+            "controller.step_time = 1000000000",
+        ),
+    ] {
+        let e = load(&text).unwrap_err();
+        assert!(e.contains(key), "{key}: {e}");
+        assert!(e.contains("must be"), "{key}: {e}");
+    }
+    // The ends of the documented ranges load: switch_deg = SWITCH_DEG_MAX, step_time =
+    // DURATION_MAX.
+    for text in [
+        format!("{}switch_deg = 45.0\n", base("swing-up-balance")),
+        format!("{}step_time = 3600.0\n", base("lq-servo")),
+    ] {
+        load(&text).unwrap_or_else(|e| panic!("{text}: {e}"));
+    }
+    // Just outside, they are refused.
+    let text = format!("{}switch_deg = 45.01\n", base("swing-up-balance"));
+    assert!(load(&text).is_err(), "{text}");
+}
+
+#[test]
+fn every_kind_balances_about_upright() {
+    for (kind, _) in KEYS {
+        let l = load(&base(kind)).unwrap();
+        assert_eq!(l.pendulum_centre, 0.0, "{kind}");
+        assert_eq!(l.kind, kind);
+        assert_eq!(l.swing_up, kind == ControllerSpec::SWING_UP_BALANCE);
+    }
+}
+
+#[test]
+fn scheduled_lqr_interpolates_the_two_designs_exactly_at_their_points() {
+    // At θ₁ = 0 and 60° the scheduled gain must equal the LQR designed at that angle
+    // (the defining property of the interpolation), to rounding.
+    let text = "plant = \"arm\"\n[controller]\nkind = \"gain-scheduled\"\nlqr = { q = [5.0, 10.0, 0.1, 0.1], r = 1.0 }\ndesign_points_deg = [0.0, 60.0]\n";
+    let sys = |deg: f64| {
+        ArmPendulum::book()
+            .linearize(ArmEquilibrium::upright(deg.to_radians()))
+            .unwrap()
+    };
+    let q = diag("q", &[5.0, 10.0, 0.1, 0.1], 4).unwrap();
+    let r = check_r("lqr", 1.0).unwrap();
+    for deg in [0.0, 60.0] {
+        let k = lqr(&sys(deg), &q, &r, None).unwrap().gain;
+        let th = deg.to_radians();
+        let mut c = load(text).unwrap().controller;
+        let mut u0 = [0.0];
+        c.update(0.0, &[th, 0.0, 0.0, 0.0], &mut u0);
+        if deg != 0.0 {
+            // u = −K(ρ)·[θ₁, 0, 0, 0] = −K₀₀(ρ) θ₁.
+            let k0 = -u0[0] / th;
+            assert!((k0 - k[(0, 0)]).abs() < 1e-9 * k[(0, 0)].abs(), "{k0}");
+        }
+        for i in 1..4 {
+            // The law is linear in y at fixed ρ (ρ depends on θ₁ only).
+            let mut y = [th, 0.0, 0.0, 0.0];
+            y[i] = 1.0;
+            let mut u1 = [0.0];
+            c.update(0.0, &y, &mut u1);
+            let ki = -(u1[0] - u0[0]);
+            assert!(
+                (ki - k[(0, i)]).abs() < 1e-9 * k[(0, i)].abs().max(1.0),
+                "{deg}° K[{i}]: {ki} vs {}",
+                k[(0, i)]
+            );
+        }
+    }
+}
+
+#[test]
+fn swing_up_balance_is_four_in_one_out() {
+    let l = load(
+        "plant = \"arm\"\n[controller]\nkind = \"swing-up-balance\"\nbalance = { lqr = { q = [5.0, 10.0, 0.1, 0.1], r = 1.0 } }\n",
+    )
+    .unwrap();
+    assert!(l.swing_up);
+    assert_eq!((l.controller.ny(), l.controller.nu()), (4, 1));
+}
+
+#[test]
+fn a_spec_written_back_reads_as_the_same_spec() {
+    // What a front end writes, the rig's file format reads: serialising each kind's base
+    // table to TOML and reading it again gives the same spec (and no key of another kind).
+    for (kind, own) in KEYS {
+        let f: File = toml::from_str(&base(kind)).unwrap();
+        let text = toml::to_string(&f.controller).unwrap();
+        let back: ControllerSpec = toml::from_str(&text).unwrap();
+        assert_eq!(back, f.controller, "{kind}: {text}");
+        let table: toml::Table = text.parse().unwrap();
+        assert_eq!(table["kind"].as_str(), Some(kind));
+        assert!(
+            table
+                .keys()
+                .all(|k| k == "kind" || own.contains(&k.as_str())),
+            "{kind}: {text}"
+        );
+    }
+}
