@@ -144,6 +144,21 @@ impl ControllerSpec {
         Self::SWING_UP_BALANCE,
     ];
 
+    /// The keys of each `kind` (besides `kind` itself), as the module documentation lists
+    /// them: any other key in a kind's table is refused when it is read.
+    pub const KEYS: [(&str, &[&str]); 4] = [
+        (Self::KINDS[0], &["k", "k_book", "lqr", "reference"]),
+        (
+            Self::KINDS[1],
+            &["k1", "k2", "lqr", "reference", "step_time"],
+        ),
+        (
+            Self::KINDS[2],
+            &["coefficients", "schedule", "lqr", "design_points_deg"],
+        ),
+        (Self::KINDS[3], &["balance", "switch_deg"]),
+    ];
+
     /// The `kind` as written in a file.
     pub fn kind(&self) -> &'static str {
         match self {

@@ -101,15 +101,7 @@ fn bad_controller_tables_are_typed_errors_naming_the_key() {
 }
 
 /// The keys of each kind, as the module documentation lists them.
-const KEYS: [(&str, &[&str]); 4] = [
-    ("state-feedback", &["k", "k_book", "lqr", "reference"]),
-    ("lq-servo", &["k1", "k2", "lqr", "reference", "step_time"]),
-    (
-        "gain-scheduled",
-        &["coefficients", "schedule", "lqr", "design_points_deg"],
-    ),
-    ("swing-up-balance", &["balance", "switch_deg"]),
-];
+const KEYS: [(&str, &[&str]); 4] = ControllerSpec::KEYS;
 
 /// A file of each kind that loads, for the plant given.
 fn base(kind: &str) -> String {

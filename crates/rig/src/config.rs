@@ -440,27 +440,21 @@ mod tests {
         }
     }
 
-    /// The keys of each kind, as the module documentation lists them.
-    const KEYS: [(&str, &[&str]); 4] = [
-        ("state-feedback", &["k", "k_book", "lqr", "reference"]),
-        ("lq-servo", &["k1", "k2", "lqr", "reference", "step_time"]),
-        (
-            "gain-scheduled",
-            &["coefficients", "schedule", "lqr", "design_points_deg"],
-        ),
-        ("swing-up-balance", &["balance", "switch_deg"]),
+    /// The keys of each kind (`pendulab_control::spec`'s table).
+    const KEYS: [(&str, &[&str]); 4] = ControllerSpec::KEYS;
+
+    /// The smallest `[controller]` table of each kind (zero gains).
+    const BODIES: [(&str, &str); 4] = [
+        ("state-feedback", "k = [0.0, 0.0, 0.0, 0.0]"),
+        ("lq-servo", "k1 = [0.0, 0.0, 0.0, 0.0]\nk2 = 0.0"),
+        ("gain-scheduled", "coefficients = [[0.0, 0.0, 0.0, 0.0]]"),
+        ("swing-up-balance", "balance = { k = [0.0, 0.0, 0.0, 0.0] }"),
     ];
 
-    /// A file of each kind that loads, for the plant given.
+    /// A cart file of `kind` that loads.
     fn base(kind: &str) -> String {
-        let body = match kind {
-            "state-feedback" => "k = [0.0, 0.0, 0.0, 0.0]\n",
-            "lq-servo" => "k1 = [0.0, 0.0, 0.0, 0.0]\nk2 = 0.0\n",
-            "gain-scheduled" => "coefficients = [[0.0, 0.0, 0.0, 0.0]]\n",
-            "swing-up-balance" => "balance = { k = [0.0, 0.0, 0.0, 0.0] }\n",
-            _ => unreachable!(),
-        };
-        format!("plant = \"cart\"\n[controller]\nkind = \"{kind}\"\n{body}")
+        let (_, body) = BODIES.iter().find(|(k, _)| *k == kind).unwrap();
+        format!("plant = \"cart\"\n[controller]\nkind = \"{kind}\"\n{body}\n")
     }
 
     #[test]
