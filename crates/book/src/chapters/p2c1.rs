@@ -347,7 +347,7 @@ impl MfileSolution {
             ref s => format!("{s:?}"),
         };
         format!(
-            "{what}: the M-file's problem, maximise trace(X), {} LMIs as written there (ε = 1e-6), no re-solve; \
+            "{what}: the M-file's problem, maximise trace(X), {} LMIs as written there (ε = 1e-6); \
              solver status {st} ({:?}). Certificate recomputed from the M-file's LMIs at the returned point: \
              trace(X) = {:.8}, dual bound = {:.8}, duality gap = {:.2e}, dual stationarity residual = {:.1e}, \
              smallest LMI eigenvalue (after the margin) = {:.2e}, smallest dual eigenvalue = {:.1e}.",
@@ -915,7 +915,7 @@ fn p2c122_ex4_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.value("relative_difference_Kt_Kt_LQ", Value::Number(rel));
     out.notes.push(GAIN_NOTE.into());
     out.notes
-        .push(s.note("p2c122_ex4_adip_oc_servo.m lines 36-50"));
+        .push(s.note("p2c122_ex4_adip_oc_servo.m lines 36-50, solved once as there (no re-solve)"));
     out.notes.push(format!(
         "Kt = L X⁻¹ against the Riccati gain Kt_LQ = −lqr(At, Bt, Q, R): relative difference {rel:.1e} \
          (X⁻¹ = P up to the margin ε)."
@@ -998,8 +998,9 @@ fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutput, BookErro
         .all(|z| regions.iter().all(|reg| reg.contains(*z)));
     out.value("poles_in_region", Value::Bool(inside));
     out.notes.push(GAIN_NOTE.into());
-    out.notes
-        .push(s.note("p2c122_ex4_adip_oc_multiobjective_servo.m lines 41-62"));
+    out.notes.push(s.note(
+        "p2c122_ex4_adip_oc_multiobjective_servo.m lines 41-62, solved once as there (no re-solve)",
+    ));
     out.notes.push(ILL_DETERMINED_KT.into());
     out.notes.push(
         "Region: Re λ < −α = −2, Re λ > −β = −16, sector |Im λ| < tan(π/4)(−Re λ), the sector LMI written \
@@ -1210,9 +1211,9 @@ fn p2c13_lmi(ctx: &RunContext, id: &str, robust: bool) -> Result<ExampleOutput, 
     .value("vertex", vertex_value());
     p2c13_report(ctx, id, "Kt", &library_gain(&kt), true, &mut out)?;
     out.notes.push(s.note(if robust {
-        "p2c13_ex5_adip_oc_robust_servo.m lines 47-79 (common X, L at the four vertices)"
+        "p2c13_ex5_adip_oc_robust_servo.m lines 47-79 (common X, L at the four vertices), solved once as there (no re-solve)"
     } else {
-        "p2c13_ex5_adip_oc_nominal_servo.m lines 31-58 (nominal model)"
+        "p2c13_ex5_adip_oc_nominal_servo.m lines 31-58 (nominal model), solved once as there (no re-solve)"
     }));
     out.notes.push(
         "Region as in the M-file: M'+M+2αX ⪯ −εI (Re λ < −2) and M'+M+2βX ⪰ εI (Re λ > −40, a half-plane)."
