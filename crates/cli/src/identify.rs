@@ -191,7 +191,11 @@ struct Report {
     constants: Value,
     estimates: Map<String, Value>,
     std_errors: Map<String, Value>,
+    /// Least-squares methods only (the feature methods have no regressor): left out otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
     condition: Option<Value>,
+    /// Least-squares methods only: left out otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
     residual_rms: Option<Value>,
     fit: Value,
     #[serde(skip_serializing_if = "Option::is_none")]

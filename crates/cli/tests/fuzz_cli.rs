@@ -355,9 +355,8 @@ fn run(case: &Case, dir: &Dir) -> Result<i32, String> {
 }
 
 /// Keys whose `null` means "does not apply", not a failed number: `book list`'s `needs_data`
-/// of an example that needs no data, and `identify`'s `condition` and `residual_rms` of the
-/// methods without a least-squares regression (step responses, free oscillations).
-const NOT_APPLICABLE: &[&str] = &["needs_data", "condition", "residual_rms"];
+/// of an example that needs no data. (`identify` leaves out what does not apply.)
+const NOT_APPLICABLE: &[&str] = &["needs_data"];
 
 /// The path of a `null` in a JSON document, other than those of [`NOT_APPLICABLE`] keys.
 fn null_number(v: &Value, path: &str) -> Option<String> {
