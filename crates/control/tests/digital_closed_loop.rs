@@ -181,7 +181,7 @@ fn observer_based_controller_and_its_discretisations_balance_the_quantised_plant
         .collect();
     let k = place(lin.a(), lin.b(), &poles).unwrap().gain;
     let feedback = StateFeedback::new(k).unwrap();
-    // The book's gain (u = +K_b x), examples.md: 6 significant digits.
+    // The book's gain (u = +K_b x), book Part 1 §7.4, example 7.1: 6 significant digits.
     let book = [3.06513, 12.57293, 4.32424, 2.16707];
     for (got, want) in feedback.book_gain().iter().zip(book) {
         assert!(

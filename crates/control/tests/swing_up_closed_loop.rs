@@ -6,7 +6,7 @@
 //! "Upright and holding" is checked as `|wrap(θ)| ≤ 1°` from 4 s after the switch to the end:
 //! the balancing phase on the quantised rig keeps a limit cycle of a few encoder counts
 //! (2π/14400 rad = 0.025° each), far inside that. The cart track is taken as `|z| ≤ 0.5 m`
-//! (SPEC.md gives no rail length; the book's swing-up figure spans ±0.4 m).
+//! (neither the book nor its records give the rail length; its swing-up figure spans ±0.4 m).
 
 mod common;
 
