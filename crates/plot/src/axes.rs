@@ -236,13 +236,13 @@ impl Series {
 /// A Cartesian plot panel: series, labels, scales, limits, grid and legend.
 ///
 /// Adding methods copy the data and return the new [`Series`] for styling. Nothing is checked
-/// until the figure is rendered; then every problem is reported as a [`PlotError`] naming the
-/// panel and series.
+/// until the figure is rendered; then every problem is reported as a
+/// [`PlotError`](crate::error::PlotError) naming the panel and series.
 ///
 /// **Missing data.** NaN and infinite samples are gaps: a line is broken there (the MATLAB
 /// convention, so NaN can be inserted on purpose to separate pieces) and markers are left out. On
 /// a logarithmic axis samples ≤ 0 are gaps too. A series with no drawable sample at all is an
-/// error ([`PlotError::NothingToDraw`]).
+/// error ([`PlotError::NothingToDraw`](crate::error::PlotError::NothingToDraw)).
 #[derive(Debug, Clone, Default)]
 pub struct Axes {
     title: Option<String>,

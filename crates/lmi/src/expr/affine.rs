@@ -1,10 +1,11 @@
-//! Affine matrices `C + Σ_v x_v C_v`, the coefficient of each monomial of an [`Expr`]: the
-//! constant part dense, the linear part as canonical [`Lin`] entries, with sums, scaling,
-//! transposes, products with constants, Kronecker products with constants and sub-blocks.
+//! Affine matrices `C + Σ_v x_v C_v`, the coefficient of each monomial of an
+//! [`Expr`](super::Expr): the constant part dense, the linear part as canonical [`Lin`]
+//! entries, with sums, scaling, transposes, products with constants, Kronecker products with
+//! constants and sub-blocks.
 //!
-//! Neighbours: [`super`] holds [`Monomial`], [`Expr`] and its bookkeeping; `blocks.rs` the
-//! matrix operations on expressions; `params.rs` parameters and evaluation; `ops.rs` the
-//! operators.
+//! Neighbours: [`super`] holds [`Monomial`](super::Monomial), [`Expr`](super::Expr) and its
+//! bookkeeping; `blocks.rs` the matrix operations on expressions; `params.rs` parameters and
+//! evaluation; `ops.rs` the operators.
 
 use super::VarId;
 use pendulab_lti::Mat;

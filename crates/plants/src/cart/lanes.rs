@@ -27,11 +27,12 @@ impl<const L: usize> pendulab_sim::lanes::LaneDynamics<4, L> for CartPendulum {
     }
 
     /// With `M::ANCHORED` (`pendulab_sim::lanes::AnchoredSinCos`), the lane form of the
-    /// [`Trig::Anchored`] step (`anchored_step`): the step's first sines and cosines by
-    /// `M`, the later stages' from them for the stages' offsets
-    /// ([`pendulab_sim::lanes::sin_cos_offset_lanes`]), the pendulum's constants divided by
-    /// `J` beforehand. If a stage offset of any lane is beyond the series' range, the whole
-    /// step is taken by [`pendulab_sim::lanes::rk4_lanes`] instead. Other `M`: that plain step.
+    /// [`Trig::Anchored`](pendulab_sim::lanes::Trig::Anchored) step (`anchored_step`): the
+    /// step's first sines and cosines by `M`, the later stages' from them for the stages'
+    /// offsets ([`pendulab_sim::lanes::sin_cos_offset_lanes`]), the pendulum's constants
+    /// divided by `J` beforehand. If a stage offset of any lane is beyond the series' range,
+    /// the whole step is taken by [`pendulab_sim::lanes::rk4_lanes`] instead. Other `M`: that
+    /// plain step.
     #[inline(always)]
     fn rk4_step_lanes<M: pendulab_sim::lanes::SinCos>(
         &self,
