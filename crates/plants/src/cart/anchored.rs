@@ -15,10 +15,10 @@ use pendulab_sim::lanes::{
 
 /// The right-hand side on arrays for the fixed-size closed-loop kernel
 /// ([`pendulab_sim::fixed`]): the operations of [`CartPendulum::derivative_array`], which the
-/// [`Dynamics`](pendulab_sim::Dynamics) implementation also evaluates, so the kernel reproduces `SampledLoop` bit for
-/// bit — except with [`Trig::Anchored`], whose RK4 step evaluates its sines and cosines by
-/// series near upright and shares work between the stages, with the pendulum's constants
-/// divided by `J` beforehand. Two variants, by the step length:
+/// [`Dynamics`](pendulab_sim::Dynamics) implementation also evaluates, so the kernel
+/// reproduces `SampledLoop` bit for bit — except with [`Trig::Anchored`], whose RK4 step
+/// evaluates its sines and cosines by series near upright and shares work between the stages,
+/// with the pendulum's constants divided by `J` beforehand. Two variants, by the step length:
 ///
 /// - steps of at most 2⁻⁸ s (the 1 ms loops): `narrow_anchored_step`, written once for both
 ///   multiply–adds of [`FixedDynamics::rk4_step_fixed_with`](pendulab_sim::fixed::FixedDynamics::rk4_step_fixed_with)
