@@ -4,9 +4,10 @@
 //! Neighbours: `embedding.rs` (iterate, residuals, stopping measures), `kkt.rs` (the Newton
 //! systems), `scaling.rs` (the cones' scaling), `kernels.rs` (dense kernels).
 
-use super::embedding::{Direction, Iterate, Measures, outcome, residuals, stop_short};
+use super::embedding::{Direction, Iterate, Measures, Residuals, outcome, residuals, stop_short};
 use super::kernels::{dot, norm};
 use super::kkt::{Kkt, KktSolution, Structure};
+use super::scaling::Cone;
 use super::{EXPON, MIN_STEP, NO_PROGRESS, Outcome, PROGRESS, STALL, STEP};
 use crate::conic::{ConicData, RawStatus, Settings};
 use std::time::Instant;
@@ -31,69 +32,13 @@ pub(crate) fn solve(data: &ConicData, settings: &Settings) -> Outcome {
     }
     let resx0 = norm(c).max(1.0);
     let resrow0 = norm(b).max(1.0);
-    // An equality `0 = f_k` with |f_k| beyond the feasibility tolerance: y = −sign(f_k) e_k
-    // (z = 0) is a Farkas certificate, Eᵀy + Gᵀz = 0 and fᵀy = −|f_k| < 0.
-    for &r in &st.dropped_eq {
-        if b[r].abs() > settings.feasibility * resrow0 {
-            let mut z = vec![0.0; m];
-            z[r] = -b[r].signum() / b[r].abs();
-            return Outcome {
-                status: RawStatus::Infeasible,
-                x: vec![0.0; n],
-                z,
-                objective: f64::NAN,
-                iterations: 0,
-                primal_residual: f64::NAN,
-                dual_residual: f64::NAN,
-            };
-        }
+    if let Some(certificate) = dropped_equality_certificate(&st, b, settings, resrow0) {
+        return certificate;
     }
 
-    // Starting point (Vandenberghe 2010, §7.4): with W = I, the primal least-squares point
-    // and the dual least-norm point, each shifted into the cones' interior.
-    let Some(kkt) = Kkt::factor(&st, &cones) else {
-        return stop_short(RawStatus::NumericalError, &it, &best, settings, 0);
-    };
     let neg_c: Vec<f64> = c.iter().map(|v| -v).collect();
-    // With W = I the scaled right-hand side is the plain one and W z = z.
-    let primal = kkt.solve(&st, &vec![0.0; n], b);
-    let dual = kkt.solve(&st, &neg_c, &vec![0.0; m]);
-    it.x = primal.x;
-    it.zf = dual.yz;
-    for cone in &cones {
-        for r in cone.rows() {
-            it.s[r] = -primal.yz[r];
-        }
-    }
-    // Only the cone rows of s and z are shifted; y stays.
-    let mut finite = true;
-    for v in [&mut it.s, &mut it.zf] {
-        let t = cones
-            .iter()
-            .map(|cone| cone.violation(&v[cone.rows()]))
-            .fold(f64::NEG_INFINITY, f64::max);
-        let size = cones
-            .iter()
-            .map(|cone| norm(&v[cone.rows()]))
-            .fold(0.0, f64::max)
-            .max(1.0);
-        finite &= t.is_finite();
-        if t >= -1e-8 * size {
-            for cone in &cones {
-                let r = cone.rows();
-                cone.add_identity(1.0 + t, &mut v[r]);
-            }
-        }
-    }
-    if !finite {
+    if !starting_point(&st, &mut cones, &mut it, b, &neg_c) {
         return stop_short(RawStatus::NumericalError, &it, &best, settings, 0);
-    }
-    // The Nesterov–Todd scaling of the starting point (from W = I).
-    for cone in cones.iter_mut() {
-        let r = cone.rows();
-        if !cone.update(&it.s[r.clone()], &it.zf[r]) {
-            return stop_short(RawStatus::NumericalError, &it, &best, settings, 0);
-        }
     }
 
     let mut stalls = 0;
@@ -139,48 +84,19 @@ pub(crate) fn solve(data: &ConicData, settings: &Settings) -> Outcome {
         }
         // Infeasibility certificates: the ray's residual relative to its separation, as a
         // ratio to the tolerance (≤ 1: certified).
-        let mut infeasibility_ratio = f64::INFINITY;
-        if bz < 0.0 {
-            // ‖Eᵀy + Gᵀz‖ = ‖r_x − cτ‖.
-            let hx: Vec<f64> = res.x.iter().zip(c).map(|(r, ci)| r - ci * it.tau).collect();
-            let ratio = norm(&hx) / resx0 / (-bz) / settings.infeasibility;
-            if ratio <= 1.0 {
-                let inv = -1.0 / bz;
-                return Outcome {
-                    status: RawStatus::Infeasible,
-                    x: it.x.clone(),
-                    z: it.zf.iter().map(|v| v * inv).collect(),
-                    objective: f64::NAN,
-                    iterations: iteration,
-                    primal_residual: meas.pres,
-                    dual_residual: meas.dres,
-                };
-            }
-            infeasibility_ratio = ratio;
-        }
-        if cx < 0.0 {
-            // ‖(Ex, Gx + s)‖ = ‖r_row + bτ‖.
-            let hr: Vec<f64> = res
-                .row
-                .iter()
-                .zip(b)
-                .map(|(r, bi)| r + bi * it.tau)
-                .collect();
-            let ratio = norm(&hr) / resrow0 / (-cx) / settings.infeasibility;
-            if ratio <= 1.0 {
-                let inv = -1.0 / cx;
-                return Outcome {
-                    status: RawStatus::Unbounded,
-                    x: it.x.iter().map(|v| v * inv).collect(),
-                    z: it.zf.clone(),
-                    objective: f64::NAN,
-                    iterations: iteration,
-                    primal_residual: meas.pres,
-                    dual_residual: meas.dres,
-                };
-            }
-            infeasibility_ratio = infeasibility_ratio.min(ratio);
-        }
+        let infeasibility_ratio = match certificates(
+            &res,
+            &it,
+            (c, b),
+            (cx, bz),
+            (resx0, resrow0),
+            &meas,
+            settings,
+            iteration,
+        ) {
+            Ok(ratio) => ratio,
+            Err(certificate) => return certificate,
+        };
         // Progress towards either kind of answer, or along the central path; the method
         // stops without it, or once complementarity is exhausted to rounding (`μ ≤ 0`: no
         // step can improve on the best iterate).
@@ -321,30 +237,192 @@ pub(crate) fn solve(data: &ConicData, settings: &Settings) -> Outcome {
         }
 
         // Step: x and y additively, the cones' s and z from the updated scaling.
-        for (v, d) in it.x.iter_mut().zip(&dir.x) {
-            *v += alpha * d;
-        }
-        for &r in &st.eq_rows {
-            it.zf[r] += alpha * dir.yz[r];
-        }
-        it.tau += alpha * dir.tau;
-        it.kappa += alpha * dir.kappa;
-        for cone in cones.iter_mut() {
-            let r = cone.rows();
-            let lambda = cone.lambda_vec();
-            let step = |d: &[f64]| -> Vec<f64> {
-                lambda.iter().zip(d).map(|(l, x)| l + alpha * x).collect()
-            };
-            let (st_, zt) = (step(&dir.s_hat[r.clone()]), step(&dir.yz[r.clone()]));
-            if !cone.update(&st_, &zt) {
-                return stop_short(RawStatus::NumericalError, &it, &best, settings, iteration);
-            }
-            // s = Wᵀλ, z = W⁻¹λ: the cone iterates from the updated scaling itself, so that
-            // they lie in the cone and agree with the scaling to rounding (as CVXOPT's
-            // conelp does); Δs of the direction is not needed beyond the scaled step.
-            let lam = cone.lambda_vec();
-            cone.w_t(&lam, &mut it.s[r.clone()]);
-            cone.w_inv(&lam, &mut it.zf[r]);
+        if !take_step(&st, &mut cones, &mut it, &dir, alpha) {
+            return stop_short(RawStatus::NumericalError, &it, &best, settings, iteration);
         }
     }
+}
+
+/// A Farkas certificate from an equality `0 = f_k` that no variable enters, when `|f_k|`
+/// exceeds the feasibility tolerance (module docs).
+fn dropped_equality_certificate(
+    st: &Structure,
+    b: &[f64],
+    settings: &Settings,
+    resrow0: f64,
+) -> Option<Outcome> {
+    let (m, n) = (st.m, st.n);
+    // An equality `0 = f_k` with |f_k| beyond the feasibility tolerance: y = −sign(f_k) e_k
+    // (z = 0) is a Farkas certificate, Eᵀy + Gᵀz = 0 and fᵀy = −|f_k| < 0.
+    for &r in &st.dropped_eq {
+        if b[r].abs() > settings.feasibility * resrow0 {
+            let mut z = vec![0.0; m];
+            z[r] = -b[r].signum() / b[r].abs();
+            return Some(Outcome {
+                status: RawStatus::Infeasible,
+                x: vec![0.0; n],
+                z,
+                objective: f64::NAN,
+                iterations: 0,
+                primal_residual: f64::NAN,
+                dual_residual: f64::NAN,
+            });
+        }
+    }
+    None
+}
+
+/// The starting point and its scaling: the primal least-squares and dual least-norm points of
+/// `W = I`, each shifted into the cones' interior (module docs); false when a factorisation,
+/// a shift or the scaling fails.
+fn starting_point(
+    st: &Structure,
+    cones: &mut [Cone],
+    it: &mut Iterate,
+    b: &[f64],
+    neg_c: &[f64],
+) -> bool {
+    let (m, n) = (st.m, st.n);
+    // Starting point (Vandenberghe 2010, §7.4): with W = I, the primal least-squares point
+    // and the dual least-norm point, each shifted into the cones' interior.
+    let Some(kkt) = Kkt::factor(st, cones) else {
+        return false;
+    };
+    // With W = I the scaled right-hand side is the plain one and W z = z.
+    let primal = kkt.solve(st, &vec![0.0; n], b);
+    let dual = kkt.solve(st, neg_c, &vec![0.0; m]);
+    it.x = primal.x;
+    it.zf = dual.yz;
+    for cone in cones.iter() {
+        for r in cone.rows() {
+            it.s[r] = -primal.yz[r];
+        }
+    }
+    // Only the cone rows of s and z are shifted; y stays.
+    let mut finite = true;
+    for v in [&mut it.s, &mut it.zf] {
+        let t = cones
+            .iter()
+            .map(|cone| cone.violation(&v[cone.rows()]))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let size = cones
+            .iter()
+            .map(|cone| norm(&v[cone.rows()]))
+            .fold(0.0, f64::max)
+            .max(1.0);
+        finite &= t.is_finite();
+        if t >= -1e-8 * size {
+            for cone in cones.iter() {
+                let r = cone.rows();
+                cone.add_identity(1.0 + t, &mut v[r]);
+            }
+        }
+    }
+    if !finite {
+        return false;
+    }
+    // The Nesterov–Todd scaling of the starting point (from W = I).
+    for cone in cones.iter_mut() {
+        let r = cone.rows();
+        if !cone.update(&it.s[r.clone()], &it.zf[r]) {
+            return false;
+        }
+    }
+    true
+}
+
+/// The infeasibility certificates at an iterate: `Err` with the certificate when the ray's
+/// residual relative to its separation is within the tolerance, else `Ok` with the smaller of
+/// the two ratios to the tolerance (infinite when neither ray separates).
+#[allow(clippy::too_many_arguments)]
+fn certificates(
+    res: &Residuals,
+    it: &Iterate,
+    (c, b): (&[f64], &[f64]),
+    (cx, bz): (f64, f64),
+    (resx0, resrow0): (f64, f64),
+    meas: &Measures,
+    settings: &Settings,
+    iteration: u32,
+) -> Result<f64, Outcome> {
+    let mut infeasibility_ratio = f64::INFINITY;
+    if bz < 0.0 {
+        // ‖Eᵀy + Gᵀz‖ = ‖r_x − cτ‖.
+        let hx: Vec<f64> = res.x.iter().zip(c).map(|(r, ci)| r - ci * it.tau).collect();
+        let ratio = norm(&hx) / resx0 / (-bz) / settings.infeasibility;
+        if ratio <= 1.0 {
+            let inv = -1.0 / bz;
+            return Err(Outcome {
+                status: RawStatus::Infeasible,
+                x: it.x.clone(),
+                z: it.zf.iter().map(|v| v * inv).collect(),
+                objective: f64::NAN,
+                iterations: iteration,
+                primal_residual: meas.pres,
+                dual_residual: meas.dres,
+            });
+        }
+        infeasibility_ratio = ratio;
+    }
+    if cx < 0.0 {
+        // ‖(Ex, Gx + s)‖ = ‖r_row + bτ‖.
+        let hr: Vec<f64> = res
+            .row
+            .iter()
+            .zip(b)
+            .map(|(r, bi)| r + bi * it.tau)
+            .collect();
+        let ratio = norm(&hr) / resrow0 / (-cx) / settings.infeasibility;
+        if ratio <= 1.0 {
+            let inv = -1.0 / cx;
+            return Err(Outcome {
+                status: RawStatus::Unbounded,
+                x: it.x.iter().map(|v| v * inv).collect(),
+                z: it.zf.clone(),
+                objective: f64::NAN,
+                iterations: iteration,
+                primal_residual: meas.pres,
+                dual_residual: meas.dres,
+            });
+        }
+        infeasibility_ratio = infeasibility_ratio.min(ratio);
+    }
+    Ok(infeasibility_ratio)
+}
+
+/// Takes the step `alpha` along `dir`: `x` and `y` additively, the scaling updated from the
+/// scaled iterates and the cones' `s`, `z` taken from it (module docs); false when a cone's
+/// scaling update fails (the cones before it are updated).
+fn take_step(
+    st: &Structure,
+    cones: &mut [Cone],
+    it: &mut Iterate,
+    dir: &Direction,
+    alpha: f64,
+) -> bool {
+    for (v, d) in it.x.iter_mut().zip(&dir.x) {
+        *v += alpha * d;
+    }
+    for &r in &st.eq_rows {
+        it.zf[r] += alpha * dir.yz[r];
+    }
+    it.tau += alpha * dir.tau;
+    it.kappa += alpha * dir.kappa;
+    for cone in cones.iter_mut() {
+        let r = cone.rows();
+        let lambda = cone.lambda_vec();
+        let step =
+            |d: &[f64]| -> Vec<f64> { lambda.iter().zip(d).map(|(l, x)| l + alpha * x).collect() };
+        let (st_, zt) = (step(&dir.s_hat[r.clone()]), step(&dir.yz[r.clone()]));
+        if !cone.update(&st_, &zt) {
+            return false;
+        }
+        // s = Wᵀλ, z = W⁻¹λ: the cone iterates from the updated scaling itself, so that
+        // they lie in the cone and agree with the scaling to rounding (as CVXOPT's
+        // conelp does); Δs of the direction is not needed beyond the scaled step.
+        let lam = cone.lambda_vec();
+        cone.w_t(&lam, &mut it.s[r.clone()]);
+        cone.w_inv(&lam, &mut it.zf[r]);
+    }
+    true
 }
