@@ -102,7 +102,10 @@ fn feature_methods_on_the_rig_data() {
     assert!(rel(est(&v, "Tp"), 0.54011) < 0.01);
     assert!(rel(est(&v, "overshoot"), 0.036978) < 0.02);
     // A feature method has no regressor: no condition number or residual, and no null.
-    assert!(v.get("condition").is_none() && v.get("residual_rms").is_none(), "{v}");
+    assert!(
+        v.get("condition").is_none() && v.get("residual_rms").is_none(),
+        "{v}"
+    );
     let f = rig("cdip_pend_data.csv");
     let v = json(&run(&[
         "pend-free",
