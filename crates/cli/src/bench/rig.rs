@@ -26,7 +26,6 @@ use pendulab_rig::clock::host_steal_seconds;
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::runtime::{RunConfig, RunReport, StopReason, run};
 use serde_json::{Value, json};
-use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
@@ -88,7 +87,7 @@ fn run_rig_loop(_budget: &Budget) -> Result<BenchReport> {
     if r.reason != StopReason::Completed {
         bail!("the 1 kHz run stopped early: {} ({})", r.reason, r.detail);
     }
-    let theta = ((x[1] + PI).rem_euclid(2.0 * PI) - PI).to_degrees();
+    let theta = pendulab_plants::wrap_angle(x[1]).to_degrees();
     let mut rates = Vec::new();
     // Highest rate with no miss at all (strict), and with misses in at most 0.1 % of the
     // periods (one scheduler hiccup on a shared machine costs a miss at any rate).
