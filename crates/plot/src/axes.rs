@@ -51,7 +51,11 @@ pub enum Scale {
 /// Where the legend goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LegendPos {
-    /// The inside corner that covers the fewest drawn points.
+    /// Inside, at the place that covers the fewest drawn points (as matplotlib's
+    /// `loc="best"`): tried in the order upper right, upper left, lower left, lower right,
+    /// centre right, centre left, upper centre, lower centre, centre; the first with the
+    /// fewest points wins. When every place covers data, the legend goes outside, as
+    /// [`LegendPos::Outside`].
     #[default]
     Best,
     /// Inside, upper right.
@@ -62,8 +66,37 @@ pub enum LegendPos {
     LowerLeft,
     /// Inside, lower right.
     LowerRight,
+    /// Outside the plot area, to the right of its upper corner; the panel's right margin
+    /// grows by the legend's width, so the legend covers no data whatever the data.
+    Outside,
     /// No legend, even if series have labels.
     Hidden,
+}
+
+/// Where the parts of one panel landed when its figure was drawn, in SVG pixels (x to the
+/// right, y down, origin at the figure's upper left corner); from [`Figure::layout`](crate::Figure::layout).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PanelLayout {
+    /// The plot rectangle `[x0, y0, x1, y1]` (inside the frame).
+    pub plot: [f64; 4],
+    /// The legend box `[x0, y0, x1, y1]`, if a legend was drawn.
+    pub legend: Option<[f64; 4]>,
+    /// Points of everything drawn in the plot area, in pixels: the lines sampled at least
+    /// every 6 px along their length, every marker centre, reference lines. A legend is placed
+    /// to avoid these.
+    pub points: Vec<(f64, f64)>,
+}
+
+impl PanelLayout {
+    /// The drawn points that lie inside the legend box (none when there is no legend).
+    pub fn points_under_legend(&self) -> usize {
+        self.legend.map_or(0, |[x0, y0, x1, y1]| {
+            self.points
+                .iter()
+                .filter(|(x, y)| *x >= x0 && *x <= x1 && *y >= y0 && *y <= y1)
+                .count()
+        })
+    }
 }
 
 /// One convex constraint of a pole-placement region in the complex plane (the D-stability
@@ -182,6 +215,9 @@ impl Series {
             marker_size: 6.0,
             fill: None,
         }
+    }
+    pub(crate) fn label_text(&self) -> Option<&str> {
+        self.label.as_deref()
     }
     /// Legend text (series without a label are not listed).
     pub fn label(&mut self, label: impl Into<String>) -> &mut Self {
@@ -390,6 +426,9 @@ impl Axes {
     pub fn y_tick_step(&mut self, step: f64) -> &mut Self {
         self.y_step = Some(step);
         self
+    }
+    pub(crate) fn legend_pos(&self) -> LegendPos {
+        self.legend
     }
     /// Legend placement.
     pub fn legend(&mut self, pos: LegendPos) -> &mut Self {

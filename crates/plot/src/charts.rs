@@ -162,6 +162,9 @@ impl<'a> TimeResponse<'a> {
             if p + 1 == self.panels.len() {
                 ax.xlabel(self.xlabel.clone().unwrap_or_else(|| "time [s]".into()));
             }
+            // Chattering signals (switching, quantised, noisy) first, lighter and thinner, so
+            // that the smooth ones stay visible on top; otherwise in call order.
+            let mut lines = Vec::new();
             for (r, (label, tr)) in self.runs.iter().enumerate() {
                 if tr.is_empty() {
                     return Err(PlotError::Empty {
@@ -179,27 +182,35 @@ impl<'a> TimeResponse<'a> {
                         ))
                     })?;
                     let v: Vec<f64> = data.iter().map(|v| v * panel.scale).collect();
-                    let s = if panel.stairs {
-                        ax.step(tr.t(), &v)
-                    } else {
-                        ax.plot(tr.t(), &v)
+                    lines.push((chatters(&v), r, label, *tr, c, name, v));
+                }
+            }
+            lines.sort_by_key(|l| !l.0);
+            for (chatter, r, label, tr, c, name, v) in lines {
+                let s = if panel.stairs {
+                    ax.step(tr.t(), &v)
+                } else {
+                    ax.plot(tr.t(), &v)
+                };
+                if multi {
+                    s.color(palette(r)).dash(dash_cycle(c));
+                    let legend = match name {
+                        Some(n) if panel.channels.len() > 1 => Some(format!("{label}: {n}")),
+                        _ if p == 0 && c == 0 => Some(label.clone()),
+                        _ => None,
                     };
-                    if multi {
-                        s.color(palette(r)).dash(dash_cycle(c));
-                        let legend = match name {
-                            Some(n) if panel.channels.len() > 1 => Some(format!("{label}: {n}")),
-                            _ if p == 0 && c == 0 => Some(label.clone()),
-                            _ => None,
-                        };
-                        if let Some(l) = legend {
-                            s.label(l);
-                        }
-                    } else {
-                        s.color(palette(c));
-                        if let Some(n) = name {
-                            s.label(n.clone());
-                        }
+                    if let Some(l) = legend {
+                        s.label(l);
                     }
+                } else {
+                    s.color(palette(c));
+                    if let Some(n) = name {
+                        s.label(n.clone());
+                    }
+                }
+                if chatter {
+                    let col = if multi { palette(r) } else { palette(c) };
+                    s.color(col.with_alpha(0.45)).width(0.9);
                 }
             }
             for (v, l) in &panel.references {
@@ -217,6 +228,27 @@ impl<'a> TimeResponse<'a> {
         }
         Ok(fig)
     }
+}
+
+/// Total variation over range above which a signal counts as chattering.
+const CHATTER_RATIO: f64 = 40.0;
+
+/// Whether a sampled signal chatters: its total variation `Σ|v[k+1] − v[k]|` (over consecutive
+/// finite samples) exceeds [`CHATTER_RATIO`] times its range `max − min`, i.e. it sweeps its
+/// whole range more than 20 times back and forth (a switching or quantised input; a lightly
+/// damped oscillation of a few dozen cycles stays below).
+pub(crate) fn chatters(v: &[f64]) -> bool {
+    let (mut lo, mut hi, mut tv) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
+    for w in v.windows(2) {
+        if w[0].is_finite() && w[1].is_finite() {
+            tv += (w[1] - w[0]).abs();
+        }
+    }
+    for x in v.iter().filter(|x| x.is_finite()) {
+        lo = lo.min(*x);
+        hi = hi.max(*x);
+    }
+    hi > lo && tv > CHATTER_RATIO * (hi - lo)
 }
 
 fn dash_cycle(k: usize) -> Dash {
@@ -677,10 +709,8 @@ impl IdentFit {
             if p + 1 == n {
                 ax.xlabel(self.xlabel.clone());
             }
-            ax.plot(&self.t, y)
-                .label(self.measured_name.clone())
-                .color(Color::rgb(150, 150, 150))
-                .width(1.3);
+            // The models first, wide and coloured; the measured record on top of them, thin
+            // and dark, so that it stays visible where a good model lies right on it.
             for (k, (name, yh)) in models.iter().enumerate() {
                 if yh.len() != y.len() {
                     return Err(PlotError::LengthMismatch {
@@ -697,10 +727,14 @@ impl IdentFit {
                 };
                 ax.plot(&self.t, yh)
                     .label(label)
-                    .color(palette(k))
+                    .color(palette(k).with_alpha(0.7))
                     .dash(dash_cycle(k))
-                    .width(1.6);
+                    .width(3.2);
             }
+            ax.plot(&self.t, y)
+                .label(self.measured_name.clone())
+                .color(Color::rgb(20, 20, 20))
+                .width(1.0);
             axes.push(ax);
         }
         let mut fig = Figure::column(axes);
@@ -777,6 +811,34 @@ pub fn region_of_attraction(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn chattering_is_told_from_smooth_signals() {
+        // A ±0.1 switching every sample: total variation 0.2·999 over a range of 0.2.
+        let sw: Vec<f64> = (0..1000)
+            .map(|k| if k % 2 == 0 { 0.1 } else { -0.1 })
+            .collect();
+        assert!(chatters(&sw));
+        // Five cycles of a sine: total variation 4·5 = 20 over a range of 2 (ratio 10).
+        let sine: Vec<f64> = (0..1000)
+            .map(|k| (2.0 * std::f64::consts::PI * 5.0 * k as f64 / 1000.0).sin())
+            .collect();
+        assert!(!chatters(&sine));
+        // 25 cycles: ratio 50, above the threshold of 40; 15 cycles: 30, below.
+        let osc = |n: f64| -> Vec<f64> {
+            (0..=4000)
+                .map(|k| (2.0 * std::f64::consts::PI * n * k as f64 / 4000.0).sin())
+                .collect()
+        };
+        assert!(chatters(&osc(25.0)));
+        assert!(!chatters(&osc(15.0)));
+        // Constant and empty signals have no range: never chattering; NaN gaps are skipped.
+        assert!(!chatters(&[1.0; 10]));
+        assert!(!chatters(&[]));
+        let mut gappy = sw.clone();
+        gappy[500] = f64::NAN;
+        assert!(chatters(&gappy));
+    }
 
     #[test]
     fn unwrapping_removes_branch_jumps() {

@@ -2,7 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::axes::{Axes, Margins, TITLE_FONT};
+use std::borrow::Cow;
+
+use crate::axes::{Axes, LegendPos, Margins, PanelLayout, TITLE_FONT};
 use crate::canvas::{Canvas, HAlign, RasterCanvas, SvgCanvas, TextStyle, VAlign, encode_png_rgb};
 use crate::error::{PlotError, Result};
 use crate::geometry::Rect;
@@ -200,7 +202,7 @@ impl Figure {
         Ok(())
     }
 
-    fn draw(&self, c: &mut dyn Canvas) -> Result<()> {
+    fn draw(&self, c: &mut dyn Canvas) -> Result<Vec<PanelLayout>> {
         let (w, h) = self.dimensions();
         let mut top = 0.0;
         if let Some(t) = &self.title {
@@ -261,6 +263,7 @@ impl Figure {
                 row[k].1.bottom = b;
             }
         }
+        let mut layouts = Vec::new();
         for (r, row) in self.rows.iter().enumerate() {
             for (k, p) in row.iter().enumerate() {
                 let (outer, m) = cells[r][k];
@@ -272,14 +275,59 @@ impl Figure {
                             x1: outer.x1 - m.right,
                             y1: outer.y1 - m.bottom,
                         };
-                        a.draw(c, rect)?;
+                        layouts.push(a.draw(c, rect)?);
                     }
                     Panel::Surface(s) => s.draw(c, outer)?,
                     Panel::Empty => {}
                 }
             }
         }
-        Ok(())
+        Ok(layouts)
+    }
+
+    /// This figure with every [`LegendPos::Best`] legend that would cover data moved outside
+    /// its plot area ([`LegendPos::Outside`]). Moving one changes the column's margins, so the
+    /// layout is redone until nothing moves (at most once per panel).
+    fn resolved(&self) -> Result<Cow<'_, Figure>> {
+        let mut fig = Cow::Borrowed(self);
+        let (w, h) = self.dimensions();
+        loop {
+            let mut c = SvgCanvas::new(w, h)?;
+            let layouts = fig.draw(&mut c)?;
+            let mut moved = false;
+            let mut k = 0;
+            let mut next = (*fig).clone();
+            for row in &mut next.rows {
+                for p in row {
+                    if let Panel::Axes(a) = p {
+                        if a.legend_pos() == LegendPos::Best && layouts[k].points_under_legend() > 0
+                        {
+                            a.legend(LegendPos::Outside);
+                            moved = true;
+                        }
+                        k += 1;
+                    }
+                }
+            }
+            if !moved {
+                return Ok(fig);
+            }
+            fig = Cow::Owned(next);
+        }
+    }
+
+    /// Where the parts of every Cartesian panel land (plot rectangle, legend box, drawn
+    /// points), row by row and left to right, as [`Figure::to_svg`] draws them; surfaces and
+    /// empty cells are skipped. For checking a figure's legibility, e.g. that no legend covers
+    /// data: [`PanelLayout::points_under_legend`].
+    ///
+    /// # Errors
+    /// As [`Figure::to_svg`].
+    pub fn layout(&self) -> Result<Vec<PanelLayout>> {
+        self.check()?;
+        let (w, h) = self.dimensions();
+        let mut c = SvgCanvas::new(w, h)?;
+        self.resolved()?.draw(&mut c)
     }
 
     /// The figure as an SVG document.
@@ -296,7 +344,7 @@ impl Figure {
                 crate::canvas::xml_escape(t)
             ));
         }
-        self.draw(&mut c)?;
+        self.resolved()?.draw(&mut c)?;
         Ok(c.finish())
     }
 
@@ -318,7 +366,7 @@ impl Figure {
         self.check()?;
         let (w, h) = self.dimensions();
         let mut c = RasterCanvas::new(w, h, self.png_scale)?;
-        self.draw(&mut c)?;
+        self.resolved()?.draw(&mut c)?;
         Ok(c)
     }
 

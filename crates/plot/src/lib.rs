@@ -67,7 +67,7 @@ mod surface;
 mod ticks;
 
 pub use anim::{Animation, AnimationInfo, AnimationOptions, ArmGeometry, CartGeometry};
-pub use axes::{Axes, LegendPos, RegionBound, Scale, Series};
+pub use axes::{Axes, LegendPos, PanelLayout, RegionBound, Scale, Series};
 pub use charts::{
     Bode, Channel, FrequencyUnit, GainCurves, IdentFit, PoleZeroMap, SignalPanel, TimeResponse,
     fit_percent, region_of_attraction,

@@ -11,8 +11,8 @@ use super::marks::{
     region_boundaries, region_polygon, sample_segments,
 };
 use super::{
-    Axes, FRAME, GRID, GRID_MINOR, Kind, LABEL_FONT, LEGEND_FONT, LegendPos, Map, Scale, TICK_FONT,
-    TICK_LEN, TITLE_FONT, finite_pairs,
+    Axes, FRAME, GRID, GRID_MINOR, Kind, LABEL_FONT, LEGEND_FONT, LegendPos, Map, PanelLayout,
+    Scale, TICK_FONT, TICK_LEN, TITLE_FONT, finite_pairs,
 };
 use crate::canvas::{Canvas, HAlign, TextStyle, VAlign};
 use crate::color::{Color, palette};
@@ -22,8 +22,8 @@ use crate::geometry::{Rect, clip_polygon, clip_polyline};
 use crate::style::LineStyle;
 
 impl Axes {
-    /// Draws the panel with its plot area at `rect`; returns nothing but errors of fonts.
-    pub(crate) fn draw(&self, c: &mut dyn Canvas, rect: Rect) -> Result<()> {
+    /// Draws the panel with its plot area at `rect`; returns where its parts landed.
+    pub(crate) fn draw(&self, c: &mut dyn Canvas, rect: Rect) -> Result<PanelLayout> {
         let (xlog, ylog) = (self.xscale == Scale::Log, self.yscale == Scale::Log);
         let (x, y) = self.limits(&rect);
         let (xt, yt) = self.ticks(x, y, &rect);
@@ -317,9 +317,13 @@ impl Axes {
             draw_colorbar(c, &rect, cells);
         }
         // 12. legend.
-        if self.legend != LegendPos::Hidden && !legend.is_empty() {
-            draw_legend(c, &rect, &legend, self.legend, &occupied);
-        }
-        Ok(())
+        let legend_box = (self.legend != LegendPos::Hidden && !legend.is_empty())
+            .then(|| draw_legend(c, &rect, &legend, self.legend, &occupied))
+            .map(|b| [b.x0, b.y0, b.x1, b.y1]);
+        Ok(PanelLayout {
+            plot: [rect.x0, rect.y0, rect.x1, rect.y1],
+            legend: legend_box,
+            points: occupied,
+        })
     }
 }

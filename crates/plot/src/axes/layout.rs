@@ -5,8 +5,11 @@
 //! `limits.rs` the data limits and ticks; `draw.rs` draws the panel with the primitives of
 //! `marks.rs`.
 
-use super::marks::cell_range;
-use super::{Axes, CellKind, Cells, Kind, LABEL_FONT, Margins, PAD, TICK_FONT, TITLE_FONT};
+use super::marks::{LEGEND_GAP, cell_range, legend_size};
+use super::{
+    Axes, CellKind, Cells, Kind, LABEL_FONT, LEGEND_FONT, LegendPos, Margins, PAD, TICK_FONT,
+    TITLE_FONT,
+};
 use crate::error::{PlotError, Result};
 use crate::font;
 use crate::geometry::Rect;
@@ -18,6 +21,23 @@ impl Axes {
             Kind::Cells(c) if matches!(c.kind, CellKind::Scalar { .. }) => Some(c),
             _ => None,
         })
+    }
+
+    /// The texts the legend may list: labelled series and the two labels of yes/no maps.
+    fn legend_labels(&self) -> Vec<String> {
+        let mut v = Vec::new();
+        for s in &self.series {
+            if let Kind::Cells(Cells {
+                kind: CellKind::Boolean { labels, .. },
+                ..
+            }) = &s.kind
+            {
+                v.extend(labels.iter().cloned());
+            } else if let Some(l) = s.label_text() {
+                v.push(l.to_string());
+            }
+        }
+        v
     }
 
     /// Space needed around a plot rectangle when the panel occupies `outer`.
@@ -85,6 +105,15 @@ impl Axes {
                     .map(|(_, s)| font::text_width(f, s, TICK_FONT))
                     .fold(0.0, f64::max);
                 m.right = 14.0 + 14.0 + 5.0 + w + 6.0 + LABEL_FONT * 1.4;
+            }
+            if self.legend == LegendPos::Outside {
+                let labels = self.legend_labels();
+                if !labels.is_empty() {
+                    let (w, _) = legend_size(labels.iter().map(String::as_str), |s| {
+                        font::text_width(f, s, LEGEND_FONT)
+                    });
+                    m.right += LEGEND_GAP + w;
+                }
             }
         }
         Ok(m)

@@ -328,36 +328,66 @@ pub(super) enum LegendGlyph {
     Patch(Color),
 }
 
+/// Width and height of the legend box of `labels` in pixels.
+pub(super) fn legend_size<'a>(
+    labels: impl IntoIterator<Item = &'a str>,
+    width: impl Fn(&str) -> f64,
+) -> (f64, f64) {
+    let (mut text_w, mut n) = (0.0_f64, 0usize);
+    for l in labels {
+        text_w = text_w.max(width(l));
+        n += 1;
+    }
+    (
+        8.0 + LEGEND_SAMPLE + 6.0 + text_w + 8.0,
+        6.0 + LEGEND_FONT * 1.45 * n as f64 + 2.0,
+    )
+}
+
+const LEGEND_SAMPLE: f64 = 24.0;
+/// Gap between the plot frame and a legend outside it.
+pub(super) const LEGEND_GAP: f64 = 8.0;
+
+/// Draws the legend; returns its box.
 pub(super) fn draw_legend(
     c: &mut dyn Canvas,
     rect: &Rect,
     entries: &[(String, LegendGlyph)],
     pos: LegendPos,
     occupied: &[(f64, f64)],
-) {
+) -> Rect {
     let row = LEGEND_FONT * 1.45;
-    let sample = 24.0;
-    let text_w = entries
-        .iter()
-        .map(|(s, _)| c.text_width(s, LEGEND_FONT))
-        .fold(0.0, f64::max);
-    let w = 8.0 + sample + 6.0 + text_w + 8.0;
-    let h = 6.0 + row * entries.len() as f64 + 2.0;
+    let sample = LEGEND_SAMPLE;
+    let (w, h) = legend_size(entries.iter().map(|(s, _)| s.as_str()), |s| {
+        c.text_width(s, LEGEND_FONT)
+    });
     let inset = 8.0;
-    let corners = [
-        (LegendPos::UpperRight, rect.x1 - inset - w, rect.y0 + inset),
-        (LegendPos::UpperLeft, rect.x0 + inset, rect.y0 + inset),
-        (
-            LegendPos::LowerRight,
-            rect.x1 - inset - w,
-            rect.y1 - inset - h,
-        ),
-        (LegendPos::LowerLeft, rect.x0 + inset, rect.y1 - inset - h),
+    let (xl, xc, xr) = (
+        rect.x0 + inset,
+        (rect.x0 + rect.x1 - w) / 2.0,
+        rect.x1 - inset - w,
+    );
+    let (yt, yc, yb) = (
+        rect.y0 + inset,
+        (rect.y0 + rect.y1 - h) / 2.0,
+        rect.y1 - inset - h,
+    );
+    // matplotlib's order of `loc="best"`.
+    let places = [
+        (LegendPos::UpperRight, xr, yt),
+        (LegendPos::UpperLeft, xl, yt),
+        (LegendPos::LowerLeft, xl, yb),
+        (LegendPos::LowerRight, xr, yb),
+        (LegendPos::Best, xr, yc),
+        (LegendPos::Best, xl, yc),
+        (LegendPos::Best, xc, yt),
+        (LegendPos::Best, xc, yb),
+        (LegendPos::Best, xc, yc),
     ];
     let (bx, by) = match pos {
         LegendPos::Best => {
-            let mut best = (usize::MAX, corners[0].1, corners[0].2);
-            for &(_, x, y) in &corners {
+            let mut best = (usize::MAX, places[0].1, places[0].2);
+            for &(_, x, y) in &places {
                 let r = Rect::new(x - 2.0, y - 2.0, w + 4.0, h + 4.0);
                 let n = occupied.iter().filter(|p| r.contains(**p)).count();
                 if n < best.0 {
@@ -366,11 +396,12 @@ pub(super) fn draw_legend(
             }
             (best.1, best.2)
         }
-        p => corners
+        LegendPos::Outside => (rect.x1 + LEGEND_GAP, rect.y0),
+        p => places
             .iter()
             .find(|c| c.0 == p)
             .map(|c| (c.1, c.2))
-            .unwrap_or((corners[0].1, corners[0].2)),
+            .unwrap_or((places[0].1, places[0].2)),
     };
     c.polygon(
         &[(bx, by), (bx + w, by), (bx + w, by + h), (bx, by + h)],
@@ -417,4 +448,5 @@ pub(super) fn draw_legend(
             &TextStyle::new(LEGEND_FONT, HAlign::Left, VAlign::Center),
         );
     }
+    Rect::new(bx, by, w, h)
 }
