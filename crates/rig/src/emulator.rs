@@ -11,8 +11,8 @@
 //! 3. applies the held voltage through the amplifier (±[`EmulatorConfig::voltage_limit`]
 //!    saturation, optional 16-bit D/A quantisation over ±5 V) and optional Karnopp friction
 //!    on the drive ([`pendulab_sim::actuator::karnopp`], voltage-equivalent), and advances the
-//!    nonlinear plant (`pendulab_plants::CartPendulum` or `ArmPendulum`) by classical RK4 steps
-//!    of `ts` — as many as periods have elapsed on the wall clock, so plant time follows real
+//!    nonlinear plant (`pendulab_plants::CartPendulum` or `ArmPendulum`; unless it is held,
+//!    below) by classical RK4 steps of `ts` — as many as periods have elapsed on the wall clock, so plant time follows real
 //!    time even when the thread is woken late;
 //! 4. reads the encoders (the book rigs' resolutions, `pendulab_plants::RigSpec`; encoder 0
 //!    counts the drive from its start position, encoder 1 the pendulum from the **hanging
@@ -21,6 +21,25 @@
 //!    **after every plant step** (a late wake-up sends one frame per step it took), stamped
 //!    with the plant's clock in µs — the time the state it carries belongs to — so the rig's
 //!    record is uniform in time as a microcontroller sampling on a timer interrupt is.
+//!
+//! **Holding the pendulum** ([`PlantStart`]). By default
+//! ([`PlantStart::HeldUntilCommand`]) the plant is held at [`EmulatorConfig::initial_state`], as
+//! a person holds the real pendulum before the controller takes over: not integrated, while
+//! the clock runs on and sensor frames are answered as always (they carry the held angle).
+//! The first accepted command of the session that enables the amplifier ([`flags::ENABLE`])
+//! lets go, and from then on the plant is integrated as above; the disabled commands a
+//! controller sends while it connects (`pendulab rig run`'s connect phase) do not. When a
+//! session ends — a [`flags::STOP`], or the watchdog after the controller vanished — the motor
+//! is off and the plant runs on as a real pendulum falls when its controller lets go (so the
+//! telemetry still shows the state the run left); the **next session** adopted (by a command
+//! other than a STOP) puts it back at the initial state and holds it again. Every session thus
+//! starts from the initial state, however long after launch or after the previous run it
+//! comes: the emulator serves run after run until stopped. (The same controller coming back in
+//! its own session after the watchdog fired, e.g. after a stall of its own, is no new session
+//! and finds its pendulum where it left it.) [`PlantStart::FreeRunning`] is the emulator
+//! before the hold: one plant integrated from launch across all sessions, never reset (a 10°
+//! pendulum left alone passes the runtime's 30° angle window 0.31 s after launch).
+//! [`Telemetry::holding`] shows the hold and [`Telemetry::sessions`] counts the sessions served.
 //!
 //! Fault injection, all seeded (ChaCha8): packet loss in both directions, a fixed extra
 //! latency of the sensor frames, [`EmulatorHandle::stall`] (the whole emulator freezes,
@@ -51,8 +70,26 @@ use crate::clock::sleep_until;
 /// Which rig is emulated (the workspace's rig enum, re-exported from `pendulab-plants`).
 pub use pendulab_plants::rig::PlantKind;
 
+/// How the emulator treats the plant before a controller acts on it (module docs, "Holding
+/// the pendulum").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PlantStart {
+    /// The default: the plant is held at the initial state from launch until the first
+    /// accepted command with [`flags::ENABLE`] set, and every new session (adopted by a
+    /// command other than a [`flags::STOP`]) puts it back there, held until its own first
+    /// enabling command: run after run starts from the initial state. Between sessions the
+    /// plant runs on with the motor off.
+    #[default]
+    HeldUntilCommand,
+    /// One plant integrated from launch, across sessions, never reset (the emulator before
+    /// the hold; `pendulab rig emulate --free-run`).
+    FreeRunning,
+}
+
 /// Settings of the emulator. [`EmulatorConfig::new`] gives the book rig "with quantizer":
-/// 1 kHz, ±5 V, 16-bit D/A, no noise, friction, loss or latency, 50 ms watchdog.
+/// 1 kHz, ±5 V, 16-bit D/A, no noise, friction, loss or latency, 50 ms watchdog, the
+/// pendulum held at the initial state until a controller's first command
+/// ([`PlantStart::HeldUntilCommand`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct EmulatorConfig {
     /// The plant.
@@ -63,6 +100,9 @@ pub struct EmulatorConfig {
     pub ts: f64,
     /// Initial state (upright-zero angles, SI units).
     pub initial_state: [f64; 4],
+    /// Held at the initial state until each session's first command (default), or free
+    /// running from launch.
+    pub start: PlantStart,
     /// Amplifier saturation \[V\].
     pub voltage_limit: f64,
     /// Quantise the command by the rig's 16-bit D/A over ±5 V.
@@ -94,6 +134,7 @@ impl EmulatorConfig {
             listen: SocketAddr::from(([127, 0, 0, 1], 0)),
             ts: plant.spec().sample_time,
             initial_state,
+            start: PlantStart::HeldUntilCommand,
             voltage_limit: plant.spec().input_limit,
             dac: true,
             encoder_noise_counts: 0.0,
@@ -175,7 +216,7 @@ impl EmulatorConfig {
 /// What the emulator shows of itself (updated every period).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Telemetry {
-    /// Plant time \[s\].
+    /// Plant time \[s\]: the emulator's clock, running on while the plant is held.
     pub t: f64,
     /// True plant state (upright-zero angles).
     pub state: [f64; 4],
@@ -189,6 +230,13 @@ pub struct Telemetry {
     pub watchdog_trips: u64,
     /// Session being served (0: none).
     pub session: u32,
+    /// The plant is held at the initial state, waiting for the session's first enabling
+    /// command: from launch and from each new session's first command on
+    /// ([`PlantStart::HeldUntilCommand`]; always `false` when free running).
+    pub holding: bool,
+    /// Sessions served: session numbers adopted by a command that was not a
+    /// [`flags::STOP`] (one per `pendulab rig run`).
+    pub sessions: u64,
     /// Commands accepted.
     pub commands_accepted: u64,
     /// Sequence number of the last accepted command.
@@ -284,6 +332,7 @@ impl Emulator {
         let shared = Arc::new(Shared {
             telemetry: Mutex::new(Telemetry {
                 state: config.initial_state,
+                holding: config.start == PlantStart::HeldUntilCommand,
                 ..Default::default()
             }),
             stop: AtomicBool::new(false),
@@ -411,6 +460,9 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
         RigError::Config(format!("encoder noise {}: {e}", cfg.encoder_noise_counts))
     })?;
     let mut x = cfg.initial_state;
+    let hold = cfg.start == PlantStart::HeldUntilCommand;
+    // The plant is held at the initial state (not integrated) while this is set.
+    let mut holding = hold;
     let mut t = 0.0;
     let mut session: u32 = 0;
     let mut gate = SequenceGate::new();
@@ -494,6 +546,17 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
                             session = cmd.session;
                             gate.reset();
                             held = None;
+                            // A new session starts from the initial state, held. (A STOP
+                            // adopts and frees a session at once: the runtime's second and
+                            // third STOP frames after a run do, and must not put the
+                            // pendulum back under the run's final state.)
+                            if cmd.flags & flags::STOP == 0 {
+                                tel.sessions += 1;
+                                if hold {
+                                    x = cfg.initial_state;
+                                    holding = true;
+                                }
+                            }
                         } else {
                             tel.rejects.foreign_session += 1;
                             bad_since_last = true;
@@ -517,6 +580,10 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
                         gate.reset();
                     } else {
                         held = Some(cmd);
+                        // The controller's first enabling command lets go of the pendulum.
+                        if cmd.flags & flags::ENABLE != 0 {
+                            holding = false;
+                        }
                     }
                 }
                 Err(e) if e.kind() == ErrorKind::WouldBlock => break,
@@ -562,11 +629,14 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
         // wake-up steps several times and sends each step's frame, so the rig's record stays
         // uniform. Frames are stamped with the plant's own clock (`t` after the step, µs):
         // the time the state they carry belongs to.
+        // While held the plant stays at the initial state; the clock and the frames go on.
         for _ in 0..n_steps {
-            if fr > 0.0 {
-                rk4(&plant, &mut x, |xs| karnopp(v, xs[2], fr, fr, 1e-4), ts);
-            } else {
-                rk4(&plant, &mut x, |_| v, ts);
+            if !holding {
+                if fr > 0.0 {
+                    rk4(&plant, &mut x, |xs| karnopp(v, xs[2], fr, fr, 1e-4), ts);
+                } else {
+                    rk4(&plant, &mut x, |_| v, ts);
+                }
             }
             t += ts;
 
@@ -630,6 +700,7 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
         tel.enabled = st & status::ENABLED != 0;
         tel.watchdog_active = watchdog_active;
         tel.session = session;
+        tel.holding = holding;
         tel.max_abs_pendulum = tel.max_abs_pendulum.max(wrap(x[1]).abs());
         tel.max_abs_drive = tel.max_abs_drive.max(x[0].abs());
         *shared.telemetry.lock().unwrap_or_else(|e| e.into_inner()) = tel;
