@@ -231,13 +231,14 @@ impl<'a> TimeResponse<'a> {
 }
 
 /// Total variation over range above which a signal counts as chattering.
-const CHATTER_RATIO: f64 = 40.0;
+pub const CHATTER_RATIO: f64 = 40.0;
 
 /// Whether a sampled signal chatters: its total variation `Σ|v[k+1] − v[k]|` (over consecutive
 /// finite samples) exceeds [`CHATTER_RATIO`] times its range `max − min`, i.e. it sweeps its
 /// whole range more than 20 times back and forth (a switching or quantised input; a lightly
-/// damped oscillation of a few dozen cycles stays below).
-pub(crate) fn chatters(v: &[f64]) -> bool {
+/// damped oscillation of a few dozen cycles stays below). [`TimeResponse`] draws such signals
+/// first (beneath the others), lighter and thinner; hand-built panels can do the same.
+pub fn chatters(v: &[f64]) -> bool {
     let (mut lo, mut hi, mut tv) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
     for w in v.windows(2) {
         if w[0].is_finite() && w[1].is_finite() {

@@ -69,8 +69,8 @@ mod ticks;
 pub use anim::{Animation, AnimationInfo, AnimationOptions, ArmGeometry, CartGeometry};
 pub use axes::{Axes, LegendPos, PanelLayout, RegionBound, Scale, Series};
 pub use charts::{
-    Bode, Channel, FrequencyUnit, GainCurves, IdentFit, PoleZeroMap, SignalPanel, TimeResponse,
-    fit_percent, region_of_attraction,
+    Bode, CHATTER_RATIO, Channel, FrequencyUnit, GainCurves, IdentFit, PoleZeroMap, SignalPanel,
+    TimeResponse, chatters, fit_percent, region_of_attraction,
 };
 pub use color::{Color, ColorMap, PALETTE, palette};
 pub use error::{PlotError, Result};
