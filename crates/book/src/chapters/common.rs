@@ -224,12 +224,24 @@ impl<'a> PanelSpec<'a> {
 /// Panels stacked over a common horizontal axis labelled `xlabel`.
 pub(crate) fn stacked(title: &str, xlabel: &str, panels: Vec<PanelSpec<'_>>) -> Figure {
     let n = panels.len();
+    // A panel repeating the first panel's lines (same labels, no references of its own) needs
+    // no legend of its own: the first panel's names them.
+    let first: Vec<String> = panels
+        .first()
+        .map(|s| s.lines.iter().map(|l| l.0.clone()).collect())
+        .unwrap_or_default();
     let axes: Vec<Axes> = panels
         .into_iter()
         .enumerate()
         .map(|(p, spec)| {
             let mut ax = Axes::new();
-            ax.ylabel(spec.ylabel).legend(LegendPos::Best);
+            let repeats =
+                p > 0 && spec.refs.is_empty() && spec.lines.iter().map(|l| &l.0).eq(first.iter());
+            ax.ylabel(spec.ylabel).legend(if repeats {
+                LegendPos::Hidden
+            } else {
+                LegendPos::Best
+            });
             if p + 1 == n {
                 ax.xlabel(xlabel);
             }

@@ -174,9 +174,12 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             }
             let c = pendulab_plot::palette(k);
             ax_e.plot(tr.t(), &e).label(name).color(c);
+            // The sign-switching run chatters along σ = 0: drawn first, lighter and thinner.
+            let chatter = pendulab_plot::chatters(&sig);
             ax_s.plot(tr.t(), &sig)
                 .label(format!("{name} (after the switch)"))
-                .color(c);
+                .color(if chatter { c.with_alpha(0.45) } else { c })
+                .width(if chatter { 0.9 } else { 1.6 });
             ax_s.vline(tsw).color(c).dotted();
         }
         ax_e.hline(e_up)
