@@ -2,7 +2,10 @@
 //!
 //! - `pendulab rig emulate --plant cart|arm [--listen ADDR] [--preset quantized|ideal|noisy]`
 //!   runs the nonlinear plant in real time behind the wire protocol (docs/rig/protocol.md)
-//!   until Ctrl-C (or `--duration`); it prints `listening on ADDR` first.
+//!   until Ctrl-C (or `--duration`); it prints `listening on ADDR` first. It holds the
+//!   pendulum at its initial angle until a controller's first command, and every new run
+//!   finds it put back there, so it serves run after run; `--free-run` integrates the plant
+//!   from launch instead (`pendulab_rig::emulator::PlantStart`).
 //! - `pendulab rig run --connect ADDR --controller FILE.toml [--log FILE.csv] [--duration S]`
 //!   runs the controller loop against a rig, prints the stop reason and the loop's jitter,
 //!   latency and deadline statistics, and exits with the stop's status (0 completed,
@@ -18,7 +21,7 @@
 
 use anyhow::{Context, Result, bail};
 use pendulab_control::spec::{Built, build};
-use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
+use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind, PlantStart};
 use pendulab_rig::runtime::{RunConfig, StopReason, run as run_loop};
 use pendulab_rig::{Logger, Safety, config};
 use std::io::Write;
@@ -111,6 +114,11 @@ pub struct EmulateArgs {
     /// Run the emulator thread under SCHED_FIFO at this priority (1–99; needs root or rtprio).
     #[arg(long, value_parser = clap::value_parser!(i32).range(1..=99))]
     pub rt_priority: Option<i32>,
+    /// Integrate the plant from launch, one plant across all runs (the pendulum falls before
+    /// a controller connects). Default: held at the initial state until a run's first
+    /// command, and put back there, held, when the next run connects.
+    #[arg(long)]
+    pub free_run: bool,
 }
 
 /// Arguments of `pendulab rig run`.
@@ -201,6 +209,9 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
     let mut c = EmulatorConfig::new(plant, [q0, a.theta0_deg.to_radians(), 0.0, 0.0]);
     c.listen = a.listen;
     c.seed = a.seed;
+    if a.free_run {
+        c.start = PlantStart::FreeRunning;
+    }
     c.realtime_priority = a.rt_priority;
     match a.preset {
         Preset::Quantized => {}
@@ -255,11 +266,20 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
     let stop = stop_flag()?;
     let emu = Emulator::spawn(c)?;
     println!("listening on {}", emu.addr());
+    if a.free_run {
+        println!("free running: the plant is integrated from now on, across runs");
+    } else {
+        println!(
+            "holding the pendulum at {}° until a controller's first command; every new run finds it there again",
+            a.theta0_deg
+        );
+    }
     std::io::stdout().flush().ok();
     let tel = emu.wait(&stop)?;
     println!(
-        "emulated {:.3} s; commands accepted {}, sensor frames {}, lost (in, out) {:?}, watchdog trips {}, late periods {}",
+        "emulated {:.3} s; sessions served {}, commands accepted {}, sensor frames {}, lost (in, out) {:?}, watchdog trips {}, late periods {}",
         tel.t,
+        tel.sessions,
         tel.commands_accepted,
         tel.sensor_frames,
         tel.lost,

@@ -539,3 +539,105 @@ fn emulate_stops_by_itself_after_its_duration() {
     assert!(out.starts_with("listening on 127.0.0.1:"), "{out}");
     assert!(out.contains("emulated "), "{out}");
 }
+
+/// One count of the book rig's pendulum encoder: 14 400 counts a turn \[rad\].
+const PENDULUM_COUNT: f64 = 2.0 * std::f64::consts::PI / 14_400.0;
+
+/// The README's rig tour controller.
+const TOUR_LQR: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../docs/rig/examples/cart_lqr.toml"
+);
+
+/// `pendulab rig run` of the tour's LQR for 1.5 s against `addr`, logged to `log`. The
+/// runtime's watchdog is relaxed to 0.5 s (`--watchdog-periods 500`): a 2-core machine shared
+/// with builds can deschedule a thread for longer than the file's 20 ms, and the watchdog is
+/// not under test here.
+fn tour_run(addr: &str, log: &str) -> Output {
+    pendulab()
+        .args(["rig", "run", "--connect", addr, "--controller", TOUR_LQR])
+        .args([
+            "--log",
+            log,
+            "--duration",
+            "1.5",
+            "--watchdog-periods",
+            "500",
+        ])
+        .output()
+        .unwrap()
+}
+
+/// Ends `pendulab rig emulate` with Ctrl-C (SIGINT) and returns the rest of its output.
+fn interrupt(emu: Child) -> String {
+    let st = Command::new("kill")
+        .args(["-INT", &emu.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let out = emu.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{text}");
+    text
+}
+
+#[test]
+fn the_rig_tour_works_with_the_controller_a_second_late_and_twice() {
+    // Issue 18: the tour's two terminals, the second started a while after the first. The
+    // emulator holds the 10° pendulum until the controller's first command: the run completes
+    // and its first logged frame is the held 10°, to one encoder count; a second run against
+    // the same emulator finds it held at 10° again. (`--duration 60` only keeps a failed test
+    // from leaving the emulator running.)
+    let d = Dir::new("tour");
+    let (emu, addr) = emulate(&["--plant", "cart", "--theta0-deg", "10", "--duration", "60"]);
+    std::thread::sleep(Duration::from_secs(1));
+    for n in 1..=2 {
+        let log = d.path(&format!("tour{n}.csv"));
+        let o = tour_run(&addr, &log);
+        let out = ok(&o);
+        assert!(out.contains("stop: completed"), "run {n}: {out}");
+        let first = &rows(&log)[0];
+        let theta = first[6]; // k,t,t_nominal,t_wall,seq,z,theta
+        assert!(
+            (theta - 10f64.to_radians()).abs() <= PENDULUM_COUNT,
+            "run {n}: first θ = {}°",
+            theta.to_degrees()
+        );
+    }
+    let out = interrupt(emu);
+    println!("{out}");
+    assert!(out.contains("sessions served 2,"), "{out}");
+}
+
+#[test]
+fn free_running_the_tour_pendulum_falls_before_the_controller_connects() {
+    // `--free-run`: the emulator of before, integrating from launch. The 10° pendulum left
+    // alone (the cart at rest stays at rest: the fixed-pivot pendulum
+    // J θ̈ = m_p g l_p sin θ − μ_p θ̇ of the book's table 3.5) is outside the 30° window from
+    // 0.31 s to 1.04 s after launch (RK4 at 0.1 ms in Python), so a controller started 0.45 s
+    // after the emulator finds it fallen: angle-window, exit 5, at the first frame.
+    let d = Dir::new("tour-free");
+    let (emu, addr) = emulate(&[
+        "--plant",
+        "cart",
+        "--theta0-deg",
+        "10",
+        "--free-run",
+        "--duration",
+        "60",
+    ]);
+    std::thread::sleep(Duration::from_millis(450));
+    let log = d.path("free.csv");
+    let o = tour_run(&addr, &log);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(5), "{out}");
+    assert!(out.contains("stop: angle-window"), "{out}");
+    let theta = rows(&log)[0][6];
+    assert!(
+        theta.sin().atan2(theta.cos()).abs() > 30f64.to_radians(),
+        "first θ = {}°",
+        theta.to_degrees()
+    );
+    let out = interrupt(emu);
+    assert!(out.contains("sessions served 1,"), "{out}");
+}
