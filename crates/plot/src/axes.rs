@@ -55,7 +55,8 @@ pub enum LegendPos {
     /// `loc="best"`): tried in the order upper right, upper left, lower left, lower right,
     /// centre right, centre left, upper centre, lower centre, centre; the first with the
     /// fewest points wins. When every place covers data, the legend goes outside, as
-    /// [`LegendPos::Outside`].
+    /// [`LegendPos::Outside`], unless it is wider than
+    /// [`MAX_OUTSIDE_LEGEND`](crate::MAX_OUTSIDE_LEGEND) of the plot.
     #[default]
     Best,
     /// Inside, upper right.

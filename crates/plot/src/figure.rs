@@ -93,6 +93,10 @@ pub struct Figure {
     png_scale: f64,
 }
 
+/// A [`LegendPos::Best`] legend that covers data moves outside the plot only if it is at most
+/// this fraction of the plot's width wide: a wider one would squeeze the plot more than it helps.
+pub const MAX_OUTSIDE_LEGEND: f64 = 0.4;
+
 /// Default width of a figure with one column, in CSS pixels.
 pub const DEFAULT_WIDTH: f64 = 640.0;
 
@@ -286,7 +290,8 @@ impl Figure {
     }
 
     /// This figure with every [`LegendPos::Best`] legend that would cover data moved outside
-    /// its plot area ([`LegendPos::Outside`]). Moving one changes the column's margins, so the
+    /// its plot area ([`LegendPos::Outside`]), unless the legend is wider than
+    /// [`MAX_OUTSIDE_LEGEND`] of the plot (then it stays at its least covering inside place). Moving one changes the column's margins, so the
     /// layout is redone until nothing moves (at most once per panel).
     fn resolved(&self) -> Result<Cow<'_, Figure>> {
         let mut fig = Cow::Borrowed(self);
@@ -300,7 +305,13 @@ impl Figure {
             for row in &mut next.rows {
                 for p in row {
                     if let Panel::Axes(a) = p {
-                        if a.legend_pos() == LegendPos::Best && layouts[k].points_under_legend() > 0
+                        let l = &layouts[k];
+                        let narrow = l.legend.is_some_and(|b| {
+                            b[2] - b[0] <= MAX_OUTSIDE_LEGEND * (l.plot[2] - l.plot[0])
+                        });
+                        if a.legend_pos() == LegendPos::Best
+                            && l.points_under_legend() > 0
+                            && narrow
                         {
                             a.legend(LegendPos::Outside);
                             moved = true;

@@ -74,7 +74,7 @@ pub use charts::{
 };
 pub use color::{Color, ColorMap, PALETTE, palette};
 pub use error::{PlotError, Result};
-pub use figure::{DEFAULT_WIDTH, Figure, Panel, Raster, SavedFigure};
+pub use figure::{DEFAULT_WIDTH, Figure, MAX_OUTSIDE_LEGEND, Panel, Raster, SavedFigure};
 pub use font::ensure_font;
 pub use style::{Dash, LineStyle, Marker};
 pub use surface::Surface;

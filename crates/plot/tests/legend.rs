@@ -1,7 +1,7 @@
 //! Legend placement checked from the figure's own layout data ([`Figure::layout`]): the legend
 //! box must contain none of the points the panel drew.
 
-use pendulab_plot::{Axes, Figure, LegendPos};
+use pendulab_plot::{Axes, Figure, LegendPos, MAX_OUTSIDE_LEGEND};
 
 fn grid(n: usize, lo: f64, hi: f64) -> Vec<f64> {
     (0..n)
@@ -143,4 +143,33 @@ fn stacked_panels_keep_every_legend_clear() {
     // The chattering panel's legend went outside; both plots share the right edge.
     assert!(l[1].legend.unwrap()[0] > l[1].plot[2]);
     assert_eq!(l[0].plot[2], l[1].plot[2]);
+}
+
+/// A legend wider than `MAX_OUTSIDE_LEGEND` of the plot does not squeeze the plot: `Best` keeps
+/// it inside, at the place covering the fewest points of the nine.
+#[test]
+fn too_wide_a_legend_stays_inside() {
+    let x = grid(4001, 0.0, 10.0);
+    let y: Vec<f64> = x.iter().map(|t| (7.0 * t).sin()).collect();
+    let label = "a very long legend entry that names every parameter of this run in full";
+    let mut ax = Axes::new();
+    ax.plot(&x, &y).label(label);
+    ax.ylim(-1.0, 1.0).legend(LegendPos::Best);
+    let l = Figure::new(ax.clone()).layout().unwrap();
+    let [lx0, _, lx1, _] = l[0].legend.unwrap();
+    let [px0, _, px1, _] = l[0].plot;
+    assert!(lx1 - lx0 > MAX_OUTSIDE_LEGEND * (px1 - px0));
+    assert!(lx0 >= px0 && lx1 <= px1, "legend stayed inside");
+    let least = l[0].points_under_legend();
+    assert!(least > 0);
+    for pos in [
+        LegendPos::UpperRight,
+        LegendPos::UpperLeft,
+        LegendPos::LowerLeft,
+        LegendPos::LowerRight,
+    ] {
+        ax.legend(pos);
+        let c = Figure::new(ax.clone()).layout().unwrap();
+        assert!(c[0].points_under_legend() >= least, "{pos:?}");
+    }
 }
