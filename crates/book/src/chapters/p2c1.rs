@@ -1117,7 +1117,7 @@ fn p2c13_report(
         );
     }
     for ((a1, b1), p) in vertex_params().iter().zip(&all_poles) {
-        map = map.poles(format!("a1 = {a1}, b1 = {b1}"), p);
+        map = map.poles(format!("a1 = {a1:.2}, b1 = {b1:.2}"), p);
     }
     save_figure(
         ctx,
@@ -1139,7 +1139,7 @@ fn p2c13_report(
             ..pendulab_plants::ArmPendulumParams::book()
         };
         runs.push((
-            format!("a1 = {a1}, b1 = {b1}"),
+            format!("a1 = {a1:.2}, b1 = {b1:.2}"),
             arm_servo_run(id, params, k, step.clone(), 6.0)?,
         ));
     }
