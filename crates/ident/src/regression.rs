@@ -758,19 +758,13 @@ impl DriveLs {
     /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
     /// [`IdentError::IllConditioned`].
     pub fn check(&self, ts: f64) -> Result<()> {
-        self.failed_checks(ts)
-            .into_iter()
-            .next()
-            .map_or(Ok(()), Err)
+        first_failure(self.failed_checks(ts))
     }
 
     /// Every failed check of [`DriveLs::check`], not only the first (for reports that print
     /// the estimate anyway).
     pub fn failed_checks(&self, ts: f64) -> Vec<IdentError> {
-        let mut out: Vec<IdentError> = [self.check_plausible(), self.lsq.check()]
-            .into_iter()
-            .filter_map(Result::err)
-            .collect();
+        let mut out = plausible_and_solved(self.check_plausible(), &self.lsq);
         out.extend(self.pole_in_record(ts).err());
         out
     }
@@ -812,6 +806,21 @@ impl DriveLs {
 /// The natural frequency `ω_n = √(m g l / α)` of a pendulum of inertia `α` about its pivot must
 /// be resolved by the sampling and show in the record: `ω_n span ≥ 1` (a sixth of a period),
 /// `ω_n t_s ≤` [`MAX_POLE_TIMES_TS`].
+/// The first of the failed checks `failed`, or `Ok` if there is none: what each result's
+/// `check` returns from its `failed_checks`.
+fn first_failure(failed: Vec<IdentError>) -> Result<()> {
+    failed.into_iter().next().map_or(Ok(()), Err)
+}
+
+/// The checks every least-squares result starts with: its own physical plausibility, then its
+/// solution's ([`LeastSquares::check`]: finite, well conditioned); the failures, in that order.
+fn plausible_and_solved(plausible: Result<()>, lsq: &LeastSquares) -> Vec<IdentError> {
+    [plausible, lsq.check()]
+        .into_iter()
+        .filter_map(Result::err)
+        .collect()
+}
+
 fn pendulum_in_record(j: (&str, f64), alpha: f64, mgl: f64, ts: f64, n: usize) -> Result<()> {
     let wn = (mgl / alpha).sqrt();
     let span = (n.max(2) - 1) as f64 * ts;
@@ -996,18 +1005,12 @@ impl CartPendulumLs {
     /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
     /// [`IdentError::IllConditioned`].
     pub fn check(&self, ts: f64, c: &CartPendulumConstants) -> Result<()> {
-        self.failed_checks(ts, c)
-            .into_iter()
-            .next()
-            .map_or(Ok(()), Err)
+        first_failure(self.failed_checks(ts, c))
     }
 
     /// Every failed check of [`CartPendulumLs::check`], not only the first.
     pub fn failed_checks(&self, ts: f64, c: &CartPendulumConstants) -> Vec<IdentError> {
-        let mut out: Vec<IdentError> = [self.check_plausible(), self.lsq.check()]
-            .into_iter()
-            .filter_map(Result::err)
-            .collect();
+        let mut out = plausible_and_solved(self.check_plausible(), &self.lsq);
         if self.jp > 0.0 {
             out.extend(
                 pendulum_in_record(
@@ -1155,18 +1158,12 @@ impl ArmPendulumLs {
     /// [`IdentError::Implausible`], [`IdentError::NonFiniteResult`],
     /// [`IdentError::IllConditioned`].
     pub fn check(&self, ts: f64, c: &ArmPendulumConstants) -> Result<()> {
-        self.failed_checks(ts, c)
-            .into_iter()
-            .next()
-            .map_or(Ok(()), Err)
+        first_failure(self.failed_checks(ts, c))
     }
 
     /// Every failed check of [`ArmPendulumLs::check`], not only the first.
     pub fn failed_checks(&self, ts: f64, c: &ArmPendulumConstants) -> Vec<IdentError> {
-        let mut out: Vec<IdentError> = [self.check_plausible(), self.lsq.check()]
-            .into_iter()
-            .filter_map(Result::err)
-            .collect();
+        let mut out = plausible_and_solved(self.check_plausible(), &self.lsq);
         if self.j2 > 0.0 {
             out.extend(
                 pendulum_in_record(
