@@ -14,7 +14,7 @@
 //! [`corpus_replays`] on every run.
 
 mod common;
-use common::Dir;
+use common::{Dir, cdip_csv};
 
 use rand::prelude::*;
 use rand_chacha::ChaCha8Rng;
@@ -387,21 +387,6 @@ fn rig_csv_slice(name: &str, first: usize, lines: usize) -> String {
         .collect()
 }
 
-/// The cart pendulum's linearisation (book table 3.5 parameters), as CSV.
-fn cart_ab() -> (String, String) {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25f64, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    let a = format!(
-        "0,0,1,0\n0,0,0,1\n0,0,{},0\n0,{},{},{}\n",
-        -ac,
-        mp * g * lp / j,
-        ac * mp * lp / j,
-        -mup / j
-    );
-    let b = format!("0\n0\n{bc}\n{}\n", -bc * mp * lp / j);
-    (a, b)
-}
-
 /// Up to `max` mutations; none in 40 % of the files (so that the valid paths run too).
 fn mutations(rng: &mut ChaCha8Rng, max: usize) -> Vec<Mutation> {
     let n = if rng.random_bool(0.4) {
@@ -446,7 +431,7 @@ fn random_case(rng: &mut ChaCha8Rng) -> Case {
     let (mut args, keep) = match rng.random_range(0..10) {
         0..=3 => {
             let (a, b) = if rng.random_bool(0.5) {
-                cart_ab()
+                cdip_csv()
             } else {
                 (s("0,1\n2,-1\n"), s("0\n1\n"))
             };

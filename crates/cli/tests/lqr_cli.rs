@@ -13,21 +13,6 @@ fn run(args: &[&str]) -> Output {
         .unwrap()
 }
 
-/// The linearised cart pendulum of `docs/model.md` §1 as CSV text.
-fn cdip_csv() -> (String, String) {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25f64, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    let a = format!(
-        "0,0,1,0\n0,0,0,1\n0,0,{},0\n0,{},{},{}\n",
-        -ac,
-        mp * g * lp / j,
-        ac * mp * lp / j,
-        -mup / j
-    );
-    let b = format!("0\n0\n{bc}\n{}\n", -bc * mp * lp / j);
-    (a, b)
-}
-
 #[test]
 fn cdip_lqr_gain_in_json() {
     // IP Toolbox cdip_lqr_sim.m: Q = diag(10, 10, 0, 0), R = 1 → book gain (u = +K x)

@@ -61,3 +61,19 @@ impl Drop for Dir {
         let _ = std::fs::remove_dir_all(&self.0);
     }
 }
+
+/// The linearised cart pendulum of `docs/model.md` §1 (book table 3.5 parameters) as CSV
+/// text: `(A, B)`.
+pub fn cdip_csv() -> (String, String) {
+    let (ac, bc, mp, lp, jp, mup, g) = (6.25f64, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
+    let j = jp + mp * lp * lp;
+    let a = format!(
+        "0,0,1,0\n0,0,0,1\n0,0,{},0\n0,{},{},{}\n",
+        -ac,
+        mp * g * lp / j,
+        ac * mp * lp / j,
+        -mup / j
+    );
+    let b = format!("0\n0\n{bc}\n{}\n", -bc * mp * lp / j);
+    (a, b)
+}
