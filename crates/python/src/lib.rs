@@ -1,14 +1,26 @@
 //! # pendulab-python — the extension module behind the `pendulab` Python package
 //!
 //! A thin layer: NumPy arrays in, the Rust crates compute, NumPy arrays out. No numerics live
-//! here; every function converts its arguments, calls the library (with the GIL released
-//! around anything that can take more than microseconds) and converts the result or the
-//! library's typed error into a Python exception.
+//! here; every function converts its arguments ([`convert`]), calls the library (with the GIL
+//! released around anything that can take more than microseconds) and converts the result or
+//! the library's typed error ([`errors`]) into a Python object or exception.
 //!
 //! The Python-facing API (names, docstrings, type stubs) is in `python/pendulab/`; this module
-//! is imported as `pendulab._native`.
+//! is imported as `pendulab._native`, one submodule-like group of functions per facet:
+//!
+//! | module | Python | what |
+//! |---|---|---|
+//! | [`lti`] | `pendulab` (top level) | state space, analysis, equations, design, responses |
+//! | [`plants`] | `pendulab.plants` | the cart and arm pendulums, linearisation, simulation |
+//! | [`gym`] | `pendulab.gym` | Gymnasium environments and the native vector env |
 
 #![warn(missing_docs)]
+
+pub mod convert;
+pub mod errors;
+pub mod gym;
+pub mod lti;
+pub mod plants;
 
 use pyo3::prelude::*;
 
@@ -16,5 +28,9 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    errors::register(m)?;
+    lti::register(m)?;
+    plants::register(m)?;
+    gym::register(m)?;
     Ok(())
 }

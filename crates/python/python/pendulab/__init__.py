@@ -1,9 +1,13 @@
 """pendulab — the inverted-pendulum control laboratory, from Python.
 
 The numerics are pendulab's Rust crates (``pendulab._native``); this package gives them
-python-control's and MATLAB's names.
+python-control's and MATLAB's names. Linear-systems functions live at the top level
+(``pendulab.lqr``, ``pendulab.StateSpace``, ...); the pendulums in ``pendulab.plants``;
+the Gymnasium environments in ``pendulab.gym``.
 """
 
 from ._native import __version__
+from .lti import *  # noqa: F401,F403
+from .lti import __all__ as _lti_all
 
-__all__ = ["__version__"]
+__all__ = ["__version__", *_lti_all]
