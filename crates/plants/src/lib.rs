@@ -58,6 +58,7 @@
 pub mod angle;
 pub mod arm;
 pub mod cart;
+pub mod classic_cart_pole;
 mod drive;
 pub mod error;
 mod fixed_cart;
@@ -69,6 +70,7 @@ pub mod two_pendulum;
 pub use angle::{wrap_about, wrap_angle};
 pub use arm::{ArmEquilibrium, ArmLpv, ArmPendulum, ArmPendulumParams, ArmPendulumState, ArmPose};
 pub use cart::{CartEquilibrium, CartPendulum, CartPendulumParams, CartPendulumState, CartPose};
+pub use classic_cart_pole::{CartPoleIntegrator, ClassicCartPole, ClassicCartPoleParams};
 pub use drive::Drive;
 pub use error::{PlantError, Requirement};
 pub use fixed_cart::FixedCartPendulum;
