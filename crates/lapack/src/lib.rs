@@ -53,7 +53,8 @@
 //! - `blas`, `lapack` (private): the safe kernels, on nalgebra where nalgebra has the
 //!   algorithm (symmetric eigenvectors, SVD of matrices with a side above 32);
 //! - `jacobi` (private): the SVD of matrices with both sides ≤ 32 (all of Clarabel's PSD
-//!   cones on pendulab's problems) by one-sided Jacobi, allocation-free and more accurate
+//!   cones on pendulab's problems) by the workspace's one-sided Jacobi kernel
+//!   (`pendulab_lti::linalg::jacobi`) on stack columns, allocation-free and more accurate
 //!   than bidiagonal QR on graded matrices.
 
 #![warn(missing_docs)]
@@ -64,11 +65,10 @@ mod jacobi;
 pub mod kernels;
 mod lapack;
 
-/// The two floating-point types the routines exist for (`f64` → `d…`, `f32` → `s…`).
-pub(crate) trait Real: nalgebra::RealField + Copy {
-    /// The smallest positive normal number.
-    const MIN_POSITIVE: Self;
-
+/// The two floating-point types the routines exist for (`f64` → `d…`, `f32` → `s…`); the
+/// smallest normal number and the exact power-of-two scaling come from the Jacobi kernel's
+/// [`JacobiReal`](pendulab_lti::linalg::jacobi::JacobiReal).
+pub(crate) trait Real: pendulab_lti::linalg::jacobi::JacobiReal {
     /// `(small, big)`: for magnitudes in `[small, big]` the squares, and sums of up to 256
     /// of them, are normal numbers that keep full relative precision even after a further
     /// factor `ε²` (`small = √MIN_POSITIVE / ε`, `big = 1 / (16 √MIN_POSITIVE)`; about
@@ -79,20 +79,6 @@ pub(crate) trait Real: nalgebra::RealField + Copy {
         let sixteen: Self = nalgebra::convert(16.0);
         (r / Self::default_epsilon(), Self::one() / (sixteen * r))
     }
-
-    /// `2^round(log₂ x)` for finite `x > 0`, the exponent clamped to the normal range: a
-    /// scale factor that divides exactly.
-    fn power_of_two_near(x: Self) -> Self;
 }
-impl Real for f64 {
-    const MIN_POSITIVE: Self = f64::MIN_POSITIVE;
-    fn power_of_two_near(x: Self) -> Self {
-        2f64.powi((x.log2().round() as i32).clamp(-1022, 1023))
-    }
-}
-impl Real for f32 {
-    const MIN_POSITIVE: Self = f32::MIN_POSITIVE;
-    fn power_of_two_near(x: Self) -> Self {
-        2f32.powi((x.log2().round() as i32).clamp(-126, 127))
-    }
-}
+impl Real for f64 {}
+impl Real for f32 {}

@@ -8,9 +8,11 @@
 //! The dense eigen-kernel that nalgebra does not provide lives in a submodule: [`schur`] (real
 //! Schur form with reordering). [`svd`] is the workspace's SVD with singular vectors: nalgebra's,
 //! checked by its defining residual, with a one-sided Jacobi fallback where nalgebra's result
-//! is wrong.
+//! is wrong; [`jacobi`] is that fallback's kernel, the workspace's one Jacobi SVD, which the
+//! LAPACK shim (`pendulab-lapack`) runs on stack columns too.
 
 pub(crate) mod dense;
+pub mod jacobi;
 pub mod schur;
 pub(crate) mod small_eig;
 pub mod svd;

@@ -5,12 +5,15 @@
 //! product `UΣVᴴ` no longer reproduces the matrix (nalgebra issue #1172: e.g. every all-ones
 //! matrix of some shapes, such as 5 × 3 or 3 × 5, and a few full-rank integer matrices).
 //! [`svd`] therefore checks nalgebra's result by its defining residual and, when that fails,
-//! computes the decomposition by the one-sided Jacobi method instead (Hestenes 1958, with
-//! the stopping rule of Demmel & Veselić, "Jacobi's method is more accurate than QR", SIAM J.
-//! Matrix Anal. Appl. 13, 1992), which is slower but has no such failure mode and computes
-//! every singular value to high relative accuracy.
+//! computes the decomposition by the one-sided Jacobi method instead (the workspace's one
+//! kernel, [`crate::linalg::jacobi`]: Hestenes 1958, with the stopping rule of Demmel &
+//! Veselić, "Jacobi's method is more accurate than QR", SIAM J. Matrix Anal. Appl. 13, 1992),
+//! which is slower but has no such failure mode and computes every singular value to high
+//! relative accuracy.
 
 use nalgebra::{ComplexField, DMatrix, DVector};
+
+use crate::linalg::jacobi::one_sided_jacobi;
 
 /// A thin SVD `M = U diag(σ) Vᴴ` of an `m × n` matrix with `k = min(m, n)`: `u` is `m × k` with
 /// orthonormal columns, `singular_values` has `k` entries in descending order, `v_t` (`Vᴴ`)
@@ -56,9 +59,9 @@ const ACCEPT: f64 = 100.0;
 
 /// Thin SVD of `m` with singular vectors: nalgebra's when it reproduces `m` (residual within
 /// `100·max(m, n)·ε·‖M‖_F`, singular values in descending order), otherwise one-sided Jacobi
-/// (module documentation). Non-finite input gives non-finite output after a bounded number
-/// of Jacobi sweeps (callers check their data first).
-pub fn svd<T: ComplexField<RealField = f64>>(m: &DMatrix<T>) -> Svd<T> {
+/// (module documentation). Non-finite input gives NaN factors (callers check their data
+/// first).
+pub fn svd<T: ComplexField<RealField = f64> + Copy>(m: &DMatrix<T>) -> Svd<T> {
     let (rows, cols) = m.shape();
     if rows == 0 || cols == 0 {
         let k = rows.min(cols);
@@ -69,8 +72,8 @@ pub fn svd<T: ComplexField<RealField = f64>>(m: &DMatrix<T>) -> Svd<T> {
         };
     }
     if !m.iter().all(|v| v.clone().is_finite()) {
-        // nalgebra's iteration has no iteration limit by default; Jacobi's sweeps are
-        // bounded and carry the NaN through.
+        // nalgebra's iteration has no iteration limit by default; the Jacobi kernel rejects
+        // the input at once.
         return jacobi(m);
     }
     let norm = m.norm();
@@ -94,100 +97,39 @@ pub fn svd<T: ComplexField<RealField = f64>>(m: &DMatrix<T>) -> Svd<T> {
     jacobi(m)
 }
 
-/// One-sided Jacobi SVD (module documentation).
-fn jacobi<T: ComplexField<RealField = f64>>(m: &DMatrix<T>) -> Svd<T> {
+/// One-sided Jacobi SVD by the workspace's kernel ([`one_sided_jacobi`]) on heap columns:
+/// the kernel runs on `M` (`m ≥ n`) or `Mᴴ` (`m < n`, then `M = V̄ Σ Ūᴴ`). NaN factors if an
+/// entry is not finite or the sweeps did not converge.
+fn jacobi<T: ComplexField<RealField = f64> + Copy>(m: &DMatrix<T>) -> Svd<T> {
     let (rows, cols) = m.shape();
-    if rows < cols {
-        // M = (Mᴴ)ᴴ = (U' Σ V'ᴴ)ᴴ = V' Σ U'ᴴ.
-        let t = jacobi(&m.adjoint());
+    let transposed = rows < cols;
+    let w_mat = if transposed { m.adjoint() } else { m.clone() };
+    let (r, k) = w_mat.shape();
+    let mut w: Vec<Vec<T>> = w_mat
+        .column_iter()
+        .map(|c| c.iter().copied().collect())
+        .collect();
+    let mut v = vec![vec![T::zero(); k]; k];
+    let mut s = vec![0.0; k];
+    if !one_sided_jacobi(&mut w, Some(&mut v), &mut s, k) {
+        let nan = T::from_real(f64::NAN);
         return Svd {
-            u: t.v_t.adjoint(),
-            singular_values: t.singular_values,
-            v_t: t.u.adjoint(),
+            u: DMatrix::from_element(rows, k, nan),
+            singular_values: DVector::from_element(k, f64::NAN),
+            v_t: DMatrix::from_element(k, cols, nan),
         };
     }
-    let n = cols;
-    let mut a = m.clone();
-    let mut v = DMatrix::<T>::identity(n, n);
-    let tol = rows as f64 * f64::EPSILON;
-    for _sweep in 0..60 {
-        let mut rotated = false;
-        for p in 0..n {
-            for q in p + 1..n {
-                let alpha = a.column(p).norm_squared();
-                let beta = a.column(q).norm_squared();
-                let gamma = a.column(p).dotc(&a.column(q));
-                let g = gamma.clone().modulus();
-                if g == 0.0 || g <= tol * (alpha * beta).sqrt() {
-                    continue;
-                }
-                rotated = true;
-                // Make aₚᴴa_q real and positive by a unit scaling of column q, then rotate
-                // in the real plane: ζ = (β − α)/(2|γ|), t = sign(ζ)/(|ζ| + √(1 + ζ²)).
-                let phase = gamma.unscale(g).conjugate();
-                let zeta = (beta - alpha) / (2.0 * g);
-                let t = zeta.signum() / (zeta.abs() + (1.0 + zeta * zeta).sqrt());
-                let c = 1.0 / (1.0 + t * t).sqrt();
-                let s = c * t;
-                for mat in [&mut a, &mut v] {
-                    for i in 0..mat.nrows() {
-                        let xp = mat[(i, p)].clone();
-                        let xq = mat[(i, q)].clone() * phase.clone();
-                        mat[(i, p)] = xp.clone().scale(c) - xq.clone().scale(s);
-                        mat[(i, q)] = xp.scale(s) + xq.scale(c);
-                    }
-                }
-            }
-        }
-        if !rotated {
-            break;
-        }
-    }
-    // σⱼ = ‖aⱼ‖, uⱼ = aⱼ/σⱼ; descending order.
-    let sig: Vec<f64> = (0..n).map(|j| a.column(j).norm()).collect();
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| sig[j].total_cmp(&sig[i]));
-    let smax = sig.iter().copied().fold(0.0, f64::max);
-    let mut u = DMatrix::<T>::zeros(rows, n);
-    let mut v_t = DMatrix::<T>::zeros(n, n);
-    let mut s = DVector::<f64>::zeros(n);
-    let mut missing = Vec::new();
-    for (k, &j) in order.iter().enumerate() {
-        s[k] = sig[j];
-        v_t.row_mut(k).copy_from(&v.column(j).adjoint());
-        if sig[j] > smax * f64::EPSILON * rows as f64 && sig[j] > 0.0 {
-            u.set_column(k, &a.column(j).unscale(sig[j]));
-        } else {
-            missing.push(k);
-        }
-    }
-    // Columns of U for (numerically) zero singular values: complete the orthonormal set from
-    // the coordinate vectors by two passes of Gram–Schmidt.
-    let mut e = 0;
-    for k in missing {
-        while e < rows {
-            let mut x = DVector::<T>::zeros(rows);
-            x[e] = T::one();
-            e += 1;
-            for _ in 0..2 {
-                for j in 0..n {
-                    if j == k || u.column(j).norm_squared() == 0.0 {
-                        continue;
-                    }
-                    let proj = u.column(j).dotc(&x);
-                    x -= u.column(j) * proj;
-                }
-            }
-            let nx = x.norm();
-            if nx > 0.5 {
-                u.set_column(k, &x.unscale(nx));
-                break;
-            }
-        }
-    }
+    // W = Ū Σ V̄ᴴ with Ū = [w_j] (r × k), V̄ = [v_j] (k × k).
+    let u_bar = DMatrix::from_fn(r, k, |i, j| w[j][i]);
+    let v_bar = DMatrix::from_fn(k, k, |i, j| v[j][i]);
+    let (u, v_t) = if transposed {
+        (v_bar, u_bar.adjoint())
+    } else {
+        (u_bar, v_bar.adjoint())
+    };
     Svd {
         u,
-        singular_values: s,
+        singular_values: DVector::from_vec(s),
         v_t,
     }
 }
