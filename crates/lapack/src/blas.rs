@@ -14,9 +14,7 @@
 //! updates for untransposed operands, dot products down columns for transposed ones), which
 //! keep the innermost loop on contiguous memory. `gemm` with `op(A)` of at most 16 rows (the
 //! PSD-cone products of Clarabel) instead accumulates each column of `C` in a fixed-size
-//! array, a transposed `A` first copied to columns; on the textbook's LMI LQ servo this
-//! took the shim's `gemm` from about 14 % to 7 % of the design's instructions (callgrind).
-//! (nalgebra's own `gemm` is not used: for
+//! array, a transposed `A` first copied to columns. (nalgebra's own `gemm` is not used: for
 //! small sizes it walks strided views by their underlying slice length, which is wrong for
 //! the transposed operands BLAS callers pass.)
 

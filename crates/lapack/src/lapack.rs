@@ -613,8 +613,8 @@ fn fast_hypot<T: Real>(x: T, y: T) -> T {
 /// QR steps with the Wilkinson shift on the trailing unreduced block, in the root-free form
 /// of Pal, Walker and Kahan (B. N. Parlett, *The Symmetric Eigenvalue Problem*, SIAM 1998,
 /// ch. 8; the QR branch of LAPACK's `xSTERF`), which carries the squares `e_i²` and needs no
-/// square root inside the bulge chase (about a third fewer instructions than the Givens form
-/// of Golub & Van Loan Alg. 8.3.2, measured with callgrind). Off-diagonals with
+/// square root inside the bulge chase (unlike the Givens form of Golub & Van Loan
+/// Alg. 8.3.2). Off-diagonals with
 /// `e_i² ≤ ε² (|d_i| + |d_{i+1}|)²` are deflated. A matrix whose largest entry lies outside
 /// `Real::square_safe_range` is first scaled by it, so that the squares neither overflow nor
 /// underflow harmfully. False if `cap` sweeps did not suffice.

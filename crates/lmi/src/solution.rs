@@ -57,10 +57,8 @@ pub struct SolveOptions {
     /// Even the textbook's LMI LQ servo profits: its 11 × 11 cost LMI has an arrow pattern
     /// (the constant `−I` blocks are diagonal), which Clarabel splits into cones of sides 10
     /// and 6 (35 variables, 91 cone rows instead of 20 and 81); the solve then takes 12
-    /// instead of 16 interior-point iterations and about a quarter fewer instructions, for final
-    /// residuals of the same order (the conic data of `crates/lmi/tests/conic_export.rs`,
-    /// solved both ways). Reordering the LMI's rows changes the cliques Clarabel finds
-    /// (six cones of side 6, or 9 + 6 + 6) but none of those orders solved faster.
+    /// instead of 16 interior-point iterations, for final residuals of the same order (the
+    /// conic data of `crates/lmi/tests/conic_export.rs`, solved both ways).
     pub chordal_decomposition: bool,
     /// With `chordal_decomposition`, let Clarabel merge the cliques of the decomposition
     /// (Clarabel only; its `chordal_decomposition_merge_method = "clique_graph"`) instead of
