@@ -182,19 +182,8 @@ fn cart_step_feature_method() {
     // step). The table's a_c, b_c imply, in closed form for ω_n²/(s² + 2ζω_n s + ω_n²):
     // ω_n = √(b_c k_P) = 6.6030, ζ = a_c/(2ω_n) = 0.47327, T_p = π/(ω_n √(1 − ζ²)) = 0.54011 s,
     // overshoot 0.2·exp(−ζπ/√(1 − ζ²)) = 0.036978 m.
-    let d = Dataset::from_csv_str(
-        "cdip_cart_pcont_data_kP_100_ref_02.csv",
-        include_str!("../../../data/rig/cdip_cart_pcont_data_kP_100_ref_02.csv"),
-    )
-    .unwrap()
-    .window(Some(1.0), None)
-    .unwrap();
-    let opts = PStepOptions {
-        step_time: 1.0,
-        target: 0.2,
-        k_p: 10.0,
-    };
-    let e = p_step(d.time().unwrap(), d.column("z").unwrap(), &opts).unwrap();
+    let d = cart_step_record("100").window(Some(1.0), None).unwrap();
+    let e = cart_p_step(&d, 1.0, 10.0).unwrap();
     let wn = (BC * 10.0f64).sqrt();
     let zeta = AC / (2.0 * wn);
     let tp = std::f64::consts::PI / (wn * (1.0 - zeta * zeta).sqrt());
@@ -230,42 +219,39 @@ fn cart_step_feature_method() {
     assert!(val.fit_percent > 90.0, "fit {}", val.fit_percent);
 }
 
+/// The book's cart step record of `data/rig/` whose file name carries `kP_{kp_tag}`
+/// (`"025"`: k_P = 2.5, `"100"`: k_P = 10).
+fn cart_step_record(kp_tag: &str) -> Dataset {
+    let text = match kp_tag {
+        "025" => include_str!("../../../data/rig/cdip_cart_pcont_data_kP_025_ref_02.csv"),
+        "100" => include_str!("../../../data/rig/cdip_cart_pcont_data_kP_100_ref_02.csv"),
+        other => panic!("no cart step record kP_{other}"),
+    };
+    Dataset::from_csv_str(
+        &format!("cdip_cart_pcont_data_kP_{kp_tag}_ref_02.csv"),
+        text,
+    )
+    .unwrap()
+}
+
+/// [`p_step`] on the cart position of a record, with target 0.2 m (the records' reference).
+fn cart_p_step(d: &Dataset, step_time: f64, k_p: f64) -> Result<PStepEstimate> {
+    let opts = PStepOptions {
+        step_time,
+        target: 0.2,
+        k_p,
+    };
+    p_step(d.time().unwrap(), d.column("z").unwrap(), &opts)
+}
+
 #[test]
 fn cart_step_refuses_an_overdamped_loop_and_a_wrong_step_time() {
     // k_P = 2.5: ζ = a_c/(2√(b_c k_P)) = 0.95 in theory, and friction removes the remaining
     // overshoot: there is no peak to read, which is an error, not an estimate.
-    let d = Dataset::from_csv_str(
-        "cdip_cart_pcont_data_kP_025_ref_02.csv",
-        include_str!("../../../data/rig/cdip_cart_pcont_data_kP_025_ref_02.csv"),
-    )
-    .unwrap();
-    let e = p_step(
-        d.time().unwrap(),
-        d.column("z").unwrap(),
-        &PStepOptions {
-            step_time: 1.0,
-            target: 0.2,
-            k_p: 2.5,
-        },
-    )
-    .unwrap_err();
+    let e = cart_p_step(&cart_step_record("025"), 1.0, 2.5).unwrap_err();
     assert!(matches!(e, IdentError::FeatureNotFound { .. }), "{e}");
     // A step time far before the real step (the data start, 0.034 s) is detected.
-    let d = Dataset::from_csv_str(
-        "cdip_cart_pcont_data_kP_100_ref_02.csv",
-        include_str!("../../../data/rig/cdip_cart_pcont_data_kP_100_ref_02.csv"),
-    )
-    .unwrap();
-    let e = p_step(
-        d.time().unwrap(),
-        d.column("z").unwrap(),
-        &PStepOptions {
-            step_time: 0.034,
-            target: 0.2,
-            k_p: 10.0,
-        },
-    )
-    .unwrap_err();
+    let e = cart_p_step(&cart_step_record("100"), 0.034, 10.0).unwrap_err();
     assert!(e.to_string().contains("step time looks wrong"), "{e}");
 }
 

@@ -79,6 +79,32 @@ fn square_ref(k: usize, amp: f64, period: f64) -> f64 {
     }
 }
 
+/// The rigs' P-control experiment (book part 1 §3.2): from rest with the pendulum hanging,
+/// `v = dac(k_P (r − q₁))` on a square-wave reference of amplitude `amp` (period 3 s, from
+/// 1 s) for 10 s, `q₁` read through an encoder of step `q_drive`. Returns the measured drive
+/// coordinate and pendulum angle (quantised, plus Gaussian noise of half a step, from the
+/// seeded generator) and the held commands.
+fn p_control_record(
+    f: impl Fn(&[f64; 4], f64) -> [f64; 4],
+    (k_p, amp, q_drive): (f64, f64, f64),
+    seed: u64,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let noise = Normal::new(0.0, 0.5).unwrap();
+    let (xs, vs) = run(f, [0.0, std::f64::consts::PI, 0.0, 0.0], 10_001, |k, x| {
+        dac(k_p * (square_ref(k, amp, 3.0) - quantise(x[0], q_drive)))
+    });
+    let drive: Vec<f64> = xs
+        .iter()
+        .map(|x| quantise(x[0], q_drive) + q_drive * noise.sample(&mut rng))
+        .collect();
+    let pend: Vec<f64> = xs
+        .iter()
+        .map(|x| quantise(x[1] - std::f64::consts::PI, Q_PEND) + Q_PEND * noise.sample(&mut rng))
+        .collect();
+    (drive, pend, vs)
+}
+
 #[test]
 fn cart_rig_least_squares_round_trip() {
     // P control k_P = 10 of the cart (the book's experiment) on a 0.2 m square-wave reference,
@@ -86,23 +112,7 @@ fn cart_rig_least_squares_round_trip() {
     // noise of half a step. The plant: table 3.5.
     let p = CartPendulumParams::book();
     let plant = CartPendulum::new(p).unwrap();
-    let mut rng = ChaCha8Rng::seed_from_u64(11);
-    let noise = Normal::new(0.0, 0.5).unwrap();
-    let n = 10_001;
-    let (xs, vs) = run(
-        |x, v| plant.derivative_array(x, v),
-        [0.0, std::f64::consts::PI, 0.0, 0.0],
-        n,
-        |k, x| dac(10.0 * (square_ref(k, 0.2, 3.0) - quantise(x[0], Q_Z))),
-    );
-    let z: Vec<f64> = xs
-        .iter()
-        .map(|x| quantise(x[0], Q_Z) + Q_Z * noise.sample(&mut rng))
-        .collect();
-    let phi: Vec<f64> = xs
-        .iter()
-        .map(|x| quantise(x[1] - std::f64::consts::PI, Q_PEND) + Q_PEND * noise.sample(&mut rng))
-        .collect();
+    let (z, phi, vs) = p_control_record(|x, v| plant.derivative_array(x, v), (10.0, 0.2, Q_Z), 11);
     let opts = LsOptions::default();
     let drive = cart_drive_ls(TS, &z, &vs, &opts).unwrap();
     // The drive: within 1 % (the held voltage and the centred derivative are half a sample
@@ -142,23 +152,8 @@ fn arm_rig_least_squares_round_trip() {
     // data. Table 3.7.
     let p = ArmPendulumParams::book();
     let plant = ArmPendulum::new(p).unwrap();
-    let mut rng = ChaCha8Rng::seed_from_u64(12);
-    let noise = Normal::new(0.0, 0.5).unwrap();
-    let n = 10_001;
-    let (xs, vs) = run(
-        |x, v| plant.derivative_array(x, v),
-        [0.0, std::f64::consts::PI, 0.0, 0.0],
-        n,
-        |k, x| dac(3.0 * (square_ref(k, 0.5, 3.0) - quantise(x[0], Q_ARM))),
-    );
-    let phi1: Vec<f64> = xs
-        .iter()
-        .map(|x| quantise(x[0], Q_ARM) + Q_ARM * noise.sample(&mut rng))
-        .collect();
-    let phi2: Vec<f64> = xs
-        .iter()
-        .map(|x| quantise(x[1] - std::f64::consts::PI, Q_PEND) + Q_PEND * noise.sample(&mut rng))
-        .collect();
+    let (phi1, phi2, vs) =
+        p_control_record(|x, v| plant.derivative_array(x, v), (3.0, 0.5, Q_ARM), 12);
     let opts = LsOptions::default();
     let drive = arm_drive_ls(TS, &phi1, &vs, &opts).unwrap();
     assert!(rel(drive.a, p.a1) < 0.01, "a1 = {}", drive.a);
