@@ -78,21 +78,12 @@ mod tests {
         let p: Vec<Vec<f64>> = serde_json::from_value(f["p2c122_lq"]["P_riccati"].clone()).unwrap();
         let p = Mat::from_fn(5, 5, |i, j| p[i][j]);
         let x = p.try_inverse().unwrap();
-        // The plant, as in tests/common: arm pendulum at θ1e = 0, servo-augmented.
-        let (a1, b1, l1, m2, l2, j2, mu2, g) =
-            (6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81);
-        let (al2, al3, al5) = (j2 + m2 * l2 * l2, m2 * l1 * l2, m2 * l2 * g);
-        let mut a = Mat::zeros(5, 5);
-        a[(0, 2)] = 1.0;
-        a[(1, 3)] = 1.0;
-        a[(2, 2)] = -a1;
-        a[(3, 1)] = al5 / al2;
-        a[(3, 2)] = (mu2 + a1 * al3) / al2;
-        a[(3, 3)] = -mu2 / al2;
-        a[(4, 0)] = -1.0;
-        let mut b = Mat::zeros(5, 1);
-        b[(2, 0)] = b1;
-        b[(3, 0)] = -b1 * al3 / al2;
+        // The plant: the book's arm pendulum at θ1e = 0 (pendulab-testkit), servo-augmented
+        // with ∫(r − θ1) (book eq. 6.40).
+        let (a4, b4) = pendulab_testkit::arm::ArmParams::book().linearization(0.0);
+        let c = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
+        let plant = pendulab_lti::StateSpace::continuous(a4, b4, c, Mat::zeros(1, 1)).unwrap();
+        let (a, b) = pendulab_lti::design::integral_augmentation(&plant).unwrap();
         let q = Mat::from_diagonal(&pendulab_lti::Vector::from_vec(vec![
             0.1, 1.0, 0.001, 0.001, 4.0,
         ]));
