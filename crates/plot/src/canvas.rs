@@ -7,7 +7,9 @@
 use std::fmt::Write as _;
 
 use ab_glyph::FontRef;
-use tiny_skia::{FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, StrokeDash};
+use tiny_skia::{
+    FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Stroke, StrokeDash,
+};
 
 use crate::color::Color;
 use crate::error::{PlotError, Result};
@@ -470,6 +472,20 @@ impl RasterCanvas {
         }
         stroke
     }
+    /// Fills `path` (non-zero winding) with `fill`, then strokes it with `stroke`, each if
+    /// given (SVG's painting order for a shape with both).
+    fn fill_then_stroke(&mut self, path: &Path, fill: Option<Color>, stroke: Option<&LineStyle>) {
+        let identity = tiny_skia::Transform::identity();
+        if let Some(c) = fill {
+            self.pixmap
+                .fill_path(path, &paint(c), FillRule::Winding, identity, None);
+        }
+        if let Some(st) = stroke {
+            let stroke = self.stroke_style(st);
+            self.pixmap
+                .stroke_path(path, &paint(st.color), &stroke, identity, None);
+        }
+    }
     /// Straight (un-premultiplied) RGBA bytes.
     pub fn rgba(&self) -> Vec<u8> {
         let mut out = Vec::with_capacity(self.pixmap.data().len());
@@ -504,25 +520,7 @@ impl Canvas for RasterCanvas {
         let Some(path) = self.path(pts, true) else {
             return;
         };
-        if let Some(c) = fill {
-            self.pixmap.fill_path(
-                &path,
-                &paint(c),
-                FillRule::Winding,
-                tiny_skia::Transform::identity(),
-                None,
-            );
-        }
-        if let Some(st) = stroke {
-            let stroke = self.stroke_style(st);
-            self.pixmap.stroke_path(
-                &path,
-                &paint(st.color),
-                &stroke,
-                tiny_skia::Transform::identity(),
-                None,
-            );
-        }
+        self.fill_then_stroke(&path, fill, stroke);
     }
     fn circle(&mut self, c: (f64, f64), r: f64, fill: Option<Color>, stroke: Option<&LineStyle>) {
         let s = self.scale;
@@ -531,25 +529,7 @@ impl Canvas for RasterCanvas {
         else {
             return;
         };
-        if let Some(f) = fill {
-            self.pixmap.fill_path(
-                &path,
-                &paint(f),
-                FillRule::Winding,
-                tiny_skia::Transform::identity(),
-                None,
-            );
-        }
-        if let Some(st) = stroke {
-            let stroke = self.stroke_style(st);
-            self.pixmap.stroke_path(
-                &path,
-                &paint(st.color),
-                &stroke,
-                tiny_skia::Transform::identity(),
-                None,
-            );
-        }
+        self.fill_then_stroke(&path, fill, stroke);
     }
     fn text(&mut self, text: &str, at: (f64, f64), style: &TextStyle) {
         if text.is_empty() {
