@@ -25,7 +25,7 @@ mod equations_support;
 mod riccati_benchmarks_support;
 mod riccati_support;
 
-use equations_support::{rand_mat, rng};
+use equations_support::lq_data;
 use pendulab_lti::Mat;
 use pendulab_lti::equations::riccati::care_residual;
 use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, RiccatiSolution, care};
@@ -109,20 +109,6 @@ fn cart_pendulum_fast_path() {
     let tol = agreement_tolerance(condition(&a, &b, &q, &r, &schur), 4);
     let e = rel(&sol.x, &schur.x);
     assert!(e <= tol, "fast vs Schur: {e:e} > {tol:e}");
-}
-
-/// Random LQ data of order `n` with `m` inputs (as `riccati_random`): `A` uniform in `[−1, 1)`
-/// times `3/√n` (generically unstable), `[[Q, N], [Nᵀ, R]] = MᵀM/(n+m) + 0.1 I ≻ 0`.
-fn lq_data(seed: u64, n: usize, m: usize, cross: bool) -> (Mat, Mat, Mat, Mat, Option<Mat>) {
-    let mut g = rng(seed);
-    let a = rand_mat(&mut g, n, n) * (3.0 / (n as f64).sqrt());
-    let b = rand_mat(&mut g, n, m);
-    let f = rand_mat(&mut g, n + m, n + m);
-    let w = f.transpose() * f * (1.0 / (n + m) as f64) + Mat::identity(n + m, n + m) * 0.1;
-    let q = w.view((0, 0), (n, n)).into_owned();
-    let rr = w.view((n, n), (m, m)).into_owned();
-    let nn = w.view((0, n), (n, m)).into_owned();
-    (a, b, q, rr, cross.then_some(nn))
 }
 
 #[test]

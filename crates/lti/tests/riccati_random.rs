@@ -16,21 +16,6 @@ fn opts(method: RiccatiMethod) -> RiccatiOptions {
     }
 }
 
-/// Random LQ data of order n with m inputs: A with entries in [−1, 1) (generically unstable
-/// with ≈ half the eigenvalues in the right half-plane), B random (generically controllable),
-/// [[Q, N], [Nᵀ, R]] = MᵀM + 0.1 I ≻ 0 so the data are a genuine LQ problem.
-fn lq_data(seed: u64, n: usize, m: usize, cross: bool) -> (Mat, Mat, Mat, Mat, Option<Mat>) {
-    let mut r = rng(seed);
-    let a = rand_mat(&mut r, n, n) * (3.0 / (n as f64).sqrt());
-    let b = rand_mat(&mut r, n, m);
-    let f = rand_mat(&mut r, n + m, n + m);
-    let w = f.transpose() * f * (1.0 / (n + m) as f64) + Mat::identity(n + m, n + m) * 0.1;
-    let q = w.view((0, 0), (n, n)).into_owned();
-    let rr = w.view((n, n), (m, m)).into_owned();
-    let nn = w.view((0, n), (n, m)).into_owned();
-    (a, b, q, rr, cross.then_some(nn))
-}
-
 /// Issue acceptance: relative residual ≤ 1e-10 and A − BK stable on orders 10, 50, 100.
 #[test]
 fn care_random_orders_10_50_100() {

@@ -88,3 +88,19 @@ pub fn eig_distance(
     }
     worst
 }
+
+/// Random LQ data of order `n` with `m` inputs: `A` uniform in `[−1, 1)` times `3/√n`
+/// (generically unstable, about half the eigenvalues in the right half-plane), `B` random
+/// (generically controllable), `[[Q, N], [Nᵀ, R]] = MᵀM/(n+m) + 0.1 I ≻ 0` so the data are a
+/// genuine LQ problem; the cross term `N` only when `cross`.
+pub fn lq_data(seed: u64, n: usize, m: usize, cross: bool) -> (Mat, Mat, Mat, Mat, Option<Mat>) {
+    let mut r = rng(seed);
+    let a = rand_mat(&mut r, n, n) * (3.0 / (n as f64).sqrt());
+    let b = rand_mat(&mut r, n, m);
+    let f = rand_mat(&mut r, n + m, n + m);
+    let w = f.transpose() * f * (1.0 / (n + m) as f64) + Mat::identity(n + m, n + m) * 0.1;
+    let q = w.view((0, 0), (n, n)).into_owned();
+    let rr = w.view((n, n), (m, m)).into_owned();
+    let nn = w.view((0, n), (n, m)).into_owned();
+    (a, b, q, rr, cross.then_some(nn))
+}
