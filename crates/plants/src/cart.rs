@@ -38,13 +38,12 @@
 //! takes it out (the basis of the swing-up of book part 2 ch. 3).
 //!
 //! This file holds the physics (parameters, state, equilibria, the plant, its linearisation
-//! and energy) and the general [`Dynamics`] implementation; beside it in `cart/`:
-//! `anchored.rs` (the fixed-size kernel's step with anchored trigonometry), `lanes.rs` (the
-//! same for several states at once) and `tests.rs` (the kernels against libm).
+//! and energy) and the general [`Dynamics`] implementation; the fast paths' kernels for this
+//! plant (the fixed-size and lane kernels' steps, the anchored-trig RK4 step and the kernel
+//! type [`fast::FastCart`] that carries a sine/cosine strategy) are in [`fast`].
 
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
-use pendulab_sim::lanes::Trig;
 
 use crate::drive::Drive;
 use crate::error::{PlantError, Requirement, check, check_point};
@@ -52,10 +51,7 @@ use crate::fixed_cart::FixedCartPendulum;
 use crate::linear::{Jacobian, Posture, selection_matrix};
 use crate::pendulum::{PendulumParams, PivotPendulum};
 
-mod anchored;
-mod lanes;
-#[cfg(test)]
-mod tests;
+pub mod fast;
 
 const MODEL: &str = "cart pendulum";
 
@@ -273,22 +269,11 @@ pub struct CartPendulum {
     params: CartPendulumParams,
     drive: Drive,
     pendulum: PivotPendulum,
-    trig: Trig,
 }
 
 impl CartPendulum {
     /// Indices of the states the rig measures (encoders): `y = [z, θ]`.
     pub const MEASURED_STATES: [usize; 2] = [0, 1];
-
-    /// [`Trig::Anchored`]: the largest `|θ|` \[rad\] at the start of an RK4 step whose sine and
-    /// cosine come from a series (beyond it: libm). The CartPole-v1 environment's angles,
-    /// |θ| ≤ 12° = 0.21 rad, lie within it.
-    pub const ANCHORED_ANGLE_LIMIT: f64 = 0.25;
-
-    /// [`Trig::Anchored`]: the largest stage offset `|d|` \[rad\] (`(h/2)·θ̇` or `h·θ̇`) whose
-    /// sine and cosine come from the step's first ones by the addition theorem (beyond it:
-    /// libm at the stage angle). A step of `h = 20 ms` stays within it up to |θ̇| = 6.25 rad/s.
-    pub const ANCHORED_SHIFT_LIMIT: f64 = 0.125;
 
     /// A plant from validated parameters.
     ///
@@ -302,38 +287,7 @@ impl CartPendulum {
             params,
             drive: Drive::new(params.a_c, params.b_c)?,
             pendulum: PivotPendulum::new(&params.pendulum(), params.g, MODEL)?,
-            trig: Trig::Libm,
         })
-    }
-
-    /// The same plant with its right-hand side ([`CartPendulum::derivative_array`] and the
-    /// [`Dynamics`] implementation) evaluating `sin θ, cos θ` by `trig`.
-    ///
-    /// The default is [`Trig::Libm`] (`f64::sin_cos`). [`Trig::Polynomial`] is an opt-in for
-    /// hot loops such as reinforcement-learning environments: about 45 fewer instructions per
-    /// right-hand side (of ~140), every sine and cosine within 2 ulp + 4·10⁻¹⁷·max(1, |θ|)
-    /// of libm for `|θ| ≤ 10⁵` (libm beyond), so `θ̈` differs from the libm plant's by a
-    /// few ulp of its terms (see [`Trig`]); simulations are then not bit-identical to
-    /// libm-based references. [`Trig::Anchored`] changes only the RK4 step of the
-    /// fixed-size closed-loop kernel (`pendulab_sim::fixed`, e.g. `SampledLoop::fixed`) and
-    /// of `pendulab_sim::env::FixedEnv`: the stages share their sines and cosines — series
-    /// near upright (within [`CartPendulum::ANCHORED_ANGLE_LIMIT`]) for the angles fixed by
-    /// the step's start, the addition theorem for what the later stages add — each within
-    /// 2 ulp + 6·10⁻¹⁷ of libm for steps of at most 2⁻⁸ s (whose step uses fused
-    /// multiply–adds where the kernel's FMA-compiled loop runs it), 2 ulp + 1.1·10⁻¹⁶ for
-    /// longer ones, and the pendulum's constants are divided by `J` beforehand. In the 1 ms
-    /// loop of the `sim-rk4` bench that is about 270 (FMA-compiled loop) or 370 (baseline
-    /// loop) instructions per step instead of 610 to 630 with libm (callgrind, loop and
-    /// recording included). Every other evaluation of this plant uses libm; Jacobians,
-    /// linearisations, energy and geometry always do.
-    pub fn with_trig(mut self, trig: Trig) -> Self {
-        self.trig = trig;
-        self
-    }
-
-    /// How the right-hand side evaluates `sin θ, cos θ` ([`CartPendulum::with_trig`]).
-    pub fn trig(&self) -> Trig {
-        self.trig
     }
 
     /// The book's rig ([`CartPendulumParams::book`]).
@@ -368,8 +322,14 @@ impl CartPendulum {
     /// `ẋ = f(x, v)` for `x = [z, θ, ż, θ̇]`: fixed-size and allocation-free, for hot loops.
     #[inline(always)]
     pub fn derivative_array(&self, x: &[f64; 4], v: f64) -> [f64; 4] {
+        self.derivative_with(x, v, x[1].sin_cos())
+    }
+
+    /// The right-hand side with `(sin θ, cos θ)` given (the fast paths' kernels supply their
+    /// own): the operations of [`CartPendulum::derivative_array`] after the sine and cosine.
+    #[inline(always)]
+    pub(crate) fn derivative_with(&self, x: &[f64; 4], v: f64, (s, c): (f64, f64)) -> [f64; 4] {
         let ddz = self.drive.acceleration(x[2], v);
-        let (s, c) = self.trig.sin_cos(x[1]);
         [x[2], x[3], ddz, self.pendulum.acceleration(s, c, x[3], ddz)]
     }
 

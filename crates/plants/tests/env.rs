@@ -7,9 +7,9 @@
 //! stage offsets beyond 1/32 rad).
 
 use pendulab_lti::Mat;
+use pendulab_plants::cart::fast::{FastCart, Trig};
 use pendulab_plants::{CartEquilibrium, CartPendulum, Posture};
 use pendulab_sim::env::FixedEnv;
-use pendulab_sim::lanes::Trig;
 use pendulab_sim::{Env, EnvConfig, SimError};
 
 /// A deterministic action sequence in ±`amp` (a 64-bit LCG, Knuth's MMIX constants): the
@@ -24,11 +24,11 @@ fn actions(seed: u64, amp: f64) -> impl FnMut() -> f64 {
     }
 }
 
-fn envs() -> (Env<CartPendulum, 4>, FixedEnv<CartPendulum, 4>) {
+fn envs() -> (Env<CartPendulum, 4>, FixedEnv<FastCart, 4>) {
     let config = EnvConfig::cart_pole(0.4).unwrap();
     (
         Env::new(CartPendulum::book(), config.clone()).unwrap(),
-        FixedEnv::new(CartPendulum::book().with_trig(Trig::Anchored), config).unwrap(),
+        FixedEnv::new(FastCart::new(CartPendulum::book(), Trig::Anchored), config).unwrap(),
     )
 }
 
@@ -189,7 +189,7 @@ fn anchored_env_errors() {
     assert!(fast.reset_to([f64::INFINITY, 0.0, 0.0, 0.0]).is_err());
     assert!(
         FixedEnv::<_, 4>::new(
-            CartPendulum::book().with_trig(Trig::Anchored),
+            FastCart::new(CartPendulum::book(), Trig::Anchored),
             EnvConfig::cart_pole(0.4)
                 .map(|c| EnvConfig { max_steps: 0, ..c })
                 .unwrap()

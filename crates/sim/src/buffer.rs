@@ -47,39 +47,16 @@ impl Buf for Vec<f64> {
 /// otherwise: the dispatch from a run-time state size to a monomorphised kernel.
 macro_rules! with_buffer {
     ($n:expr, $B:ident => $body:expr) => {
+        $crate::buffer::with_buffer!(@sizes $n, $B => $body; 1 2 3 4 5 6 7 8)
+    };
+    (@sizes $n:expr, $B:ident => $body:expr; $($size:literal)+) => {
         match $n {
-            1 => {
-                type $B = [f64; 1];
-                $body
-            }
-            2 => {
-                type $B = [f64; 2];
-                $body
-            }
-            3 => {
-                type $B = [f64; 3];
-                $body
-            }
-            4 => {
-                type $B = [f64; 4];
-                $body
-            }
-            5 => {
-                type $B = [f64; 5];
-                $body
-            }
-            6 => {
-                type $B = [f64; 6];
-                $body
-            }
-            7 => {
-                type $B = [f64; 7];
-                $body
-            }
-            8 => {
-                type $B = [f64; 8];
-                $body
-            }
+            $(
+                $size => {
+                    type $B = [f64; $size];
+                    $body
+                }
+            )+
             _ => {
                 type $B = Vec<f64>;
                 $body

@@ -39,46 +39,32 @@ pub trait Controller {
     }
 }
 
-impl<T: Controller + ?Sized> Controller for Box<T> {
-    fn ny(&self) -> usize {
-        (**self).ny()
-    }
-    fn nu(&self) -> usize {
-        (**self).nu()
-    }
-    fn reset(&mut self) {
-        (**self).reset()
-    }
-    #[inline]
-    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
-        (**self).update(t, y, u)
-    }
-    fn sample_time(&self) -> Option<f64> {
-        (**self).sample_time()
-    }
-    fn switch_times(&self) -> &[f64] {
-        (**self).switch_times()
-    }
+/// `Controller` for pointers to a controller (`Box<T>`, `&mut T`): every method forwards to
+/// the pointee (one body for both, which Rust requires to be written per pointer type).
+macro_rules! forward_controller {
+    ($($pointer:ty),+) => {$(
+        impl<T: Controller + ?Sized> Controller for $pointer {
+            fn ny(&self) -> usize {
+                (**self).ny()
+            }
+            fn nu(&self) -> usize {
+                (**self).nu()
+            }
+            fn reset(&mut self) {
+                (**self).reset()
+            }
+            #[inline]
+            fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
+                (**self).update(t, y, u)
+            }
+            fn sample_time(&self) -> Option<f64> {
+                (**self).sample_time()
+            }
+            fn switch_times(&self) -> &[f64] {
+                (**self).switch_times()
+            }
+        }
+    )+};
 }
 
-impl<T: Controller + ?Sized> Controller for &mut T {
-    fn ny(&self) -> usize {
-        (**self).ny()
-    }
-    fn nu(&self) -> usize {
-        (**self).nu()
-    }
-    fn reset(&mut self) {
-        (**self).reset()
-    }
-    #[inline]
-    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
-        (**self).update(t, y, u)
-    }
-    fn sample_time(&self) -> Option<f64> {
-        (**self).sample_time()
-    }
-    fn switch_times(&self) -> &[f64] {
-        (**self).switch_times()
-    }
-}
+forward_controller!(Box<T>, &mut T);

@@ -34,40 +34,29 @@ pub trait Dynamics {
     }
 }
 
-impl<T: Dynamics + ?Sized> Dynamics for &T {
-    fn nx(&self) -> usize {
-        (**self).nx()
-    }
-    fn nu(&self) -> usize {
-        (**self).nu()
-    }
-    #[inline]
-    fn derivative(&self, t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
-        (**self).derivative(t, x, u, dx)
-    }
-    fn ny(&self) -> usize {
-        (**self).ny()
-    }
-    fn output(&self, t: f64, x: &[f64], u: &[f64], y: &mut [f64]) {
-        (**self).output(t, x, u, y)
-    }
+/// `Dynamics` for pointers to a system (`&T`, `Box<T>`): every method forwards to the pointee
+/// (one body for both, which Rust requires to be written per pointer type).
+macro_rules! forward_dynamics {
+    ($($pointer:ty),+) => {$(
+        impl<T: Dynamics + ?Sized> Dynamics for $pointer {
+            fn nx(&self) -> usize {
+                (**self).nx()
+            }
+            fn nu(&self) -> usize {
+                (**self).nu()
+            }
+            #[inline]
+            fn derivative(&self, t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
+                (**self).derivative(t, x, u, dx)
+            }
+            fn ny(&self) -> usize {
+                (**self).ny()
+            }
+            fn output(&self, t: f64, x: &[f64], u: &[f64], y: &mut [f64]) {
+                (**self).output(t, x, u, y)
+            }
+        }
+    )+};
 }
 
-impl<T: Dynamics + ?Sized> Dynamics for Box<T> {
-    fn nx(&self) -> usize {
-        (**self).nx()
-    }
-    fn nu(&self) -> usize {
-        (**self).nu()
-    }
-    #[inline]
-    fn derivative(&self, t: f64, x: &[f64], u: &[f64], dx: &mut [f64]) {
-        (**self).derivative(t, x, u, dx)
-    }
-    fn ny(&self) -> usize {
-        (**self).ny()
-    }
-    fn output(&self, t: f64, x: &[f64], u: &[f64], y: &mut [f64]) {
-        (**self).output(t, x, u, y)
-    }
-}
+forward_dynamics!(&T, Box<T>);

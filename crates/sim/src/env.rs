@@ -24,13 +24,14 @@
 //! [`FixedEnv`] is the same environment for a plant of the fixed-size kernel
 //! ([`FixedDynamics`], e.g. `pendulab_plants::CartPendulum`), stepping with the plant's own
 //! [`FixedDynamics::rk4_step_fixed`]: bit-identical to [`Env`] with the provided step, and the
-//! fast path for the cart with `Trig::Anchored` (the later RK4 stages' sines from the step's
+//! fast path for the cart as `pendulab_plants::cart::fast::FastCart` with `Trig::Anchored`
+//! (the later RK4 stages' sines from the step's
 //! first one; see [`FixedEnv`] for how close that stays to [`Env`]). [`Env::fixed`] converts.
 
 use crate::buffer::Buf;
 use crate::dynamics::Dynamics;
 use crate::error::{Result, SimError, check_len, check_positive};
-use crate::fixed::FixedDynamics;
+use crate::fast::FixedDynamics;
 use crate::integrate::rk4::{Rk4Scratch, step_generic};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -335,11 +336,11 @@ impl<P: Dynamics, const N: usize> Env<P, N> {
 /// with each RK4 step taken by the plant's [`FixedDynamics::rk4_step_fixed`] on `[f64; N]`
 /// (no slices, no scratch, no time argument).
 ///
-/// With the provided [`FixedDynamics::rk4_step_fixed`] ([`crate::fixed::rk4_fixed`]) every
+/// With the provided [`FixedDynamics::rk4_step_fixed`] ([`crate::fast::rk4_fixed`]) every
 /// step is bit-identical to [`Env::step`]'s for the same plant (the operations of
 /// [`crate::rk4_step`] in the same order; `tests/env.rs` checks whole episodes). A plant
-/// that overrides the step — `pendulab_plants::CartPendulum` with
-/// [`Trig::Anchored`](crate::lanes::Trig::Anchored): the later stages' sines and cosines from
+/// that overrides the step — `pendulab_plants::cart::fast::FastCart` with
+/// [`Trig::Anchored`](crate::fast::Trig::Anchored): the later stages' sines and cosines from
 /// the step's first ones by the addition theorem — is then as close to [`Env`] as that
 /// override documents (each sine/cosine within 2 ulp + 6·10⁻¹⁷ of libm's), not
 /// bit-identical; an episode can then end one step earlier or later only if the state
@@ -347,7 +348,7 @@ impl<P: Dynamics, const N: usize> Env<P, N> {
 ///
 /// ```
 /// use pendulab_sim::env::FixedEnv;
-/// use pendulab_sim::fixed::FixedDynamics;
+/// use pendulab_sim::fast::FixedDynamics;
 /// use pendulab_sim::{Dynamics, Env, EnvConfig};
 /// # fn main() -> Result<(), pendulab_sim::SimError> {
 /// // A double integrator ẋ = [x₁, u].

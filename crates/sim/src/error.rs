@@ -175,6 +175,21 @@ pub(crate) fn check_nonnegative(what: &str, value: f64) -> Result<()> {
     Ok(())
 }
 
+/// Checks a vector's length (named `what`) and that every entry is finite (a bad one named
+/// `"{entry} {i}"`).
+pub(crate) fn check_finite_vector(
+    what: &str,
+    entry: &str,
+    values: &[f64],
+    expected: usize,
+) -> Result<()> {
+    check_len(what, values.len(), expected)?;
+    for (i, &v) in values.iter().enumerate() {
+        check_finite(&format!("{entry} {i}"), v)?;
+    }
+    Ok(())
+}
+
 /// Checks that a value is finite.
 pub(crate) fn check_finite(what: &str, value: f64) -> Result<()> {
     if !value.is_finite() {

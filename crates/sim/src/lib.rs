@@ -16,9 +16,8 @@
 //! | test signals | [`Signal`] | step, ramp, pulse, pulse train, sine, piecewise, sums |
 //! | per-sample summaries, safety stops | [`Monitor`], [`StayWithin`], [`MaxAbs`], [`SettlingTime`] | |
 //! | batch runs on all cores | [`batch`] | grids of initial states, seeded Monte Carlo, region-of-attraction maps |
-//! | one fixed-size closed loop (`[f64; N]` plant, static state feedback, ZOH, RK4, saturation), monomorphised | [`fixed`] | [`SampledLoop::fixed`]; bit-identical to the general loop; a second copy compiled for FMA, chosen at run time, for plant steps that fuse their multiply–adds |
-//! | SIMD lanes for batch studies of static feedback | [`lanes`] | `L` runs stepped together; bit-identical to the general loop with [`lanes::LibmSinCos`] |
-//! | a Gymnasium-style environment | [`Env`], [`EnvConfig`], [`FixedEnv`] | `reset(seed)`, `step(u)`; CartPole-v1 settings on the cart rig; `FixedEnv` steps a fixed-size plant with its own RK4 step |
+//! | the fast paths: a fixed-size closed loop compiled once per state size (and again for FMA), SIMD lanes for batch studies, and their strategy switches (multiply–add, sine/cosine) | [`fast`] | behind one module; the general API above never needs it |
+//! | a Gymnasium-style environment | [`Env`], [`EnvConfig`], [`FixedEnv`] | `reset(seed)`, `step(u)`; CartPole-v1 settings on the cart rig; `FixedEnv` steps a [`fast::FixedDynamics`] plant with its own RK4 step |
 //! | errors | [`SimError`] | typed, naming what and where (and the time of a blow-up) |
 //!
 //! Conventions: SI units and radians; state feedback is `u = −K x` (the textbook's
@@ -59,9 +58,8 @@ pub mod controllers;
 mod dynamics;
 pub mod env;
 mod error;
-pub mod fixed;
+pub mod fast;
 pub mod integrate;
-pub mod lanes;
 pub mod linearize;
 pub mod monitor;
 pub mod quantizer;
@@ -92,3 +90,9 @@ pub use sampled::{
 pub use sensor::{Differentiation, PseudoDifferentiator, SensorChain};
 pub use signal::{FnInput, Input, Signal, ZeroInput};
 pub use systems::{Driven, FnDynamics, StateFeedbackLoop};
+
+/// The former path of [`fast::FixedDynamics`], kept for callers not yet moved to [`fast`].
+#[doc(hidden)]
+pub mod fixed {
+    pub use crate::fast::FixedDynamics;
+}

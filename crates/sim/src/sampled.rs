@@ -153,6 +153,42 @@ pub(crate) struct Timing {
     pub(crate) ring: usize,
 }
 
+/// The monitored run methods of a closed loop, over its private `run_inner(x0, monitor,
+/// storage)`: shared by [`SampledLoop`] and the fixed-size kernel
+/// ([`FixedLoop`](crate::fast::FixedLoop)), whose runs take the same arguments and give the
+/// same results.
+macro_rules! monitored_runs {
+    () => {
+        /// Runs from `x0` showing every sample to `monitor`, which may stop the run.
+        ///
+        /// # Errors
+        /// As [`SampledLoop::run`](crate::SampledLoop::run).
+        pub fn run_with<M: Monitor + ?Sized>(
+            &mut self,
+            x0: &[f64],
+            monitor: &mut M,
+        ) -> Result<SampledRun> {
+            self.run_inner(x0, monitor, None)
+        }
+
+        /// As `run_with`, recording into the storage of an earlier result `previous` (which
+        /// is consumed): repeated runs (tuning loops, benchmarks) then allocate nothing and
+        /// touch no fresh memory pages.
+        ///
+        /// # Errors
+        /// As [`SampledLoop::run`](crate::SampledLoop::run).
+        pub fn run_recycling<M: Monitor + ?Sized>(
+            &mut self,
+            x0: &[f64],
+            monitor: &mut M,
+            previous: SampledRun,
+        ) -> Result<SampledRun> {
+            self.run_inner(x0, monitor, Some(previous))
+        }
+    };
+}
+pub(crate) use monitored_runs;
+
 /// A continuous plant in closed loop with a discrete controller (see the module docs).
 ///
 /// ```
@@ -320,32 +356,7 @@ impl<P: Dynamics, C: Controller> SampledLoop<P, C> {
         self.run_with(x0, &mut ())
     }
 
-    /// Runs from `x0` showing every sample to `monitor`, which may stop the run.
-    ///
-    /// # Errors
-    /// As [`SampledLoop::run`].
-    pub fn run_with<M: Monitor + ?Sized>(
-        &mut self,
-        x0: &[f64],
-        monitor: &mut M,
-    ) -> Result<SampledRun> {
-        self.run_inner(x0, monitor, None)
-    }
-
-    /// As [`SampledLoop::run_with`], recording into the storage of an earlier result
-    /// `previous` (which is consumed): repeated runs (tuning loops, benchmarks) then allocate
-    /// nothing and touch no fresh memory pages.
-    ///
-    /// # Errors
-    /// As [`SampledLoop::run`].
-    pub fn run_recycling<M: Monitor + ?Sized>(
-        &mut self,
-        x0: &[f64],
-        monitor: &mut M,
-        previous: SampledRun,
-    ) -> Result<SampledRun> {
-        self.run_inner(x0, monitor, Some(previous))
-    }
+    monitored_runs!();
 
     fn run_inner<M: Monitor + ?Sized>(
         &mut self,
@@ -441,10 +452,7 @@ pub(crate) fn validate_options(o: &SampledOptions, nu: usize) -> Result<Timing> 
         Delay::Samples(n) => (None, n),
     };
     if let Some(u0) = &o.initial_input {
-        check_len("initial plant input", u0.len(), nu)?;
-        for (i, &v) in u0.iter().enumerate() {
-            crate::error::check_finite(&format!("initial plant input {i}"), v)?;
-        }
+        crate::error::check_finite_vector("initial plant input", "initial plant input", u0, nu)?;
     }
     if o.record == Record::Every(0) {
         return Err(SimError::InvalidParameter {

@@ -151,10 +151,12 @@ impl<P: Dynamics> StateFeedbackLoop<P> {
     /// [`crate::SimError::DimensionMismatch`] for a wrong length,
     /// [`crate::SimError::InvalidParameter`] for a non-finite entry.
     pub fn with_reference(mut self, x_ref: &[f64]) -> Result<Self> {
-        check_len("reference state", x_ref.len(), self.nx)?;
-        for (i, &v) in x_ref.iter().enumerate() {
-            crate::error::check_finite(&format!("reference state entry {i}"), v)?;
-        }
+        crate::error::check_finite_vector(
+            "reference state",
+            "reference state entry",
+            x_ref,
+            self.nx,
+        )?;
         self.reference.copy_from_slice(x_ref);
         Ok(self)
     }
@@ -174,27 +176,25 @@ impl<P: Dynamics> Dynamics for StateFeedbackLoop<P> {
     }
     #[inline]
     fn derivative(&self, t: f64, x: &[f64], v: &[f64], dx: &mut [f64]) {
-        let mut u = [0.0; MAX_INPUTS];
-        let u = &mut u[..self.nu];
-        for (i, ui) in u.iter_mut().enumerate() {
-            let row = &self.gain[i * self.nx..(i + 1) * self.nx];
-            let fb: f64 = row
-                .iter()
-                .zip(x)
-                .zip(&self.reference)
-                .map(|((k, xi), ri)| k * (xi - ri))
-                .sum();
-            *ui = v[i] - fb;
-        }
-        self.plant.derivative(t, x, u, dx)
+        let u = self.plant_input(x, v);
+        self.plant.derivative(t, x, &u[..self.nu], dx)
     }
     fn ny(&self) -> usize {
         self.plant.ny()
     }
     fn output(&self, t: f64, x: &[f64], v: &[f64], y: &mut [f64]) {
+        let u = self.plant_input(x, v);
+        self.plant.output(t, x, &u[..self.nu], y)
+    }
+}
+
+impl<P> StateFeedbackLoop<P> {
+    /// The plant input `u = v − K (x − x_ref)` in the first `nu` entries (each row's products
+    /// summed in order).
+    #[inline]
+    fn plant_input(&self, x: &[f64], v: &[f64]) -> [f64; MAX_INPUTS] {
         let mut u = [0.0; MAX_INPUTS];
-        let u = &mut u[..self.nu];
-        for (i, ui) in u.iter_mut().enumerate() {
+        for (i, ui) in u[..self.nu].iter_mut().enumerate() {
             let row = &self.gain[i * self.nx..(i + 1) * self.nx];
             let fb: f64 = row
                 .iter()
@@ -204,7 +204,7 @@ impl<P: Dynamics> Dynamics for StateFeedbackLoop<P> {
                 .sum();
             *ui = v[i] - fb;
         }
-        self.plant.output(t, x, u, y)
+        u
     }
 }
 

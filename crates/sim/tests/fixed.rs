@@ -1,4 +1,4 @@
-//! The fixed-size closed-loop kernel (`pendulab_sim::fixed`) against the general sampled-data
+//! The fixed-size closed-loop kernel (`pendulab_sim::fast::fixed`) against the general sampled-data
 //! loop: the reference is `SampledLoop::run_with` of the same configuration, an independent
 //! implementation (slices, the controller and actuator objects, the generic RK4 stage code).
 //! The kernel promises to perform the same operations in the same order, so every comparison
@@ -9,7 +9,7 @@ mod common;
 use common::CartPendulum;
 use pendulab_lti::Mat;
 use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
-use pendulab_sim::fixed::{FixedDynamics, Fused, MulAdd, MulAddPath, Separate};
+use pendulab_sim::fast::{FixedDynamics, Fused, MulAdd, MulAddPath, Separate};
 use pendulab_sim::{
     Actuator, Delay, Dynamics, Integrator, Record, RunStatus, SampledLoop, SampledOptions,
     SensorChain, Signal, SimError, StayWithin,
@@ -180,7 +180,7 @@ fn lq_servo_run_is_bit_identical() {
     )
     .unwrap();
     assert!(matches!(
-        pendulab_sim::fixed::FixedLoop::<_, _, 4>::new(
+        pendulab_sim::fast::FixedLoop::<_, _, 4>::new(
             CartPendulum::default(),
             servo,
             &SampledOptions::default()

@@ -6,7 +6,7 @@ mod common;
 use common::CartPendulum;
 use pendulab_lti::Mat;
 use pendulab_sim::controllers::StaticStateFeedback;
-use pendulab_sim::lanes::{
+use pendulab_sim::fast::{
     LaneDynamics, LaneOptions, LibmSinCos, PolySinCos, SinCos, run_feedback_lanes, sin_cos_lanes,
 };
 use pendulab_sim::{Record, SampledLoop, SampledOptions, SimError, StayWithin};

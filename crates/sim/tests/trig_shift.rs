@@ -1,5 +1,5 @@
 //! The series sines and cosines of `Trig::Anchored` against libm's `f64::sin_cos`, the
-//! independent reference: `lanes::sin_cos_shifted` and `sin_cos_offset` (sine and cosine of
+//! independent reference: `fast::sin_cos_shifted` and `sin_cos_offset` (sine and cosine of
 //! `x` from those of a nearby anchor `a`), `sin_cos_small` and `sin_cos_near_zero` (series
 //! about zero), and `rotate_small` (a pair rotated by a small angle, also against a
 //! double-double reference). The bound of the anchored shifts is 2 ulp + 6·10⁻¹⁷: libm's own
@@ -8,8 +8,8 @@
 //! 2⁻⁵³/32) plus half an ulp for the final addition (see the function's docs); the series
 //! about zero and the small rotation have the tighter bounds derived in their docs.
 
-use pendulab_sim::fixed::{Fused, MulAdd, Separate};
-use pendulab_sim::lanes::{
+use pendulab_sim::fast::{Fused, MulAdd, Separate};
+use pendulab_sim::fast::{
     NEAR_ZERO_LIMIT, ROTATE_LIMIT, SHIFT_LIMIT, rotate_small, sin_cos_near_zero, sin_cos_offset,
     sin_cos_shifted, sin_cos_small,
 };
@@ -185,7 +185,7 @@ fn offset_sine_and_cosine_are_those_of_the_exact_sum() {
 /// `None` as soon as one lane's offset is beyond the limit or NaN.
 #[test]
 fn lane_offsets_are_those_of_the_exact_sum_and_refuse_out_of_range() {
-    use pendulab_sim::lanes::sin_cos_offset_lanes;
+    use pendulab_sim::fast::sin_cos_offset_lanes;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2028);
     let mut worst = 0.0f64;
     for _ in 0..100_000 {
@@ -269,7 +269,7 @@ fn near_zero_sine_and_cosine_are_within_the_documented_bound_of_libm() {
             ][tier];
             let bound = 1.5 * ulp(rs) + 2.5e-17;
             mutant_worst[tier] = mutant_worst[tier].max((dropped - rs).abs() / bound);
-            if F::PATH == pendulab_sim::fixed::MulAddPath::Separate && m <= SHIFT_LIMIT {
+            if F::PATH == pendulab_sim::fast::MulAddPath::Separate && m <= SHIFT_LIMIT {
                 assert_eq!((s, c), sin_cos_small(x), "x = {x:e}");
             }
         }

@@ -6,9 +6,10 @@
 //!
 //! - `sim-rk4`: one 10 s closed-loop run from θ₀ = 15°, controller at 1 kHz with zero-order
 //!   hold, classic RK4 at 1 ms, every sample recorded into the `Trajectory` (recycling the
-//!   previous result's storage), by the fixed-size kernel `pendulab_sim::fixed::FixedLoop`
-//!   (`SampledLoop::fixed`: the loop monomorphised on `[f64; 4]`) with the plant's opt-in
-//!   `Trig::Anchored` step for short steps: series sines and cosines at the three angles the
+//!   previous result's storage), by the fixed-size kernel `pendulab_sim::fast::FixedLoop`
+//!   (`SampledLoop::fixed`: the loop monomorphised on `[f64; 4]`) over the kernel type
+//!   `pendulab_plants::cart::fast::FastCart` with `Trig::Anchored`, whose step for short steps
+//!   takes series sines and cosines at the three angles the
 //!   step's start fixes, the later stages' accelerations by a small rotation (each sine and
 //!   cosine within 2 ulp + 6·10⁻¹⁷ of libm), with fused multiply–adds where the processor has
 //!   FMA (the kernel's FMA-compiled loop, chosen at run time; the check names the path).
@@ -22,7 +23,7 @@
 //! - `sim-batch`: the 100×100 grid θ₀ ∈ [−1.2, 1.2] rad × θ̇₀ ∈ [−3, 3] rad/s, 10 s each at
 //!   1 kHz, on all cores (rayon), classifying each run as upright (`|θ| ≤ π/2` throughout) or
 //!   fallen (the run stops at the first sample past π/2). Figure: trajectory-steps actually
-//!   integrated per second by the lane kernel (`pendulab_sim::lanes`: 8 runs stepped together
+//!   integrated per second by the lane kernel (`pendulab_sim::fast::lanes`: 8 runs stepped together
 //!   in SIMD registers, `AnchoredSinCos`: the polynomial sine/cosine within 2 ulp of libm once
 //!   per RK4 step, the later stages' by the addition theorem); the check also gives the
 //!   wall time of the whole grid and the rate counted on the nominal 10⁸ steps, the rate with
@@ -33,8 +34,8 @@
 //! - `cartpole-step`: the Gymnasium-style environment (CartPole-v1 settings on this rig: one
 //!   RK4 step of 20 ms per `step`, track ±0.4 m chosen here) driven by uniform random actions
 //!   in ±5 V with resets at episode ends, like a random-policy rollout, through
-//!   `pendulab_sim::env::FixedEnv` (the fixed-size RK4 kernel of `FixedDynamics`) with the
-//!   plant's `Trig::Anchored` step: the first angle's sine/cosine by a series within 0.25 rad
+//!   `pendulab_sim::env::FixedEnv` (the fixed-size RK4 kernel of `FixedDynamics`) over
+//!   `FastCart` with `Trig::Anchored`: the first angle's sine/cosine by a series within 0.25 rad
 //!   of upright, the later stages' by the addition theorem for offsets up to 1/8 rad (each
 //!   within 2 ulp + 1.1·10⁻¹⁶ of libm; libm beyond). Figure: `step` calls per second,
 //!   random actions included. Check: the general `Env` with libm (the previous headline),
@@ -49,17 +50,18 @@
 use super::{BenchReport, Budget, Workload, time};
 use anyhow::{Context, Result};
 use pendulab_lti::Mat;
+use pendulab_plants::cart::fast::FastCart;
 use pendulab_plants::{CartEquilibrium, CartPendulum};
 use pendulab_sim::batch::{Axis, grid, run_initial_states};
 use pendulab_sim::controllers::StaticStateFeedback;
 use pendulab_sim::env::FixedEnv;
-use pendulab_sim::fixed::MulAddPath;
-use pendulab_sim::lanes::{
-    AnchoredSinCos, LaneOptions, LibmSinCos, PolySinCos, SHIFT_LIMIT, Trig, run_feedback_lanes,
+use pendulab_sim::fast::{
+    AnchoredSinCos, FixedDynamics, LaneOptions, LibmSinCos, MulAddPath, PolySinCos, SHIFT_LIMIT,
+    Trig, run_feedback_lanes,
 };
 use pendulab_sim::{
-    Env, EnvConfig, Integrator, Record, RunStatus, SampledLoop, SampledOptions, StayWithin,
-    rk4_step,
+    Dynamics, Env, EnvConfig, Integrator, Record, RunStatus, SampledLoop, SampledOptions,
+    StayWithin, rk4_step,
 };
 use rand::{Rng, SeedableRng};
 use serde_json::json;
@@ -96,20 +98,33 @@ fn lqr_gain(plant: &CartPendulum) -> Result<Mat> {
     Ok(pendulab_lti::design::lqr(&sys, &q, &Mat::identity(1, 1), None)?.gain)
 }
 
+/// The sim-rk4 loop over the book's plant (libm).
 fn closed_loop(
     record: Record,
     integrator: Integrator,
 ) -> Result<SampledLoop<CartPendulum, StaticStateFeedback>> {
-    closed_loop_with(record, integrator, Trig::Libm)
+    closed_loop_of(CartPendulum::book(), record, integrator)
 }
 
+/// The sim-rk4 loop over the book's plant as the kernel type with the sine/cosine `trig`.
 fn closed_loop_with(
     record: Record,
     integrator: Integrator,
     trig: Trig,
-) -> Result<SampledLoop<CartPendulum, StaticStateFeedback>> {
-    let plant = CartPendulum::book().with_trig(trig);
-    let k = lqr_gain(&plant)?;
+) -> Result<SampledLoop<FastCart, StaticStateFeedback>> {
+    closed_loop_of(
+        FastCart::new(CartPendulum::book(), trig),
+        record,
+        integrator,
+    )
+}
+
+fn closed_loop_of<P: Dynamics>(
+    plant: P,
+    record: Record,
+    integrator: Integrator,
+) -> Result<SampledLoop<P, StaticStateFeedback>> {
+    let k = lqr_gain(&CartPendulum::book())?;
     Ok(SampledLoop::new(
         plant,
         StaticStateFeedback::new(k)?,
@@ -124,9 +139,9 @@ fn closed_loop_with(
 }
 
 /// A recorded fixed-size kernel run of the sim-rk4 loop, timed with recycled storage.
-fn time_fixed(
+fn time_fixed<P: Dynamics + FixedDynamics<4> + Clone>(
     budget: &Budget,
-    lp: &SampledLoop<CartPendulum, StaticStateFeedback>,
+    lp: &SampledLoop<P, StaticStateFeedback>,
     x0: &[f64; 4],
 ) -> Result<(pendulab_sim::SampledRun, super::Timing)> {
     let mut fixed = lp.fixed::<4>()?;
@@ -232,7 +247,7 @@ fn run_rk4(budget: &Budget) -> Result<BenchReport> {
         figure: steps as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "FixedLoop::run_recycling (SampledLoop::fixed: fixed-size kernel; plant with Trig::Anchored: series sin/cos at the three angles fixed by each RK4 step's start, later stages' accelerations by a small rotation; fused multiply-adds where the processor has FMA): 10 000 samples (LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core; median of alternately timed rounds",
+            "figure_measures": "FixedLoop::run_recycling (SampledLoop::fixed: fixed-size kernel; FastCart with Trig::Anchored: series sin/cos at the three angles fixed by each RK4 step's start, later stages' accelerations by a small rotation; fused multiply-adds where the processor has FMA): 10 000 samples (LQR update, ZOH, RK4 1 ms step, every sample recorded into the recycled Trajectory), one core; median of alternately timed rounds",
             "multiply_add": match path {
                 MulAddPath::Fused => "fused (FMA-compiled loop)",
                 MulAddPath::Separate => "separate (baseline loop)",
@@ -418,7 +433,6 @@ fn anchored_fallbacks(
     episodes: usize,
     (first_range, shift_range): (f64, f64),
 ) -> Result<(usize, [usize; 5])> {
-    use pendulab_sim::fixed::FixedDynamics;
     let mut env = Env::<_, 4>::new(*plant, EnvConfig::cart_pole(0.4)?)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     let h = env.config().dt;
@@ -464,7 +478,8 @@ fn anchored_agreement(episodes: usize) -> Result<(usize, f64, f64)> {
     let config = EnvConfig::cart_pole(0.4)?;
     let h = config.dt;
     let mut general = Env::<_, 4>::new(CartPendulum::book(), config.clone())?;
-    let mut fast = FixedEnv::<_, 4>::new(CartPendulum::book().with_trig(Trig::Anchored), config)?;
+    let mut fast =
+        FixedEnv::<_, 4>::new(FastCart::new(CartPendulum::book(), Trig::Anchored), config)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2);
     let mut differing = 0usize;
     let (mut max_dev, mut max_ratio) = (0.0f64, 0.0f64);
@@ -498,7 +513,7 @@ fn anchored_agreement(episodes: usize) -> Result<(usize, f64, f64)> {
 fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
     // Headline: the fixed-size environment with the plant's anchored RK4 step.
     let plant = CartPendulum::book();
-    let anchored = plant.with_trig(Trig::Anchored);
+    let anchored = FastCart::new(plant, Trig::Anchored);
     let mut env = FixedEnv::<_, 4>::new(anchored, EnvConfig::cart_pole(0.4)?)?;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
     env.reset(Some(1));
@@ -534,7 +549,7 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
     });
     // The general environment with the plant's polynomial sine/cosine (within 2 ulp of libm).
     let mut poly_env = Env::<_, 4>::new(
-        plant.with_trig(Trig::Polynomial),
+        FastCart::new(plant, Trig::Polynomial),
         EnvConfig::cart_pole(0.4)?,
     )?;
     let mut rng_poly = rand_chacha::ChaCha8Rng::seed_from_u64(1);
@@ -579,8 +594,8 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
         &plant,
         2000,
         (
-            CartPendulum::ANCHORED_ANGLE_LIMIT,
-            CartPendulum::ANCHORED_SHIFT_LIMIT,
+            FastCart::ANCHORED_ANGLE_LIMIT,
+            FastCart::ANCHORED_SHIFT_LIMIT,
         ),
     )?;
     // ... and how often the narrower series of the 1 ms loops (1/32 rad) alone would have.
@@ -604,7 +619,7 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
         figure: CALLS as f64 / timing.median_s,
         unit: "steps/s".into(),
         check: json!({
-            "figure_measures": "FixedEnv::step (pendulab_sim::env, fixed-size RK4 kernel; plant with Trig::Anchored: later RK4 stages' sin/cos from the step's first by the addition theorem) with a uniform random action in [-5, 5] V (ChaCha8) and reset at episode ends, one core",
+            "figure_measures": "FixedEnv::step (pendulab_sim::env, fixed-size RK4 kernel; FastCart with Trig::Anchored: later RK4 stages' sin/cos from the step's first by the addition theorem) with a uniform random action in [-5, 5] V (ChaCha8) and reset at episode ends, one core",
             "median_s_per_100k_steps": timing.median_s,
             "min_s_per_100k_steps": timing.min_s,
             "episodes": episodes,
@@ -625,7 +640,7 @@ fn run_cartpole(budget: &Budget) -> Result<BenchReport> {
             "anchored_libm_fallback_fraction_stage_3": frac(fallbacks[2]),
             "anchored_libm_fallback_fraction_stage_4": frac(fallbacks[3]),
             "anchored_libm_fallback_fraction_any": frac(fallbacks[4]),
-            "anchored_series_ranges_rad": [CartPendulum::ANCHORED_ANGLE_LIMIT, CartPendulum::ANCHORED_SHIFT_LIMIT],
+            "anchored_series_ranges_rad": [FastCart::ANCHORED_ANGLE_LIMIT, FastCart::ANCHORED_SHIFT_LIMIT],
             "beyond_1_32_rad_fraction_first_angle": frac(narrow[0]),
             "beyond_1_32_rad_fraction_stage_4": frac(narrow[3]),
             "beyond_1_32_rad_fraction_any": frac(narrow[4]),

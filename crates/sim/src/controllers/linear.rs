@@ -55,10 +55,12 @@ impl DiscreteLinearController {
     /// # Errors
     /// [`SimError::DimensionMismatch`], [`SimError::InvalidParameter`] for a non-finite entry.
     pub fn with_initial_state(mut self, xi0: &[f64]) -> Result<Self> {
-        check_len("controller initial state", xi0.len(), self.xi.len())?;
-        for (i, &v) in xi0.iter().enumerate() {
-            crate::error::check_finite(&format!("controller initial state {i}"), v)?;
-        }
+        crate::error::check_finite_vector(
+            "controller initial state",
+            "controller initial state",
+            xi0,
+            self.xi.len(),
+        )?;
         self.xi0.copy_from_slice(xi0);
         self.xi.copy_from_slice(xi0);
         Ok(self)
@@ -192,10 +194,7 @@ impl ObserverBased {
     /// # Errors
     /// [`SimError::DimensionMismatch`], [`SimError::InvalidParameter`].
     pub fn with_initial_estimate(mut self, xhat0: &[f64]) -> Result<Self> {
-        check_len("initial estimate", xhat0.len(), self.n)?;
-        for (i, &v) in xhat0.iter().enumerate() {
-            crate::error::check_finite(&format!("initial estimate {i}"), v)?;
-        }
+        crate::error::check_finite_vector("initial estimate", "initial estimate", xhat0, self.n)?;
         self.xhat0.copy_from_slice(xhat0);
         self.reset();
         Ok(self)

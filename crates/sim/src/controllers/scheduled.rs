@@ -100,10 +100,12 @@ impl GainScheduled {
     /// # Errors
     /// [`SimError::DimensionMismatch`], [`SimError::InvalidParameter`].
     pub fn with_reference(mut self, y_ref: &[f64]) -> Result<Self> {
-        check_len("scheduled feedback reference", y_ref.len(), self.ny)?;
-        for (i, &v) in y_ref.iter().enumerate() {
-            crate::error::check_finite(&format!("scheduled feedback reference {i}"), v)?;
-        }
+        crate::error::check_finite_vector(
+            "scheduled feedback reference",
+            "scheduled feedback reference",
+            y_ref,
+            self.ny,
+        )?;
         self.y_ref.copy_from_slice(y_ref);
         Ok(self)
     }

@@ -62,17 +62,19 @@ impl StaticStateFeedback {
     /// [`crate::SimError::DimensionMismatch`] for a wrong length,
     /// [`crate::SimError::InvalidParameter`] for a non-finite entry.
     pub fn with_reference(mut self, y_ref: &[f64]) -> Result<Self> {
-        check_len("feedback reference", y_ref.len(), self.ny)?;
-        for (i, &v) in y_ref.iter().enumerate() {
-            crate::error::check_finite(&format!("feedback reference {i}"), v)?;
-        }
+        crate::error::check_finite_vector(
+            "feedback reference",
+            "feedback reference",
+            y_ref,
+            self.ny,
+        )?;
         self.y_ref.copy_from_slice(y_ref);
         self.zero_ref = y_ref.iter().all(|v| v.to_bits() == 0);
         Ok(self)
     }
 
     /// `K` row-major, `y_ref` and whether `y_ref` is all `+0.0` (for the fixed-size kernel,
-    /// [`crate::fixed`]).
+    /// [`crate::fast::fixed`]).
     #[inline(always)]
     pub(crate) fn parts(&self) -> (&[f64], &[f64], bool) {
         (&self.k, &self.y_ref, self.zero_ref)

@@ -7,14 +7,21 @@
 //! x⁺ = x + h/6 · (k₁ + 2k₂ + 2k₃ + k₄)
 //! ```
 //!
-//! Two public kernels: [`rk4_step`] on `[f64; N]` (state size known at compile time; the loops
-//! unroll, everything lives on the stack) and [`rk4_step_slice`] on slices with a reusable
-//! [`Rk4Work`]. Neither allocates.
+//! One stepper, `step_with`, written once over the state storage (`[f64; N]` or `Vec<f64>`)
+//! and a derivative closure, serves every RK4 of the crate: [`rk4_step`] on `[f64; N]` (state
+//! size known at compile time; the loops unroll, everything lives on the stack),
+//! [`rk4_step_slice`] on slices with a reusable [`Rk4Work`], the integrator of
+//! [`simulate`](crate::simulate), the sampled-data loop, the environment and the fixed-size
+//! kernel's provided step ([`rk4_fixed`](crate::fast::rk4_fixed)). None allocates. The lane
+//! kernel's [`rk4_lanes`](crate::fast::rk4_lanes) performs the same operations per lane with a
+//! step size per lane, and a plant's own step (the cart's anchored step) may share work
+//! between the stages; both say how close they stay to this one.
 
 use crate::buffer::Buf;
 use crate::dynamics::Dynamics;
 
-/// Scratch of the generic kernel: the four stages and the stage state.
+/// Scratch of the stepper: the four stages and the stage state, in the storage `B`
+/// (`[f64; N]` on the stack or `Vec<f64>`).
 #[derive(Debug, Clone)]
 pub(crate) struct Rk4Scratch<B: Buf> {
     pub(crate) k1: B,
@@ -36,8 +43,49 @@ impl<B: Buf> Rk4Scratch<B> {
     }
 }
 
-/// One RK4 step in place. If `k1_known`, `w.k1` already holds `f(t, x, u)` (e.g. from the
-/// previous step's end when the input did not change).
+/// The classic RK4 step, written once for every state storage: `f(t, x, dx)` writes the
+/// derivative at `(t, x)` into `dx`; `x` is advanced from `t` to `t + h` in place. If
+/// `k1_known`, `w.k1` already holds `f(t, x)` (e.g. from the previous step's end when the
+/// input did not change).
+///
+/// The operations, in this order, are those every RK4 of the crate performs (so their results
+/// agree bit for bit): the stage states `x + (h/2)·k₁`, `x + (h/2)·k₂`, `x + h·k₃` with
+/// `h/2 = 0.5·h`, and the update `x + (h/6)·(((k₁ + 2k₂) + 2k₃) + k₄)`. With `B = [f64; N]`
+/// every slice length is a compile-time constant after inlining: the loops unroll and
+/// nothing is allocated.
+#[inline(always)]
+pub(crate) fn step_with<B: Buf>(
+    mut f: impl FnMut(f64, &[f64], &mut [f64]),
+    t: f64,
+    x: &mut [f64],
+    h: f64,
+    w: &mut Rk4Scratch<B>,
+    k1_known: bool,
+) {
+    let half = 0.5 * h;
+    if !k1_known {
+        f(t, x, w.k1.m());
+    }
+    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.iter()).zip(w.k1.s()) {
+        *xt = xi + half * k;
+    }
+    f(t + half, w.xt.s(), w.k2.m());
+    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.iter()).zip(w.k2.s()) {
+        *xt = xi + half * k;
+    }
+    f(t + half, w.xt.s(), w.k3.m());
+    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.iter()).zip(w.k3.s()) {
+        *xt = xi + h * k;
+    }
+    f(t + h, w.xt.s(), w.k4.m());
+    let sixth = h / 6.0;
+    let (k1, k2, k3, k4) = (w.k1.s(), w.k2.s(), w.k3.s(), w.k4.s());
+    for (i, xi) in x.iter_mut().enumerate() {
+        *xi += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    }
+}
+
+/// [`step_with`] for a [`Dynamics`] with the input `u` held.
 #[inline(always)]
 pub(crate) fn step_generic<S: Dynamics + ?Sized, B: Buf>(
     sys: &S,
@@ -48,27 +96,14 @@ pub(crate) fn step_generic<S: Dynamics + ?Sized, B: Buf>(
     w: &mut Rk4Scratch<B>,
     k1_known: bool,
 ) {
-    let half = 0.5 * h;
-    if !k1_known {
-        sys.derivative(t, x.s(), u, w.k1.m());
-    }
-    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.s()).zip(w.k1.s()) {
-        *xt = xi + half * k;
-    }
-    sys.derivative(t + half, w.xt.s(), u, w.k2.m());
-    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.s()).zip(w.k2.s()) {
-        *xt = xi + half * k;
-    }
-    sys.derivative(t + half, w.xt.s(), u, w.k3.m());
-    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.s()).zip(w.k3.s()) {
-        *xt = xi + h * k;
-    }
-    sys.derivative(t + h, w.xt.s(), u, w.k4.m());
-    let sixth = h / 6.0;
-    let (k1, k2, k3, k4) = (w.k1.s(), w.k2.s(), w.k3.s(), w.k4.s());
-    for (i, xi) in x.m().iter_mut().enumerate() {
-        *xi += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    }
+    step_with(
+        |t, x, dx| sys.derivative(t, x, u, dx),
+        t,
+        x.m(),
+        h,
+        w,
+        k1_known,
+    );
 }
 
 /// One classic RK4 step of `ẋ = f(t, x, u)` from `t` to `t + h` with the input `u` held,
@@ -100,33 +135,21 @@ pub fn rk4_step<const N: usize, S: Dynamics + ?Sized>(
 
 /// Reusable scratch for [`rk4_step_slice`] (five state-sized vectors, allocated once).
 #[derive(Debug, Clone)]
-pub struct Rk4Work {
-    k1: Vec<f64>,
-    k2: Vec<f64>,
-    k3: Vec<f64>,
-    k4: Vec<f64>,
-    xt: Vec<f64>,
-}
+pub struct Rk4Work(Rk4Scratch<Vec<f64>>);
 
 impl Rk4Work {
     /// Scratch for `nx` states.
     pub fn new(nx: usize) -> Self {
-        Self {
-            k1: vec![0.0; nx],
-            k2: vec![0.0; nx],
-            k3: vec![0.0; nx],
-            k4: vec![0.0; nx],
-            xt: vec![0.0; nx],
-        }
+        Self(Rk4Scratch::new(nx))
     }
     /// Number of states it serves.
     pub fn nx(&self) -> usize {
-        self.k1.len()
+        self.0.k1.len()
     }
 }
 
 /// One classic RK4 step on slices (state size known only at run time), allocation-free with a
-/// reused [`Rk4Work`].
+/// reused [`Rk4Work`]; the operations of [`rk4_step`].
 ///
 /// Preconditions: `x.len() == sys.nx() == work.nx()`, `u.len() == sys.nu()`.
 #[inline]
@@ -139,23 +162,12 @@ pub fn rk4_step_slice<S: Dynamics + ?Sized>(
     work: &mut Rk4Work,
 ) {
     debug_assert_eq!(x.len(), work.nx());
-    let half = 0.5 * h;
-    let Rk4Work { k1, k2, k3, k4, xt } = work;
-    sys.derivative(t, x, u, k1);
-    for i in 0..x.len() {
-        xt[i] = x[i] + half * k1[i];
-    }
-    sys.derivative(t + half, xt, u, k2);
-    for i in 0..x.len() {
-        xt[i] = x[i] + half * k2[i];
-    }
-    sys.derivative(t + half, xt, u, k3);
-    for i in 0..x.len() {
-        xt[i] = x[i] + h * k3[i];
-    }
-    sys.derivative(t + h, xt, u, k4);
-    let sixth = h / 6.0;
-    for i in 0..x.len() {
-        x[i] += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    }
+    step_with(
+        |t, x, dx| sys.derivative(t, x, u, dx),
+        t,
+        x,
+        h,
+        &mut work.0,
+        false,
+    );
 }

@@ -1,12 +1,14 @@
 //! Tests of the cart pendulum's fast kernels against independent references: libm's sines and
 //! cosines, the general RK4 loop, and the documented error bounds.
 //!
-//! Neighbours: [`super`] holds the physics; `anchored.rs` and `lanes.rs` the kernels tested
-//! here.
+//! Neighbours: `cart.rs` holds the physics, [`super`] the kernel type [`FastCart`];
+//! `anchored.rs` and `lanes.rs` the kernels tested here.
 
 use super::anchored::{WIDE_ANGLE_LIMIT, WIDE_SHIFT_LIMIT, anchor_sin_cos, stage_sin_cos};
 use super::*;
-use pendulab_sim::lanes::ROTATE_LIMIT;
+use crate::cart::CartEquilibrium;
+use pendulab_lti::Mat;
+use pendulab_sim::fast::ROTATE_LIMIT;
 use pendulab_sim::rk4_step;
 
 /// The spacing of doubles at `v` (ulp); the smallest normal spacing at zero.
@@ -100,7 +102,7 @@ fn stage_sine_and_cosine_are_within_the_anchored_bound_of_libm() {
             continue;
         }
         let (rs, rc) = (xs + r * xc, xc - r * xs);
-        let tier = usize::from(d.abs() > pendulab_sim::lanes::SHIFT_LIMIT);
+        let tier = usize::from(d.abs() > pendulab_sim::fast::SHIFT_LIMIT);
         let extra = [6e-17, 1.1e-16][tier];
         for (got, want) in [(gs, rs), (gc, rc)] {
             let bound = 2.0 * ulp(want) + extra;
@@ -122,8 +124,12 @@ fn stage_sine_and_cosine_are_within_the_anchored_bound_of_libm() {
 #[test]
 fn polynomial_trig_right_hand_side_is_within_the_documented_bound_of_libm() {
     let libm = CartPendulum::book();
-    let poly = CartPendulum::book().with_trig(Trig::Polynomial);
-    assert_eq!((libm.trig(), poly.trig()), (Trig::Libm, Trig::Polynomial));
+    let poly = FastCart::new(CartPendulum::book(), Trig::Polynomial);
+    let default = FastCart::new(libm, Trig::default());
+    assert_eq!(
+        (default.trig(), poly.trig()),
+        (Trig::Libm, Trig::Polynomial)
+    );
     let p = libm.params();
     let j = libm.inertia_about_pivot();
     let (mgl, ml) = (p.m_p * p.g * p.l_p, p.m_p * p.l_p);
@@ -166,11 +172,11 @@ fn cdip_lqr_gain(plant: &CartPendulum) -> Mat {
 #[test]
 fn fixed_kernel_runs_are_bit_identical_to_the_general_loop() {
     use pendulab_sim::controllers::StaticStateFeedback;
-    use pendulab_sim::fixed::MulAddPath;
+    use pendulab_sim::fast::MulAddPath;
     use pendulab_sim::{SampledLoop, SampledOptions};
     for trig in [Trig::Libm, Trig::Polynomial] {
-        let plant = CartPendulum::book().with_trig(trig);
-        let k = cdip_lqr_gain(&plant);
+        let plant = FastCart::new(CartPendulum::book(), trig);
+        let k = cdip_lqr_gain(plant.plant());
         let opts = SampledOptions::default();
         let mut g = SampledLoop::new(plant, StaticStateFeedback::new(k).unwrap(), opts).unwrap();
         let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
@@ -204,9 +210,9 @@ fn fixed_kernel_runs_are_bit_identical_to_the_general_loop() {
 /// both the rotation and its fallback (`sin_cos_offset`) run.
 #[test]
 fn narrow_anchored_step_is_within_rounding_of_the_libm_step() {
-    use pendulab_sim::fixed::{FixedDynamics, Fused, MulAdd, Separate, rk4_fixed};
+    use pendulab_sim::fast::{Fused, Separate, rk4_fixed};
     fn run<F: MulAdd>() {
-        let anchored = CartPendulum::book().with_trig(Trig::Anchored);
+        let anchored = FastCart::new(CartPendulum::book(), Trig::Anchored);
         let libm = CartPendulum::book();
         let mut state = 3u64;
         let mut worst = 0.0f64;
@@ -253,7 +259,7 @@ fn narrow_anchored_step_is_within_rounding_of_the_libm_step() {
     // The two strategies do round differently (the fused one once per multiply–add),
     // which shows in some steps' results (most differences in θ̈ stay below half an ulp
     // of the state after the factor h: 35 of these 1000 steps differ).
-    let anchored = CartPendulum::book().with_trig(Trig::Anchored);
+    let anchored = FastCart::new(CartPendulum::book(), Trig::Anchored);
     let mut state = 4u64;
     let differ = (0..1000)
         .filter(|_| {
@@ -284,10 +290,10 @@ fn narrow_anchored_step_is_within_rounding_of_the_libm_step() {
 #[test]
 fn anchored_trig_kernel_stays_within_rounding_of_the_libm_loop() {
     use pendulab_sim::controllers::StaticStateFeedback;
-    use pendulab_sim::fixed::MulAddPath;
+    use pendulab_sim::fast::MulAddPath;
     use pendulab_sim::{SampledLoop, SampledOptions};
-    let plant = CartPendulum::book().with_trig(Trig::Anchored);
-    let k = cdip_lqr_gain(&plant);
+    let plant = FastCart::new(CartPendulum::book(), Trig::Anchored);
+    let k = cdip_lqr_gain(plant.plant());
     let feedback = StaticStateFeedback::new(k).unwrap();
     let opts = SampledOptions::default();
     let g = SampledLoop::new(plant, feedback.clone(), opts.clone()).unwrap();
@@ -329,7 +335,7 @@ fn anchored_trig_kernel_stays_within_rounding_of_the_libm_loop() {
 /// stage formula (≥ 1e-6 per step) stays far above it.
 #[test]
 fn anchored_lane_kernel_agrees_with_the_libm_lanes() {
-    use pendulab_sim::lanes::{AnchoredSinCos, LaneOptions, LibmSinCos, run_feedback_lanes};
+    use pendulab_sim::fast::{AnchoredSinCos, LaneOptions, LibmSinCos, run_feedback_lanes};
     let plant = CartPendulum::book();
     let k = cdip_lqr_gain(&plant);
     let gain = [k[(0, 0)], k[(0, 1)], k[(0, 2)], k[(0, 3)]];
@@ -372,7 +378,7 @@ fn anchored_lane_kernel_agrees_with_the_libm_lanes() {
 #[test]
 fn polynomial_trig_trajectories_stay_close_to_libm() {
     let libm = CartPendulum::book();
-    let poly = CartPendulum::book().with_trig(Trig::Polynomial);
+    let poly = FastCart::new(CartPendulum::book(), Trig::Polynomial);
     let mut xa = [0.0, std::f64::consts::PI - 1.0, 0.0, 0.0];
     let mut xb = xa;
     for k in 0..500 {

@@ -1,17 +1,17 @@
 //! The cart pendulum's right-hand side and RK4 step for `L` states at once (structure of
-//! arrays, [`pendulab_sim::lanes`]), with the lane form of the anchored-trig step.
+//! arrays, [`pendulab_sim::fast::lanes`]), with the lane form of the anchored-trig step.
 //!
-//! Neighbours: [`super`] holds the physics and the general `Dynamics` implementation;
+//! Neighbours: `cart.rs` holds the physics and the general `Dynamics` implementation;
 //! `anchored.rs` the single-state fixed-size kernel; `tests.rs` checks both against libm.
 
-use super::CartPendulum;
+use super::super::CartPendulum;
 
 /// The right-hand side for `L` states at once (structure of arrays) for
 /// [`pendulab_sim::lanes`]: the same operations as [`CartPendulum::derivative_array`], in the
 /// same order, per lane, with the sines and cosines from `M`.
-impl<const L: usize> pendulab_sim::lanes::LaneDynamics<4, L> for CartPendulum {
+impl<const L: usize> pendulab_sim::fast::LaneDynamics<4, L> for CartPendulum {
     #[inline(always)]
-    fn derivative_lanes<M: pendulab_sim::lanes::SinCos>(
+    fn derivative_lanes<M: pendulab_sim::fast::SinCos>(
         &self,
         x: &[[f64; L]; 4],
         u: &[f64; L],
@@ -26,15 +26,15 @@ impl<const L: usize> pendulab_sim::lanes::LaneDynamics<4, L> for CartPendulum {
         [x[2], x[3], ddz, ddtheta]
     }
 
-    /// With `M::ANCHORED` (`pendulab_sim::lanes::AnchoredSinCos`), the lane form of the
-    /// [`Trig::Anchored`](pendulab_sim::lanes::Trig::Anchored) step (`anchored_step`): the
+    /// With `M::ANCHORED` (`pendulab_sim::fast::AnchoredSinCos`), the lane form of the
+    /// [`Trig::Anchored`](pendulab_sim::fast::Trig::Anchored) step (`anchored_step`): the
     /// step's first sines and cosines by `M`, the later stages' from them for the stages'
-    /// offsets ([`pendulab_sim::lanes::sin_cos_offset_lanes`]), the pendulum's constants
+    /// offsets ([`pendulab_sim::fast::sin_cos_offset_lanes`]), the pendulum's constants
     /// divided by `J` beforehand. If a stage offset of any lane is beyond the series' range,
-    /// the whole step is taken by [`pendulab_sim::lanes::rk4_lanes`] instead. Other `M`: that
+    /// the whole step is taken by [`pendulab_sim::fast::rk4_lanes`] instead. Other `M`: that
     /// plain step.
     #[inline(always)]
-    fn rk4_step_lanes<M: pendulab_sim::lanes::SinCos>(
+    fn rk4_step_lanes<M: pendulab_sim::fast::SinCos>(
         &self,
         x: &mut [[f64; L]; 4],
         u: &[f64; L],
@@ -46,7 +46,7 @@ impl<const L: usize> pendulab_sim::lanes::LaneDynamics<4, L> for CartPendulum {
             *x = next;
             return;
         }
-        pendulab_sim::lanes::rk4_lanes::<Self, M, 4, L>(self, x, u, h);
+        pendulab_sim::fast::rk4_lanes::<Self, M, 4, L>(self, x, u, h);
     }
 }
 
@@ -54,13 +54,13 @@ impl CartPendulum {
     /// [`CartPendulum::anchored_step`] for `L` lanes; `None` when a stage offset is out of
     /// the series' range in some lane.
     #[inline(always)]
-    fn anchored_step_lanes<M: pendulab_sim::lanes::SinCos, const L: usize>(
+    fn anchored_step_lanes<M: pendulab_sim::fast::SinCos, const L: usize>(
         &self,
         x: &[[f64; L]; 4],
         u: &[f64; L],
         h: &[f64; L],
     ) -> Option<[[f64; L]; 4]> {
-        use pendulab_sim::lanes::sin_cos_offset_lanes;
+        use pendulab_sim::fast::sin_cos_offset_lanes;
         use std::array::from_fn;
         let (s, c) = M::sin_cos(&x[1]);
         let accel = |dz: &[f64; L], dth: &[f64; L], (ss, cc): &([f64; L], [f64; L])| {

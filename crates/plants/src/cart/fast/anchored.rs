@@ -1,83 +1,53 @@
-//! The fixed-size closed-loop kernel's right-hand side and RK4 step for the cart pendulum
-//! ([`pendulab_sim::fixed`]), with the anchored-trig step of `Trig::Anchored`: series sines and
-//! cosines near upright and the stages' angles by the addition theorem, for short (1 ms) and
-//! long (20 ms) steps.
+//! The anchored-trig RK4 step of [`FastCart`](super::FastCart) with [`Trig::Anchored`](pendulab_sim::fast::Trig::Anchored) on one
+//! state: series sines and cosines near upright and the stages' angles by the addition
+//! theorem, for short (1 ms) and long (20 ms) steps. Two variants, by the step length:
 //!
-//! Neighbours: [`super`] holds the physics (`CartPendulum`, its parameters, linearisation and
-//! energy) and the general `Dynamics` implementation; `lanes.rs` the same step for several
-//! states at once; `tests.rs` checks both against libm.
+//! - steps of at most 2⁻⁸ s (the 1 ms loops): `narrow_anchored_step`, written once for both
+//!   multiply–adds of
+//!   [`FixedDynamics::rk4_step_fixed_with`](pendulab_sim::fast::FixedDynamics::rk4_step_fixed_with)
+//!   (the kernel's FMA-compiled loop takes it with fused multiply–adds): series sines and
+//!   cosines at three angles fixed by the step's start, the third and fourth stages'
+//!   accelerations by a rotation through the small offsets their angles add, and every
+//!   stage's θ̇-dependence folded into one multiply–add; each sine and cosine within
+//!   1.5 ulp + 2.5·10⁻¹⁷ of libm's at its angle, the rotations within 1.5 ulp of theirs
+//!   (see there);
+//! - longer steps (e.g. the 20 ms of the CartPole-v1 environment,
+//!   `pendulab_sim::env::FixedEnv`, whose angles up to 12° and stage offsets `(h/2)·θ̇`,
+//!   `h·θ̇` mostly exceed 1/32): `anchored_step`, the first angle's sine and cosine by one
+//!   series within [`FastCart::ANCHORED_ANGLE_LIMIT`](super::FastCart::ANCHORED_ANGLE_LIMIT)
+//!   of upright (`wide_angle_series`) and the later stages' from them by the addition theorem
+//!   with `wide_shift_series` for offsets up to
+//!   [`FastCart::ANCHORED_SHIFT_LIMIT`](super::FastCart::ANCHORED_SHIFT_LIMIT) (libm beyond),
+//!   within 2 ulp + 6·10⁻¹⁷ and 2 ulp + 1.1·10⁻¹⁶ of libm's. One series rather than tiers,
+//!   because an episode's random angles would mispredict the choice between tiers about
+//!   every third step. This variant always uses separate multiplications and additions.
 
-use super::CartPendulum;
-use pendulab_sim::fixed::{MulAdd, Separate};
-use pendulab_sim::lanes::{
-    COS_TAYLOR, ROTATE_LIMIT, SIN_TAYLOR, Trig, rotate_small, sin_cos_near_zero, sin_cos_offset,
+use super::super::CartPendulum;
+use super::FastCart;
+use pendulab_sim::fast::{
+    COS_TAYLOR, MulAdd, ROTATE_LIMIT, SIN_TAYLOR, rotate_small, sin_cos_near_zero, sin_cos_offset,
 };
 
-/// The right-hand side on arrays for the fixed-size closed-loop kernel
-/// ([`pendulab_sim::fixed`]): the operations of [`CartPendulum::derivative_array`], which the
-/// [`Dynamics`](pendulab_sim::Dynamics) implementation also evaluates, so the kernel
-/// reproduces `SampledLoop` bit for bit — except with [`Trig::Anchored`], whose RK4 step
-/// evaluates its sines and cosines by series near upright and shares work between the stages,
-/// with the pendulum's constants divided by `J` beforehand. Two variants, by the step length:
-///
-/// - steps of at most 2⁻⁸ s (the 1 ms loops): `narrow_anchored_step`, written once for both
-///   multiply–adds of [`FixedDynamics::rk4_step_fixed_with`](pendulab_sim::fixed::FixedDynamics::rk4_step_fixed_with)
-///   (the kernel's FMA-compiled loop takes it with fused multiply–adds): series sines and
-///   cosines at three angles fixed by the step's start, the third and fourth stages'
-///   accelerations by a rotation through the small offsets their angles add, and every
-///   stage's θ̇-dependence folded into one multiply–add; each sine and cosine within
-///   1.5 ulp + 2.5·10⁻¹⁷ of libm's at its angle, the rotations within 1.5 ulp of theirs
-///   (see there);
-/// - longer steps (e.g. the 20 ms of the CartPole-v1 environment,
-///   `pendulab_sim::env::FixedEnv`, whose angles up to 12° and stage offsets `(h/2)·θ̇`,
-///   `h·θ̇` mostly exceed 1/32): `anchored_step`, the first angle's sine and cosine by one
-///   series within [`CartPendulum::ANCHORED_ANGLE_LIMIT`] of upright (`wide_angle_series`)
-///   and the later stages' from them by the addition theorem with `wide_shift_series` for
-///   offsets up to [`CartPendulum::ANCHORED_SHIFT_LIMIT`] (libm beyond), within
-///   2 ulp + 6·10⁻¹⁷ and 2 ulp + 1.1·10⁻¹⁶ of libm's. One series rather than tiers,
-///   because an episode's random angles would mispredict the choice between tiers about
-///   every third step (measured: 52 against 60 ns per environment step). This variant
-///   always uses separate multiplications and additions.
-impl pendulab_sim::fixed::FixedDynamics<4> for CartPendulum {
-    #[inline(always)]
-    fn derivative_fixed(&self, x: &[f64; 4], u: f64) -> [f64; 4] {
-        // The body of `derivative_array`, forced inline into the kernel's RK4 stages.
-        let ddz = self.drive.acceleration(x[2], u);
-        let (s, c) = self.trig.sin_cos(x[1]);
-        [x[2], x[3], ddz, self.pendulum.acceleration(s, c, x[3], ddz)]
-    }
-
-    /// The operations of [`pendulab_sim::fixed::rk4_fixed`], the sines and cosines aside;
-    /// with [`Trig::Anchored`] the anchored step with separate multiplications and additions.
-    #[inline(always)]
-    fn rk4_step_fixed(&self, x: &mut [f64; 4], u: f64, h: f64) {
-        self.rk4_step_fixed_with::<Separate>(x, u, h);
-    }
-
-    /// As [`pendulab_sim::fixed::FixedDynamics::rk4_step_fixed`]; with [`Trig::Anchored`]
-    /// and steps of at most 2⁻⁸ s, the multiply–adds of the anchored step by `F`.
-    #[inline(always)]
-    fn rk4_step_fixed_with<F: MulAdd>(&self, x: &mut [f64; 4], u: f64, h: f64) {
-        if self.trig != Trig::Anchored {
-            return pendulab_sim::fixed::rk4_fixed(self, x, u, h);
-        }
-        if h <= NARROW_STEP_LIMIT {
-            *x = self.narrow_anchored_step::<F>(x, u, h);
-        } else {
-            let theta = x[1];
-            let (s, c) = anchor_sin_cos(theta);
-            *x = self.anchored_step(x, u, h, (s, c), |d| stage_sin_cos(theta, d, s, c));
-        }
+/// One anchored RK4 step of `h` with `u` held, in place: the narrow step with the
+/// multiply–adds of `F` for `h ≤ 2⁻⁸ s`, the wide step otherwise.
+#[inline(always)]
+pub(super) fn step<F: MulAdd>(plant: &CartPendulum, x: &mut [f64; 4], u: f64, h: f64) {
+    if h <= NARROW_STEP_LIMIT {
+        *x = plant.narrow_anchored_step::<F>(x, u, h);
+    } else {
+        let theta = x[1];
+        let (s, c) = anchor_sin_cos(theta);
+        *x = plant.anchored_step(x, u, h, (s, c), |d| stage_sin_cos(theta, d, s, c));
     }
 }
 
 /// Steps up to this length (s) take `narrow_anchored_step` (its stage offsets stay within
 /// the rotation's range for accelerations up to `2⁻¹⁴/(h²/2)`, 122 rad/s² at 1 ms); longer
-/// ones `anchored_step` with the wide series (see the `FixedDynamics` implementation).
+/// ones `anchored_step` with the wide series (see the module docs).
 const NARROW_STEP_LIMIT: f64 = 1.0 / 256.0;
 
-pub(super) const WIDE_ANGLE_LIMIT: f64 = CartPendulum::ANCHORED_ANGLE_LIMIT;
-pub(super) const WIDE_SHIFT_LIMIT: f64 = CartPendulum::ANCHORED_SHIFT_LIMIT;
+pub(super) const WIDE_ANGLE_LIMIT: f64 = FastCart::ANCHORED_ANGLE_LIMIT;
+pub(super) const WIDE_SHIFT_LIMIT: f64 = FastCart::ANCHORED_SHIFT_LIMIT;
 
 /// The sine and cosine of an anchored RK4 step's first angle for steps longer than 2⁻⁸ s:
 /// [`wide_angle_series`] for `|θ| ≤` [`WIDE_ANGLE_LIMIT`], libm beyond (and for NaN); within
@@ -125,7 +95,7 @@ fn wide_angle_series(x: f64) -> (f64, f64) {
 
 /// `(sin d, cos d − 1)` for `|d| ≤ 1/8` by their Taylor series to `d⁹` and `d¹⁰` (the first
 /// omitted terms, `d¹¹/11! < 3·10⁻¹⁸` and `d¹²/12! < 2·10⁻²⁰`), Estrin's pairing in `z = d²`;
-/// as the series of `pendulab_sim::lanes::sin_cos_offset` with two more terms each.
+/// as the series of `pendulab_sim::fast::sin_cos_offset` with two more terms each.
 #[inline(always)]
 fn wide_shift_series(d: f64) -> (f64, f64) {
     // The first four and five coefficients.
@@ -139,7 +109,7 @@ fn wide_shift_series(d: f64) -> (f64, f64) {
 }
 
 impl CartPendulum {
-    /// One classic RK4 step of [`Trig::Anchored`] for steps of at most 2⁻⁸ s, with the
+    /// One classic RK4 step of [`Trig::Anchored`](pendulab_sim::fast::Trig::Anchored) for steps of at most 2⁻⁸ s, with the
     /// multiply–adds `a·b + c` of `F`. With `x = [z, θ, v, ω]` (`v = ż`, `ω = θ̇`),
     /// `G = m_p g l_p/J`, `M = μ_p/J`, `L = m_p l_p/J`, `α = a_c`, `β = b_c` and the stage
     /// values of RK4 (`v_k`, `ω_k`, `θ_k` the stage states, `a_k = z̈`, `b_k = θ̈` their
@@ -158,8 +128,8 @@ impl CartPendulum {
     ///
     /// (the damping `−Mω_k = −Mω − M·c_k h·b_{k−1}` folded into one multiply–add per stage;
     /// `v_k`, `ω_k` never formed). The sines and cosines of the three angles fixed by the
-    /// step's start, `θ`, `θ₂` and `θ₄'` (each rounded once with [`Fused`](pendulab_sim::fixed::Fused), twice
-    /// with [`Separate`] — as the general loop rounds `θ₂`), come from
+    /// step's start, `θ`, `θ₂` and `θ₄'` (each rounded once with [`Fused`](pendulab_sim::fast::Fused), twice
+    /// with [`Separate`](pendulab_sim::fast::Separate) — as the general loop rounds `θ₂`), come from
     /// [`sin_cos_near_zero`] (series within 1/4 rad of upright, libm beyond), each within
     /// 1.5 ulp + 2.5·10⁻¹⁷ of libm's, off the chain that runs through `u` and `θ̈`. The third
     /// and fourth stages' angles add `e = e₃, e₄` (|e| ~ 10⁻⁵ at 1 ms), and by the addition
@@ -232,8 +202,8 @@ impl CartPendulum {
         ]
     }
 
-    /// One RK4 step of [`Trig::Anchored`] for steps longer than 2⁻⁸ s (the operations of
-    /// [`pendulab_sim::fixed::rk4_fixed`] with the pendulum's constants divided by `J`
+    /// One RK4 step of [`Trig::Anchored`](pendulab_sim::fast::Trig::Anchored) for steps longer than 2⁻⁸ s (the operations of
+    /// [`pendulab_sim::fast::rk4_fixed`] with the pendulum's constants divided by `J`
     /// beforehand and the last stage's term added last), given `(s, c)`, the sine and cosine
     /// of the step's first angle `θ` ([`anchor_sin_cos`]: a series near upright, libm
     /// beyond); `shift(d)` returns those of a stage angle `θ + d` ([`stage_sin_cos`]) for the
@@ -241,8 +211,8 @@ impl CartPendulum {
     /// themselves, `d = (h/2)·θ̇₁, (h/2)·θ̇₂, h·θ̇₃` — never recovered from a rounded angle,
     /// which keeps the round trip `(θ + d) − θ` off the step's dependency chain. The later
     /// offsets are formed as `(h/2)·x₃ + (h/2)²·k₁` and `h·x₃ + (h²/2)·k₂` (`k` the stages'
-    /// `θ̈`) rather than from the stage's `θ̇`: one operation less on the chain (3 % per 1 ms
-    /// loop step, measured), the same offset to an ulp of it.
+    /// `θ̈`) rather than from the stage's `θ̇`: one operation less on the chain, the same offset to
+    /// an ulp of it.
     #[inline(always)]
     fn anchored_step(
         &self,

@@ -13,8 +13,8 @@
 //! stages of [`crate::rk4_step`], the saturation of [`crate::Actuator::apply`]), provided the
 //! plant's [`FixedDynamics::derivative_fixed`] performs the operations of its
 //! [`Dynamics::derivative`] and it keeps the provided [`FixedDynamics::rk4_step_fixed`] (as
-//! `pendulab_plants::CartPendulum` does, except with its opt-in
-//! [`Trig::Anchored`](crate::lanes::Trig::Anchored)).
+//! `pendulab_plants::CartPendulum` does; its kernel type `pendulab_plants::cart::fast::FastCart`
+//! with [`Trig::Anchored`](crate::fast::Trig::Anchored) overrides the step).
 //! `tests/fixed.rs` checks the identity, records included, with and without saturation,
 //! monitor stops, substeps and the LQ servo.
 //!
@@ -22,16 +22,16 @@
 //! x86-64, inside a function compiled for FMA that a run takes when the processor has it
 //! (detected at run time; [`FixedLoop::multiply_add`] tells which). The two differ only where
 //! the plant's step asks for it: [`FixedDynamics::rk4_step_fixed_with`] receives the
-//! multiply–add strategy ([`Fused`] or [`Separate`], see [`MulAdd`]), and a plant may
-//! evaluate its `a·b + c` by `F::mul_add` — the cart's opt-in
-//! [`Trig::Anchored`](crate::lanes::Trig::Anchored) step does. Rust never contracts
+//! multiply–add strategy ([`Fused`](crate::fast::Fused) or [`Separate`](crate::fast::Separate), see [`MulAdd`](crate::fast::MulAdd)), and a plant may
+//! evaluate its `a·b + c` by `F::mul_add` — the cart's anchored step (`FastCart` with
+//! [`Trig::Anchored`](crate::fast::Trig::Anchored)) does. Rust never contracts
 //! `a * b + c` on its own, so every other operation rounds as in the baseline loop and the
 //! provided steps stay bit-identical on either path (`tests/fixed.rs` runs both).
 //!
 //! ```
 //! use pendulab_lti::Mat;
 //! use pendulab_sim::controllers::StaticStateFeedback;
-//! use pendulab_sim::fixed::FixedDynamics;
+//! use pendulab_sim::fast::FixedDynamics;
 //! use pendulab_sim::{Dynamics, SampledLoop, SampledOptions};
 //! # fn main() -> Result<(), pendulab_sim::SimError> {
 //! // A double integrator ẋ = [x₁, u] as a fixed-size plant.
@@ -62,6 +62,7 @@ use crate::controller::Controller;
 use crate::controllers::{LqIntegralServo, StaticStateFeedback};
 use crate::dynamics::Dynamics;
 use crate::error::{Result, SimError, check_initial_state, check_len, check_state};
+use crate::integrate::rk4::{Rk4Scratch, step_with};
 use crate::integrate::{IntegrationStats, Integrator};
 use crate::monitor::{Flow, Monitor};
 use crate::sampled::{
@@ -69,6 +70,8 @@ use crate::sampled::{
     validate_options,
 };
 use pendulab_lti::{Mat, Trajectory};
+
+use super::strategy::{Fused, MulAdd, MulAddPath, Separate};
 
 /// An autonomous single-input plant `ẋ = f(x, u)` with `N` states, evaluated on arrays.
 ///
@@ -81,8 +84,8 @@ pub trait FixedDynamics<const N: usize> {
 
     /// One classic RK4 step of `h` with `u` held, in place (provided: [`rk4_fixed`], the
     /// operations of [`crate::rk4_step`]). A plant may override it with a step that shares
-    /// work between the stages (e.g. `pendulab_plants::CartPendulum` with
-    /// [`crate::lanes::Trig::Anchored`]); the kernel is then as close to the general loop as
+    /// work between the stages (e.g. `pendulab_plants::cart::fast::FastCart` with
+    /// [`crate::fast::Trig::Anchored`]); the kernel is then as close to the general loop as
     /// that override documents, no longer bit-identical.
     #[inline(always)]
     fn rk4_step_fixed(&self, x: &mut [f64; N], u: f64, h: f64) {
@@ -90,7 +93,7 @@ pub trait FixedDynamics<const N: usize> {
     }
 
     /// [`FixedDynamics::rk4_step_fixed`] for a kernel that offers the multiply–add strategy
-    /// `F` ([`Fused`] inside [`FixedLoop`]'s FMA-compiled loop, [`Separate`] elsewhere):
+    /// `F` ([`Fused`](crate::fast::Fused) inside [`FixedLoop`]'s FMA-compiled loop, [`Separate`](crate::fast::Separate) elsewhere):
     /// a plant's own step may evaluate its `a·b + c` by `F::mul_add`. Provided: the plain
     /// [`FixedDynamics::rk4_step_fixed`], which ignores `F` — a step that must stay
     /// bit-identical to the general loop keeps it.
@@ -100,59 +103,9 @@ pub trait FixedDynamics<const N: usize> {
     }
 }
 
-/// How a plant's RK4 step evaluates `a·b + c` ([`FixedDynamics::rk4_step_fixed_with`]).
-///
-/// Rust never contracts `a * b + c` into a fused multiply–add, and the baseline x86-64
-/// target has no FMA instruction, so a step written once and generic over this strategy is
-/// compiled twice by [`FixedLoop`]: with [`Fused`] inside a function compiled for FMA and
-/// chosen at run time when the processor has it, with [`Separate`] otherwise.
-pub trait MulAdd {
-    /// Which strategy this is.
-    const PATH: MulAddPath;
-    /// `a·b + c`.
-    fn mul_add(a: f64, b: f64, c: f64) -> f64;
-}
-
-/// `a·b + c` rounded once ([`f64::mul_add`]): one instruction, with the latency of one
-/// operation instead of two, where FMA is enabled; in code compiled without it a call to the
-/// library's `fma` — correct but slow, so [`FixedLoop`] selects it only inside its
-/// FMA-compiled loop.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Fused;
-
-impl MulAdd for Fused {
-    const PATH: MulAddPath = MulAddPath::Fused;
-    #[inline(always)]
-    fn mul_add(a: f64, b: f64, c: f64) -> f64 {
-        a.mul_add(b, c)
-    }
-}
-
-/// `a·b + c` as a product and a sum, each rounded (what Rust evaluates for `a * b + c`).
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Separate;
-
-impl MulAdd for Separate {
-    const PATH: MulAddPath = MulAddPath::Separate;
-    #[inline(always)]
-    fn mul_add(a: f64, b: f64, c: f64) -> f64 {
-        a * b + c
-    }
-}
-
-/// Which multiply–add a [`FixedLoop`] run offers the plant's step ([`MulAdd`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MulAddPath {
-    /// [`Fused`]: the loop compiled for FMA (x86-64 processors with FMA, detected at run
-    /// time).
-    Fused,
-    /// [`Separate`]: the loop compiled for the baseline target.
-    Separate,
-}
-
-/// One classic RK4 step of `h` with `u` held, operation for operation the step of
-/// [`crate::rk4_step`] (stages `x + (h/2)·k₁`, `x + (h/2)·k₂`, `x + h·k₃`; update
-/// `x + (h/6)·(((k₁ + 2k₂) + 2k₃) + k₄)`).
+/// One classic RK4 step of `h` with `u` held: the crate's one RK4 stepper
+/// ([`crate::integrate::rk4`], the operations of [`crate::rk4_step`]) on `[f64; N]` with the
+/// plant's [`FixedDynamics::derivative_fixed`].
 #[inline(always)]
 pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
     plant: &P,
@@ -160,15 +113,18 @@ pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
     u: f64,
     h: f64,
 ) {
-    let half = 0.5 * h;
-    let k1 = plant.derivative_fixed(x, u);
-    let k2 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + half * k1[i]), u);
-    let k3 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + half * k2[i]), u);
-    let k4 = plant.derivative_fixed(&std::array::from_fn(|i| x[i] + h * k3[i]), u);
-    let sixth = h / 6.0;
-    for i in 0..N {
-        x[i] += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    }
+    let mut w = Rk4Scratch::<[f64; N]>::new(N);
+    step_with(
+        |_, x, dx| {
+            let x: [f64; N] = std::array::from_fn(|i| x[i]);
+            dx.copy_from_slice(&plant.derivative_fixed(&x, u));
+        },
+        0.0,
+        x,
+        h,
+        &mut w,
+        false,
+    );
 }
 
 /// A controller the fixed-size kernel runs: one command from the exact state of `N` entries.
@@ -288,9 +244,9 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         Ok(self)
     }
 
-    /// The multiply–add the runs may offer the plant's step: [`MulAddPath::Fused`] (the
+    /// The multiply–add the runs may offer the plant's step: [`MulAddPath::Fused`](crate::fast::MulAddPath::Fused) (the
     /// default) runs the loop compiled for FMA where the processor has it (detected at run
-    /// time; elsewhere the baseline loop), [`MulAddPath::Separate`] always the baseline loop.
+    /// time; elsewhere the baseline loop), [`MulAddPath::Separate`](crate::fast::MulAddPath::Separate) always the baseline loop.
     /// Only a plant that evaluates `a·b + c` by [`FixedDynamics::rk4_step_fixed_with`]'s
     /// strategy sees a difference; with the provided steps the runs are the same either way.
     pub fn with_multiply_add(mut self, path: MulAddPath) -> Self {
@@ -330,30 +286,7 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         self.run_inner(x0, &mut (), None)
     }
 
-    /// Runs from `x0` showing every sample to `monitor`, which may stop the run.
-    ///
-    /// # Errors
-    /// As [`SampledLoop::run`].
-    pub fn run_with<M: Monitor + ?Sized>(
-        &mut self,
-        x0: &[f64],
-        monitor: &mut M,
-    ) -> Result<SampledRun> {
-        self.run_inner(x0, monitor, None)
-    }
-
-    /// As [`FixedLoop::run_with`], recording into the storage of an earlier result.
-    ///
-    /// # Errors
-    /// As [`SampledLoop::run`].
-    pub fn run_recycling<M: Monitor + ?Sized>(
-        &mut self,
-        x0: &[f64],
-        monitor: &mut M,
-        previous: SampledRun,
-    ) -> Result<SampledRun> {
-        self.run_inner(x0, monitor, Some(previous))
-    }
+    crate::sampled::monitored_runs!();
 
     fn run_inner<M: Monitor + ?Sized>(
         &mut self,
@@ -371,7 +304,7 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         self.run_loop::<Separate, M>(x0, monitor, storage)
     }
 
-    /// [`FixedLoop::run_loop`] with [`Fused`], compiled for FMA. Rust does not contract
+    /// [`FixedLoop::run_loop`] with [`Fused`](crate::fast::Fused), compiled for FMA. Rust does not contract
     /// `a * b + c`, so only the plant's `F::mul_add` differs from the baseline loop.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "fma")]
