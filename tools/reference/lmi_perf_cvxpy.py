@@ -27,15 +27,11 @@ import cvxpy as cp
 import numpy as np
 import scipy
 
-EPS = 1e-6
-a1n, b1n, L1, m2, l2, J2, mu2, g = 6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81
-al2, al3, al5 = J2 + m2 * l2**2, m2 * L1 * l2, m2 * l2 * g
+from book_plants import a1n, al2, al3, arm, augment, b1n
+from sos_kernel import mono, multiplier, padd, pmul, pscale, ptrans, sos
 
-A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [0, 0, -a1n, 0],
-              [0, al5 / al2, (mu2 + a1n * al3) / al2, -mu2 / al2]])
-B = np.array([[0], [0], [b1n], [-b1n * al3 / al2]])
-At = np.zeros((5, 5)); At[:4, :4] = A; At[4, 0] = -1.0
-Bt = np.vstack([B, [[0.0]]])
+EPS = 1e-6
+At, Bt = augment(*arm())
 Qs = np.diag([0.1, 1, 0.001, 0.001, 4.0])
 Rs = np.array([[1.0]])
 n, m = 5, 1
@@ -51,74 +47,6 @@ def servo_problem():
                      [Qh @ X, -np.eye(n), np.zeros((n, m))],
                      [L, np.zeros((m, n)), -np.eye(m)]]) << -EPS * np.eye(2 * n + m)]
     return cp.Problem(cp.Maximize(cp.trace(X)), cons)
-
-
-def mono(es=0, ew=0, es0=0):
-    return (es, ew, es0)
-
-
-def padd(*ps):
-    r = {}
-    for p in ps:
-        for k, v in p.items():
-            r[k] = r[k] + v if k in r else v
-    return r
-
-
-def pscale(p, c):
-    return {k: c * v for k, v in p.items()}
-
-
-def pmul(p, q):
-    r = {}
-    for k1, v1 in p.items():
-        for k2, v2 in q.items():
-            k = tuple(a + b for a, b in zip(k1, k2))
-            t = v1 * v2 if (np.isscalar(v1) or np.isscalar(v2)) else v1 @ v2
-            r[k] = r[k] + t if k in r else t
-    return r
-
-
-def ptrans(p):
-    return {k: v.T for k, v in p.items()}
-
-
-def multiplier(size, var_index, degree):
-    d = degree + 1
-    R = cp.Variable((size * d, size * d), PSD=True)
-    E = [np.kron(np.eye(size), np.eye(d)[:, [a]]) for a in range(d)]
-    S = {}
-    for a in range(d):
-        for b in range(d):
-            e = [0, 0, 0]
-            e[var_index] = a + b
-            t = E[a].T @ R @ E[b]
-            S[tuple(e)] = S[tuple(e)] + t if tuple(e) in S else t
-    return S
-
-
-def sos(M, bases):
-    p = len(bases)
-    offs = np.cumsum([0] + [len(b) for b in bases])
-    N = offs[-1]
-    Q = cp.Variable((N, N), PSD=True)
-    prods = {}
-    for i in range(p):
-        for j in range(p):
-            for ia, a in enumerate(bases[i]):
-                for jb, b in enumerate(bases[j]):
-                    k = tuple(x + y for x, y in zip(a, b))
-                    prods.setdefault(k, []).append((i, j, offs[i] + ia, offs[j] + jb))
-    cons = []
-    for k in set(prods) | set(M):
-        rhs = 0
-        if k in prods:
-            sel = np.zeros((p * p, N * N))
-            for (i, j, r, c) in prods[k]:
-                sel[i * p + j, r * N + c] += 1.0
-            rhs = cp.reshape(sel @ cp.vec(Q, order="C"), (p, p), order="C")
-        cons.append(M.get(k, np.zeros((p, p))) == rhs)
-    return cons
 
 
 def gain_schedule_problem():
@@ -137,11 +65,11 @@ def gain_schedule_problem():
     g2 = {mono(es0=1): 1.0, mono(es0=2): -1.0}
     ga = {mono(): 1.0, mono(ew=1): -1.0}
     gb = {mono(): 1.0, mono(ew=1): 1.0}
-    S11 = multiplier(n, 0, 1)
-    S22 = multiplier(n, 2, 1)
-    S31 = multiplier(n, 0, 3)
-    Sa = multiplier(n, 0, 3)
-    Sb = multiplier(n, 0, 3)
+    S11, _ = multiplier(n, 0, 1)
+    S22, _ = multiplier(n, 2, 1)
+    S31, _ = multiplier(n, 0, 3)
+    Sa, _ = multiplier(n, 0, 3)
+    Sb, _ = multiplier(n, 0, 3)
     epsI = {mono(): EPS * I5}
     M1 = padd(Xs, pscale(pmul(g1, S11), -1.0), pscale(epsI, -1.0))
     M211 = padd(Xs0, pscale(pmul(g2, S22), -1.0), pscale(epsI, -1.0))
@@ -174,8 +102,8 @@ def gain_schedule_problem():
                 [(ptrans(LR), (m, n)), (np.zeros((m, n)), (m, n)), (np.eye(m), (m, m))]])
     bs = lambda k: [mono(e) for e in range(k + 1)]
     bs0 = lambda k: [mono(es0=e) for e in range(k + 1)]
-    cons = sos(M1, [bs(2)] * n) + sos(M2, [bs0(2)] * n + [[mono()]] * n) \
-        + sos(M3, [bs(4)] * n + [[mono()]] * (n + m))
+    cons = sos(M1, [bs(2)] * n)[0] + sos(M2, [bs0(2)] * n + [[mono()]] * n)[0] \
+        + sos(M3, [bs(4)] * n + [[mono()]] * (n + m))[0]
     return cp.Problem(cp.Minimize(gam), cons)
 
 

@@ -3,8 +3,8 @@
 (Clarabel backend) and the Riccati LQ gains from SciPy.
 
 Every problem is written here from its mathematical statement, without pendulab's modelling
-layer: the arm-type pendulum from SPEC.md §1.2 (table 3.7 parameters), the LMIs of
-examples.md, and for p2c15_ex7 a hand-written kernel-form SOS program (Gram matrices as PSD
+layer: the arm-type pendulum of docs/model.md §2 (table 3.7 parameters, book_plants.py), the
+LMIs of the book part 2 ch. 1, and for p2c15_ex7 a hand-written kernel-form SOS program (Gram matrices as PSD
 variables, coefficient matching as equalities, the monomial bases written out below).
 
 Writes crates/lmi/tests/fixtures/lmi_reference.json.
@@ -22,29 +22,11 @@ import numpy as np
 import scipy
 from scipy.linalg import solve_continuous_are
 
+from book_plants import a1n, al2, al3, arm, augment, b1n
+from sos_kernel import mono, multiplier, padd, pmul, pscale, ptrans, sos
+
 OUT = pathlib.Path("crates/lmi/tests/fixtures/lmi_reference.json")
 EPS = 1e-6
-
-# ---- arm-type pendulum, SPEC.md §1.2 -------------------------------------------------------
-a1n, b1n, L1, m2, l2, J2, mu2, g = 6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81
-al2, al3, al5 = J2 + m2 * l2**2, m2 * L1 * l2, m2 * l2 * g
-
-
-def arm(a1=a1n, b1=b1n, th=0.0):
-    c = np.cos(th)
-    A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [0, 0, -a1, 0],
-                  [0, al5 / al2, (mu2 + a1 * al3 * c) / al2, -mu2 / al2]])
-    B = np.array([[0], [0], [b1], [-b1 * al3 * c / al2]])
-    return A, B
-
-
-def augment(A, B):
-    At = np.zeros((5, 5))
-    At[:4, :4] = A
-    At[4, 0] = -1.0
-    Bt = np.vstack([B, [[0.0]]])
-    return At, Bt
-
 
 Qs = np.diag([0.1, 1, 0.001, 0.001, 4.0])
 Rs = np.array([[1.0]])
@@ -158,81 +140,6 @@ A0t, B0t = At, Bt
 A1t = np.zeros((5, 5)); A1t[3, 2] = -a1n * al3 / al2
 B1t = np.zeros((5, 1)); B1t[3, 0] = b1n * al3 / al2
 n, m = 5, 1
-
-
-def mono(es=0, ew=0, es0=0):
-    return (es, ew, es0)
-
-
-def padd(*ps):
-    r = {}
-    for p in ps:
-        for k, v in p.items():
-            r[k] = r[k] + v if k in r else v
-    return r
-
-
-def pscale(p, c):
-    return {k: c * v for k, v in p.items()}
-
-
-def pmul(p, q):
-    """p * q where, per term, one factor is a numpy array (or scalar)."""
-    r = {}
-    for k1, v1 in p.items():
-        for k2, v2 in q.items():
-            k = tuple(a + b for a, b in zip(k1, k2))
-            if np.isscalar(v1) or np.isscalar(v2):
-                t = v1 * v2
-            else:
-                t = v1 @ v2
-            r[k] = r[k] + t if k in r else t
-    return r
-
-
-def ptrans(p):
-    return {k: v.T for k, v in p.items()}
-
-
-def multiplier(size, var_index, degree):
-    """S = (I (x) z)^T R (I (x) z), z = [1, v, ..., v^degree] in parameter var_index."""
-    d = degree + 1
-    R = cp.Variable((size * d, size * d), PSD=True)
-    E = [np.kron(np.eye(size), np.eye(d)[:, [a]]) for a in range(d)]
-    S = {}
-    for a in range(d):
-        for b in range(d):
-            e = [0, 0, 0]
-            e[var_index] = a + b
-            t = E[a].T @ R @ E[b]
-            S[tuple(e)] = S[tuple(e)] + t if tuple(e) in S else t
-    return S, R
-
-
-def sos(M, bases):
-    """Kernel-form SOS: M = Z^T Q Z, Z = blockdiag(bases), Q PSD; equalities per monomial."""
-    p = len(bases)
-    offs = np.cumsum([0] + [len(b) for b in bases])
-    N = offs[-1]
-    Q = cp.Variable((N, N), PSD=True)
-    prods = {}
-    for i in range(p):
-        for j in range(p):
-            for ia, a in enumerate(bases[i]):
-                for jb, b in enumerate(bases[j]):
-                    k = tuple(x + y for x, y in zip(a, b))
-                    prods.setdefault(k, []).append((i, j, offs[i] + ia, offs[j] + jb))
-    cons = []
-    for k in set(prods) | set(M):
-        rhs = 0
-        if k in prods:
-            sel = np.zeros((p * p, N * N))
-            for (i, j, r, c) in prods[k]:
-                sel[i * p + j, r * N + c] += 1.0
-            rhs = cp.reshape(sel @ cp.vec(Q, order="C"), (p, p), order="C")
-        lhs = M.get(k, np.zeros((p, p)))
-        cons.append(lhs == rhs)
-    return cons, Q
 
 
 X = [cp.Variable((n, n), symmetric=True) for _ in range(3)]

@@ -5,7 +5,7 @@ Writes crates/lti/tests/fixtures/lti_reference.json with
     the frequency response of a MIMO FOH discretisation at a few frequencies,
   - Bode points (complex response; magnitude dB; phase deg) of continuous and discrete systems,
   - transmission zeros of non-minimum-phase systems (among them the linearised cart pendulum of
-    SPEC.md with the cart position as output).
+    docs/model.md §1 with the cart position as output).
 
 Run: python3 tools/reference/lti_reference.py   (from the repository root)
 """
@@ -17,21 +17,7 @@ import control
 import numpy as np
 import scipy
 
-
-def cdip():
-    # SPEC.md 1.1, table 3.5.
-    ac, bc, mp, lp, Jp, mup, g = 6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81
-    J = Jp + mp * lp**2
-    A = np.array(
-        [
-            [0, 0, 1, 0],
-            [0, 0, 0, 1],
-            [0, 0, -ac, 0],
-            [0, mp * g * lp / J, ac * mp * lp / J, -mup / J],
-        ]
-    )
-    B = np.array([[0], [0], [bc], [-bc * mp * lp / J]])
-    return A, B
+from book_plants import cdip
 
 
 def monic(num, den):

@@ -1,6 +1,6 @@
 """Reference values for pendulab-control's optimal dynamic quantizer (Azuma–Sugie LP design).
 
-Independent of pendulab: the cart-pendulum model of SPEC.md §1.1, the LQR gain from SciPy's
+Independent of pendulab: the cart-pendulum model of docs/model.md §1, the LQR gain from SciPy's
 CARE solver, the ZOH discretisation from SciPy's matrix exponential, and the quantizer LP
 (Azuma & Sugie, IEEE TAC 53(9), 2008) written out as an explicit linear program for SciPy's
 HiGHS solver. Writes crates/control/tests/fixtures/odq_reference.json.
@@ -17,20 +17,7 @@ from scipy.linalg import expm, solve_continuous_are
 from scipy.optimize import linprog
 from scipy.sparse import lil_matrix
 
-
-def cdip():
-    ac, bc, mp, lp, Jp, mup, g = 6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81
-    J = Jp + mp * lp**2
-    A = np.array(
-        [
-            [0, 0, 1, 0],
-            [0, 0, 0, 1],
-            [0, 0, -ac, 0],
-            [0, mp * g * lp / J, ac * mp * lp / J, -mup / J],
-        ]
-    )
-    B = np.array([[0], [0], [bc], [-bc * mp * lp / J]])
-    return A, B
+from book_plants import cdip
 
 
 def c2d_zoh(A, B, ts):

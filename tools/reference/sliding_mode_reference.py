@@ -1,6 +1,6 @@
 """Reference values for pendulab-control's LQ-optimal sliding surface (book p2c323).
 
-Independent of pendulab: the linearised cart pendulum of SPEC.md §1.1, the book's regular-form
+Independent of pendulab: the linearised cart pendulum of docs/model.md §1, the book's regular-form
 transformation T = [[I, -B1/B2], [0, 1]] and SciPy's CARE solver on the reduced system, for
 Q = diag(10, 100, 1, 1):
   - "book": care(A11 - A12 Q12'/Q22, A12, Q11, Q22) as the book's script writes it,
@@ -18,20 +18,7 @@ import numpy as np
 import scipy
 from scipy.linalg import solve_continuous_are
 
-
-def cdip():
-    ac, bc, mp, lp, Jp, mup, g = 6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81
-    J = Jp + mp * lp**2
-    A = np.array(
-        [
-            [0, 0, 1, 0],
-            [0, 0, 0, 1],
-            [0, 0, -ac, 0],
-            [0, mp * g * lp / J, ac * mp * lp / J, -mup / J],
-        ]
-    )
-    B = np.array([[0], [0], [bc], [-bc * mp * lp / J]])
-    return A, B
+from book_plants import cdip
 
 
 def surface(A, B, Q, exact):
