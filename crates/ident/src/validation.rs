@@ -295,6 +295,13 @@ pub fn validate_free_pendulum(
 }
 
 /// Classical RK4 on the sample grid for `ẍ = f(k_frac, x, ẋ)`, inputs interpolated inside.
+///
+/// The stages and weights are those of the simulator's one RK4 stepper
+/// (`pendulab_sim::rk4_step`: stage states `x + (h/2)·k₁`, `x + (h/2)·k₂`, `x + h·k₃`, update
+/// `x + (h/6)·(k₁ + 2k₂ + 2k₃ + k₄)`), written out here on the pair `(x, ẋ)` because `ident`
+/// depends on `lti` alone (`docs/architecture.md`, "the arrows"): calling the simulator's
+/// stepper would add the arrow `ident → sim` (with `sim`'s rayon and random-number
+/// dependencies) for one step function, and `lti` holds no ODE integration to share.
 fn rk4_second_order<F: Fn(f64, f64, f64) -> f64>(
     n: usize,
     ts: f64,
