@@ -253,3 +253,54 @@ pub fn complex_array3_to_numpy<'py>(
 ) -> Bound<'py, PyArray3<Complex64>> {
     Array3::from_shape_fn(shape, f).into_pyarray(py)
 }
+
+static COMPLEX128: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+
+/// `obj` (a number, a 1-d sequence or array of real or complex numbers) as complex values,
+/// e.g. the poles requested from `place`.
+///
+/// # Errors
+/// `ShapeError` for ≥ 2 dimensions, `NotFiniteError` for NaN/±Inf parts (naming the index),
+/// `InvalidArgumentError` if NumPy cannot read `obj` as complex numbers; messages start with
+/// `what`.
+pub fn complex_vector(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Complex64>> {
+    let py = obj.py();
+    let asarray = ASARRAY.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
+        Ok(py.import("numpy")?.getattr("asarray")?.unbind())
+    })?;
+    let complex128 = COMPLEX128.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
+        Ok(py.import("numpy")?.getattr("complex128")?.unbind())
+    })?;
+    let converted = asarray
+        .bind(py)
+        .call1((obj, complex128.bind(py)))
+        .map_err(|e| {
+            new_err(
+                Kind::InvalidArgument,
+                format!("{what} cannot be read as complex numbers: {}", e.value(py)),
+                None,
+            )
+        })?;
+    let array = converted
+        .cast_into::<PyArrayDyn<Complex64>>()
+        .map_err(|e| new_err(Kind::InvalidArgument, format!("{what}: {e}"), None))?;
+    if array.ndim() > 1 {
+        return Err(too_many_dims(what, array.shape(), "a 1-d sequence"));
+    }
+    let readonly = array
+        .try_readonly()
+        .map_err(|e| new_err(Kind::InvalidArgument, format!("{what}: {e}"), None))?;
+    let values: Vec<Complex64> = readonly.as_array().iter().copied().collect();
+    if let Some((k, v)) = values
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !(v.re.is_finite() && v.im.is_finite()))
+    {
+        return Err(new_err(
+            Kind::NotFinite,
+            format!("{what} has a non-finite entry {v} at index {k} (0-based)"),
+            Some("NonFinite"),
+        ));
+    }
+    Ok(values)
+}

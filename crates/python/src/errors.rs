@@ -103,19 +103,21 @@ impl Kind {
     /// The class's bases: `Error` for the narrower classes, plus `ValueError` or
     /// `numpy.linalg.LinAlgError`.
     fn bases<'py>(self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        let error = exception_type(py, Kind::Error)?;
+        // `Error` is looked up only by the narrower classes: its own lock is held while it
+        // is being created.
+        let error = || exception_type(py, Kind::Error);
         let value_error = py.get_type::<pyo3::exceptions::PyValueError>();
         match self {
             Kind::Error => PyTuple::new(py, [py.get_type::<pyo3::exceptions::PyException>()]),
             Kind::Shape | Kind::NotFinite | Kind::InvalidArgument => {
-                PyTuple::new(py, [error, value_error])
+                PyTuple::new(py, [error()?, value_error])
             }
             Kind::LinAlg => {
                 let numpy_linalg = py
                     .import("numpy.linalg")?
                     .getattr("LinAlgError")?
                     .cast_into::<PyType>()?;
-                PyTuple::new(py, [error, numpy_linalg])
+                PyTuple::new(py, [error()?, numpy_linalg])
             }
             Kind::NotStabilizable | Kind::NotControllable => {
                 PyTuple::new(py, [exception_type(py, Kind::LinAlg)?])

@@ -9,5 +9,7 @@ the Gymnasium environments in ``pendulab.gym``.
 from ._native import __version__
 from .lti import *  # noqa: F401,F403
 from .lti import __all__ as _lti_all
+from .errors import *  # noqa: F401,F403
+from .errors import __all__ as _errors_all
 
-__all__ = ["__version__", *_lti_all]
+__all__ = ["__version__", *_lti_all, *_errors_all]

@@ -1,0 +1,348 @@
+//! Time and frequency responses: `lsim`, `step`, `impulse`, `initial`, `freqresp`, `bode`
+//! (pendulab-lti's `response` and `frequency_response` modules).
+//!
+//! Layout: time responses follow MATLAB and python-control's `control.matlab` (one row per
+//! time sample): `y` is `(len, p)`, `x` `(len, n)`, `u` `(len, m)`; `step`/`impulse` add a
+//! last axis for the input channel, `(len, p, m)`, squeezed to `(len,)` for SISO systems.
+//! Frequency responses follow python-control: `(p, m, len(omega))`, squeezed to
+//! `(len(omega),)` for SISO systems.
+
+use super::results::{obj, result_class};
+use super::system::{system, with_sys};
+use crate::convert::{
+    OneD, array3_to_numpy, complex_array3_to_numpy, matrix, slice_to_numpy, vector,
+};
+use crate::errors::{Kind, lti, new_err};
+use numpy::IntoPyArray;
+use numpy::ndarray::{Array2, ShapeBuilder};
+use pendulab_lti::response::{self, InputHold, LsimOptions};
+use pendulab_lti::{Mat, Trajectory};
+use pyo3::prelude::*;
+use pyo3::types::{PyFloat, PyInt};
+
+result_class!(
+    LsimResult, "LsimResult",
+    "A simulated response; unpacks as MATLAB's and control.matlab's `yout, T, xout`.",
+    unpack [y, t, x],
+    array none,
+    {
+        y as "y": "Outputs, one row per sample (len × p; len for one output).",
+        t as "t": "Sample times in seconds (len).",
+        x as "x": "States, one row per sample (len × n).",
+        u as "u": "Inputs, one row per sample (len × m).",
+    }
+);
+
+result_class!(
+    TimeResponse, "TimeResponse",
+    "Responses per input channel (step, impulse, initial); unpacks as control.matlab's `yout, T`.",
+    unpack [y, t],
+    array none,
+    {
+        y as "y": "Outputs (len × p × m; len for a SISO system; len × p for initial).",
+        t as "t": "Sample times in seconds (len).",
+        x as "x": "States (len × n × m; len × n for initial).",
+    }
+);
+
+/// A column-major `len × k` matrix as a `(len, k)` float64 array without copying (Fortran
+/// order: column j is signal j).
+fn signals(py: Python<'_>, m: Mat) -> PyResult<Py<PyAny>> {
+    let shape = (m.nrows(), m.ncols()).f();
+    let data: Vec<f64> = m.data.into();
+    let array = Array2::from_shape_vec(shape, data)
+        .map_err(|e| new_err(Kind::Shape, format!("response layout: {e}"), None))?;
+    Ok(array.into_pyarray(py).into_any().unbind())
+}
+
+/// As [`signals`], but one signal as a 1-d `(len,)` array (python-control's squeeze).
+fn single_or_signals(py: Python<'_>, m: Mat) -> PyResult<Py<PyAny>> {
+    if m.ncols() == 1 {
+        let data: Vec<f64> = m.data.into();
+        Ok(data.into_pyarray(py).into_any().unbind())
+    } else {
+        signals(py, m)
+    }
+}
+
+fn hold(name: &str) -> PyResult<InputHold> {
+    match name.to_ascii_lowercase().as_str() {
+        "foh" => Ok(InputHold::Foh),
+        "zoh" => Ok(InputHold::Zoh),
+        other => Err(new_err(
+            Kind::InvalidArgument,
+            format!("hold must be 'foh' or 'zoh', got {other:?}"),
+            None,
+        )),
+    }
+}
+
+/// `T` as a time vector (required: pendulab does not choose a simulation horizon).
+fn times(t: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<f64>> {
+    match t {
+        Some(t) if !t.is_none() => Ok(vector(t, "T")?.data.into()),
+        _ => Err(new_err(
+            Kind::InvalidArgument,
+            "T: the time vector is required (uniformly spaced, in seconds)".into(),
+            None,
+        )),
+    }
+}
+
+fn is_zero_scalar(obj: &Bound<'_, PyAny>) -> bool {
+    (obj.is_exact_instance_of::<PyFloat>() || obj.is_exact_instance_of::<PyInt>())
+        && obj.extract::<f64>().is_ok_and(|v| v == 0.0)
+}
+
+/// `lsim(sys, U=0., T=None, X0=0., hold='foh')` (MATLAB `lsim`, control.matlab `lsim`): the
+/// response to the input samples `U` (`(len, m)`, or `(len,)` for one input; `0` for none) at
+/// the uniformly spaced times `T` (s) from the state `X0` at `T[0]`.
+///
+/// Exact: a continuous system is simulated by its exact discretisation for the input hold,
+/// `'foh'` (linear between samples, python-control's choice) or `'zoh'` (constant over each
+/// interval); a discrete system is iterated (`T` spaced by its `dt`). Returns `LsimResult`
+/// (`yout, T, xout = lsim(...)`, plus `.u`).
+///
+/// Raises `pendulab.InvalidArgumentError` (variant `NonUniformTime`) for unevenly spaced `T`,
+/// `pendulab.ShapeError` for `U`/`X0` of the wrong shape, `pendulab.NotFiniteError` for
+/// NaN/Inf.
+#[pyfunction]
+#[pyo3(signature = (sys, U = None, T = None, X0 = None, hold = "foh"))]
+#[allow(non_snake_case)]
+pub fn lsim(
+    sys: &Bound<'_, PyAny>,
+    U: Option<&Bound<'_, PyAny>>,
+    T: Option<&Bound<'_, PyAny>>,
+    X0: Option<&Bound<'_, PyAny>>,
+    hold: &str,
+) -> PyResult<LsimResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let t = times(T)?;
+    let nu = with_sys!(&s, s => s.nu());
+    let u = match U {
+        Some(u) if !u.is_none() && !is_zero_scalar(u) => matrix(u, "U", OneD::Column)?,
+        _ => Mat::zeros(t.len(), nu),
+    };
+    let x0 = match X0 {
+        Some(x) if !x.is_none() && !is_zero_scalar(x) => Some(vector(x, "X0")?),
+        _ => None,
+    };
+    let options = LsimOptions {
+        hold: self::hold(hold)?,
+    };
+    let traj = py
+        .detach(|| {
+            with_sys!(&s, s => response::lsim(s, &u, &t, x0.as_ref().map(|v| v.as_slice()), &options))
+        })
+        .map_err(lti)?;
+    drop(u);
+    let (t, x, u, y) = traj.into_parts();
+    Ok(LsimResult {
+        y: single_or_signals(py, y)?,
+        t: slice_to_numpy(py, &t).into_any().unbind(),
+        x: signals(py, x)?,
+        u: signals(py, u)?,
+    })
+}
+
+/// One 3-d array `(len, k, channels)` from per-channel trajectories (`pick` chooses x or y);
+/// SISO responses (one signal, one channel) squeezed to `(len,)`.
+fn per_channel(
+    py: Python<'_>,
+    runs: &[Trajectory],
+    len: usize,
+    k: usize,
+    squeeze: bool,
+    pick: fn(&Trajectory) -> &Mat,
+) -> Py<PyAny> {
+    if squeeze && runs.len() == 1 && k == 1 {
+        return slice_to_numpy(py, pick(&runs[0]).as_slice())
+            .into_any()
+            .unbind();
+    }
+    array3_to_numpy(py, (len, k, runs.len()), |(s, i, j)| pick(&runs[j])[(s, i)])
+        .into_any()
+        .unbind()
+}
+
+fn channel_response(
+    sys: &Bound<'_, PyAny>,
+    t: Option<&Bound<'_, PyAny>>,
+    impulse: bool,
+) -> PyResult<TimeResponse> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let t = times(t)?;
+    let runs = py
+        .detach(|| {
+            with_sys!(&s, s => if impulse { response::impulse(s, &t) } else { response::step(s, &t) })
+        })
+        .map_err(lti)?;
+    let (nx, ny) = with_sys!(&s, s => (s.nx(), s.ny()));
+    Ok(TimeResponse {
+        y: per_channel(py, &runs, t.len(), ny, true, Trajectory::y),
+        t: slice_to_numpy(py, &t).into_any().unbind(),
+        x: per_channel(py, &runs, t.len(), nx, false, Trajectory::x),
+    })
+}
+
+/// `step(sys, T)`: unit-step responses from a zero state, one per input channel (MATLAB
+/// `step`), exact for continuous systems. Returns `TimeResponse` (`yout, T = step(...)`),
+/// `y` of shape `(len, p, m)` (`(len,)` for SISO), `x` `(len, n, m)`.
+#[pyfunction]
+#[pyo3(signature = (sys, T = None))]
+#[allow(non_snake_case)]
+pub fn step(sys: &Bound<'_, PyAny>, T: Option<&Bound<'_, PyAny>>) -> PyResult<TimeResponse> {
+    channel_response(sys, T, false)
+}
+
+/// `impulse(sys, T)`: impulse responses, one per input channel (MATLAB `impulse`):
+/// continuous, `y = C e^{A t} B e_j` (a feedthrough `D δ(t)` has no sample value); discrete,
+/// the response to the unit-area pulse `u_j[0] = 1/dt`. Shapes as `step`.
+#[pyfunction]
+#[pyo3(signature = (sys, T = None))]
+#[allow(non_snake_case)]
+pub fn impulse(sys: &Bound<'_, PyAny>, T: Option<&Bound<'_, PyAny>>) -> PyResult<TimeResponse> {
+    channel_response(sys, T, true)
+}
+
+/// `initial(sys, T, X0)`: the zero-input response from `X0` at `T[0]` (MATLAB `initial`);
+/// `y` of shape `(len, p)` (`(len,)` for one output), `x` `(len, n)`.
+#[pyfunction]
+#[pyo3(signature = (sys, T = None, X0 = None))]
+#[allow(non_snake_case)]
+pub fn initial(
+    sys: &Bound<'_, PyAny>,
+    T: Option<&Bound<'_, PyAny>>,
+    X0: Option<&Bound<'_, PyAny>>,
+) -> PyResult<TimeResponse> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let t = times(T)?;
+    let x0 = match X0 {
+        Some(x) if !x.is_none() => vector(x, "X0")?,
+        _ => {
+            return Err(new_err(
+                Kind::InvalidArgument,
+                "X0: the initial state is required".into(),
+                None,
+            ));
+        }
+    };
+    let traj = py
+        .detach(|| with_sys!(&s, s => response::initial(s, x0.as_slice(), &t)))
+        .map_err(lti)?;
+    let (t, x, _u, y) = traj.into_parts();
+    Ok(TimeResponse {
+        y: single_or_signals(py, y)?,
+        t: slice_to_numpy(py, &t).into_any().unbind(),
+        x: signals(py, x)?,
+    })
+}
+
+result_class!(
+    FrequencyResponse, "FrequencyResponse",
+    "Complex frequency response samples; unpacks as `response, omega`.",
+    unpack [response, omega],
+    array none,
+    {
+        response as "response": "G(jω) (continuous) or G(e^{jω dt}) (discrete), complex, shape (p, m, len(omega)); (len(omega),) for SISO.",
+        omega as "omega": "Frequencies in rad/s.",
+    }
+);
+
+result_class!(
+    BodeResult, "BodeResult",
+    "Bode data; unpacks as `mag_db, phase_deg, omega` (magnitude in dB and unwrapped phase in degrees, unlike python-control's absolute magnitude and radians).",
+    unpack [mag_db, phase_deg, omega],
+    array none,
+    {
+        mag_db as "mag_db": "20 log₁₀|G| in dB, shape (p, m, len(omega)); (len(omega),) for SISO.",
+        phase_deg as "phase_deg": "∠G in degrees, unwrapped along omega (first value in (−180°, 180°]).",
+        omega as "omega": "Frequencies in rad/s.",
+    }
+);
+
+/// The frequencies: `omega` if given, else pendulab-lti's automatic grid (one decade beyond
+/// the poles and zeros, `points_per_decade` per decade, up to the Nyquist frequency).
+fn frequencies<D: pendulab_lti::TimeDomain>(
+    s: &pendulab_lti::StateSpace<D>,
+    omega: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<f64>> {
+    match omega {
+        Some(w) if !w.is_none() => Ok(vector(w, "omega")?.data.into()),
+        _ => pendulab_lti::frequency_response::frequency_grid(s, 50).map_err(lti),
+    }
+}
+
+/// `freqresp(sys, omega=None)`: the complex frequency response at `omega` (rad/s; chosen
+/// from the poles and zeros if omitted), by Laub's Hessenberg method. Returns
+/// `FrequencyResponse` (`response, omega`); `numpy.abs` / `numpy.angle` give magnitude and
+/// phase.
+///
+/// Raises `pendulab.LinAlgError` (variant `PoleAtEvaluationPoint`) if a frequency hits a pole.
+#[pyfunction]
+#[pyo3(signature = (sys, omega = None))]
+pub fn freqresp(
+    sys: &Bound<'_, PyAny>,
+    omega: Option<&Bound<'_, PyAny>>,
+) -> PyResult<FrequencyResponse> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let w = with_sys!(&s, s => frequencies(s, omega))?;
+    let f = py
+        .detach(|| with_sys!(&s, s => pendulab_lti::frequency_response::freqresp(s, &w)))
+        .map_err(lti)?;
+    let (ny, nu) = with_sys!(&s, s => (s.ny(), s.nu()));
+    let response = if ny == 1 && nu == 1 {
+        let v: Vec<_> = f.response.iter().map(|g| g[(0, 0)]).collect();
+        crate::convert::complex_to_numpy(py, &v).into_any().unbind()
+    } else {
+        complex_array3_to_numpy(py, (ny, nu, w.len()), |(i, j, k)| f.response[k][(i, j)])
+            .into_any()
+            .unbind()
+    };
+    Ok(FrequencyResponse {
+        response,
+        omega: slice_to_numpy(py, &w).into_any().unbind(),
+    })
+}
+
+/// `bode(sys, omega=None)`: magnitude (dB) and unwrapped phase (degrees) of every channel
+/// (MATLAB `bode` data; no plot). Returns `BodeResult` (`mag_db, phase_deg, omega`).
+#[pyfunction]
+#[pyo3(signature = (sys, omega = None))]
+pub fn bode(sys: &Bound<'_, PyAny>, omega: Option<&Bound<'_, PyAny>>) -> PyResult<BodeResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let w = with_sys!(&s, s => frequencies(s, omega))?;
+    let (ny, nu) = with_sys!(&s, s => (s.ny(), s.nu()));
+    let channels = py
+        .detach(|| {
+            let mut out = Vec::with_capacity(ny * nu);
+            for i in 0..ny {
+                for j in 0..nu {
+                    out.push(with_sys!(&s, s => pendulab_lti::frequency_response::bode_channel(s, &w, i, j))?);
+                }
+            }
+            Ok::<_, pendulab_lti::LtiError>(out)
+        })
+        .map_err(lti)?;
+    let pack = |pick: fn(&pendulab_lti::frequency_response::Bode) -> &Vec<f64>| -> Py<PyAny> {
+        if ny == 1 && nu == 1 {
+            slice_to_numpy(py, pick(&channels[0])).into_any().unbind()
+        } else {
+            array3_to_numpy(py, (ny, nu, w.len()), |(i, j, k)| {
+                pick(&channels[i * nu + j])[k]
+            })
+            .into_any()
+            .unbind()
+        }
+    };
+    Ok(BodeResult {
+        mag_db: pack(|b| &b.magnitude_db),
+        phase_deg: pack(|b| &b.phase_deg),
+        omega: obj(py, slice_to_numpy(py, &w))?,
+    })
+}
