@@ -17,6 +17,7 @@
 //! | [`sliding_mode`] | the LQ-optimal switching surface via the regular form and the reduced Riccati equation ([`lq_sliding_surface`](sliding_mode::lq_sliding_surface)), the sliding-mode law with sign or boundary-layer switching | `p2c323_ex1_cdip_swing_up` |
 //! | [`swing_up`] | the book's energy pumping, Åström–Furuta energy shaping for the cart and the arm (with tuned gains for both rigs), the latched swing-up → balance switch with wrapped angles ([`swing_up_then_balance`](swing_up::swing_up_then_balance)) | `p2c323_ex1_cdip_swing_up` |
 //! | [`spec`] | controller specifications as serde data ([`ControllerSpec`](spec::ControllerSpec): state feedback, LQ integral servo, gain-scheduled `K(ρ)`, swing-up + balance; library sign `u = −K y`, the book's `k_book` converted) and the factory [`build`](spec::build) that designs and builds one for a book rig; the rig's controller files and the front ends read these | `cdip_lqr_sim`, `adip_lqr_sim` |
+//! | [`scenario`] | the one simulate path: [`simulate`](scenario::simulate)`(&PlantSpec, &ControllerSpec, &ScenarioSpec)` builds plant, controller and the rig's chains and runs the sampled-data loop; the run as arrays with its summary (settling, overshoot, peak voltage, saturation time, angle window) | — |
 //! | [`estimation`] | the observer-based controller `(A + BK_b + L_b C, −L_b, K_b)` discretised by ZOH/Tustin ([`output_feedback_controller`](estimation::output_feedback_controller)), the steady-state Kalman filter ([`kalman_filter`](estimation::kalman_filter)) and state feedback on its current estimate ([`kalman_controller`](estimation::kalman_controller)) | `p1c74_ex1`, `p1c83_ex2`, `p1c84_ex4` |
 //!
 //! Conventions: SI units, volts, radians with angles from the **upward** vertical (as
@@ -45,6 +46,7 @@ pub mod estimation;
 pub mod gmres;
 pub mod nmpc;
 pub mod quantizer;
+pub mod scenario;
 pub mod sliding_mode;
 pub mod spec;
 pub mod swing_up;

@@ -2,7 +2,9 @@
 //!
 //! A [`ControllerSpec`] describes a controller for one of the book rigs as plain data
 //! (serde: the `[controller]` table of the rig's controller files, `docs/rig/examples/`);
-//! [`build`] designs what the spec asks for on the book plant and returns a [`Built`]: the
+//! [`build_for`] designs what the spec asks for on a plant's own parameters (a
+//! [`PlantSpec`]: the book's, identified or the user's), [`build`] on the book plant, and
+//! both return a [`Built`]: the
 //! `Box<dyn Controller>` the simulator or the rig runtime runs, and what a runtime needs to
 //! know about it. Front ends (the CLI's `pendulab rig run`, and the coming ones) read these
 //! types; the real-time crate runs the result and designs nothing.
@@ -28,9 +30,10 @@
 //! | `gain-scheduled` | `coefficients = [K₀, K₁, …]` (library sign), `schedule`; or `lqr` + `design_points_deg` (arm) | `GainScheduled` polynomial in `ρ` |
 //! | `swing-up-balance` | `balance = { k \| k_book \| lqr }`, `switch_deg` (default 17) | energy shaping ([`crate::swing_up`], gains `EnergyShapingGains::{cart_rig, arm_rig}`), then the balance gain (latched) |
 //!
-//! The `lqr` designs use `pendulab_lti::design::lqr` (continuous, `u = −K x`) on the book
-//! plant's upright linearisation (`CartPendulum::book()`, `ArmPendulum::book()` at
-//! `θ₁ₑ = 0`): the gains of the book's `cdip_lqr_sim` and `adip_lqr_sim`.
+//! The `lqr` designs use `pendulab_lti::design::lqr` (continuous, `u = −K x`) on the plant's
+//! upright linearisation (`PlantParameters::linearize_upright`, the arm at `θ₁ₑ = 0`); on the
+//! book plant these are the gains of the book's `cdip_lqr_sim` and `adip_lqr_sim`. The
+//! energy shaping of `swing-up-balance` uses the plant's parameters too.
 //!
 //! # Checks made by [`build`]
 //!
@@ -67,7 +70,8 @@ use crate::swing_up::{
 use pendulab_lti::design::{lq_servo, lqr};
 use pendulab_lti::{LtiError, Mat, StateSpace};
 use pendulab_plants::rig::PlantKind;
-use pendulab_plants::{ArmEquilibrium, ArmPendulum, CartEquilibrium, CartPendulum, PlantError};
+use pendulab_plants::spec::{PlantParameters, PlantSpec};
+use pendulab_plants::{ArmPendulum, CartPendulum, PlantError};
 use pendulab_sim::Controller;
 use pendulab_sim::controllers::{
     GainScheduled, IntegrationRule, LqIntegralServo, StaticStateFeedback,
@@ -368,6 +372,14 @@ pub enum SpecError {
     /// The swing-up controller refused its parameters.
     #[error("controller: {0}")]
     SwingUp(#[from] crate::ControlError),
+    /// A reference given twice (scenario and spec) or to a kind that tracks none.
+    #[error("controller ({kind}): {detail}")]
+    Reference {
+        /// The controller's `kind`.
+        kind: &'static str,
+        /// What is wrong.
+        detail: &'static str,
+    },
     /// The servo's reference signal could not be formed.
     #[error("controller.step_time = {time}: {source}")]
     Step {
@@ -403,25 +415,54 @@ impl std::fmt::Debug for Built {
 }
 
 /// Designs and builds the controller `spec` describes for the book rig `plant`, running at
-/// loop period `ts` \[s\] (used by the servo's integrator).
+/// loop period `ts` \[s\] (used by the servo's integrator): [`build_for`] on
+/// `PlantSpec::book(plant)`.
 ///
 /// `lqr` requests are designed on the book plant (`CartPendulum::book()`,
 /// `ArmPendulum::book()`), as the module documentation says; given gains are used as written
 /// (`k_book` negated).
 ///
 /// # Errors
+/// As [`build_for`].
+pub fn build(spec: &ControllerSpec, plant: PlantKind, ts: f64) -> Result<Built, SpecError> {
+    build_for(spec, &PlantSpec::book(plant), ts)
+}
+
+/// Designs and builds the controller `spec` describes for `plant`, designing on the plant's
+/// own parameters (`plant.parameters()`), running at loop period `ts` \[s\].
+///
+/// # Errors
 /// [`SpecError`] naming the key, its value and what is wrong: a gain or weight of the wrong
 /// length or not finite, a negative `q` or non-positive `r`, keys missing or given together,
 /// `step_time`/`switch_deg` out of range, a failed design, or `ts` not positive.
-pub fn build(spec: &ControllerSpec, plant: PlantKind, ts: f64) -> Result<Built, SpecError> {
+pub fn build_for(spec: &ControllerSpec, plant: &PlantSpec, ts: f64) -> Result<Built, SpecError> {
+    build_with(spec, plant.parameters(), ts, None)
+}
+
+/// [`build_for`] with the drive-position reference `q₀ = r(t)` given as a signal (a
+/// scenario's reference) instead of the spec's: the state feedback's reference becomes
+/// `[r(t), 0, 0, 0]`, the servo's reference `r(t)`. A spec that has its own `reference` or
+/// `step_time`, or a kind without a reference, is refused.
+pub(crate) fn build_with(
+    spec: &ControllerSpec,
+    plant: &PlantParameters,
+    ts: f64,
+    reference: Option<Signal>,
+) -> Result<Built, SpecError> {
     if !(ts.is_finite() && ts > 0.0) {
         return Err(SpecError::SampleTime { ts });
     }
-    let controller: Box<dyn Controller> = match spec {
-        ControllerSpec::StateFeedback(c) => state_feedback(plant, c)?,
-        ControllerSpec::LqServo(c) => servo(plant, c, ts)?,
-        ControllerSpec::GainScheduled(c) => gain_scheduled(plant, c)?,
-        ControllerSpec::SwingUpBalance(c) => swing_up_balance(plant, c)?,
+    let controller: Box<dyn Controller> = match (spec, reference) {
+        (ControllerSpec::StateFeedback(c), r) => state_feedback(plant, c, r)?,
+        (ControllerSpec::LqServo(c), r) => servo(plant, c, ts, r)?,
+        (ControllerSpec::GainScheduled(c), None) => gain_scheduled(plant, c)?,
+        (ControllerSpec::SwingUpBalance(c), None) => swing_up_balance(plant, c)?,
+        (_, Some(_)) => {
+            return Err(SpecError::Reference {
+                kind: spec.kind(),
+                detail: "this kind tracks no reference",
+            });
+        }
     };
     Ok(Built {
         controller,
@@ -455,16 +496,14 @@ fn row(key: &str, v: &[f64], n: usize) -> Result<Mat, SpecError> {
     Ok(Mat::from_row_slice(1, n, v))
 }
 
-/// The upright linearisation of the book plant (`C = I`).
-fn upright(plant: PlantKind) -> Result<StateSpace<pendulab_lti::Continuous>, SpecError> {
-    match plant {
-        PlantKind::Cart => CartPendulum::book().linearize(CartEquilibrium::upright()),
-        PlantKind::Arm => ArmPendulum::book().linearize(ArmEquilibrium::upright(0.0)),
-    }
-    .map_err(|source| SpecError::Linearisation {
-        at: format!("{} plant", plant.name()),
-        source,
-    })
+/// The upright linearisation of the plant (`C = I`; the arm at `θ₁ₑ = 0`).
+fn upright(plant: &PlantParameters) -> Result<StateSpace<pendulab_lti::Continuous>, SpecError> {
+    plant
+        .linearize_upright(0.0)
+        .map_err(|source| SpecError::Linearisation {
+            at: format!("{} plant", plant.kind().name()),
+            source,
+        })
 }
 
 fn diag(key: &str, q: &[f64], n: usize) -> Result<Mat, SpecError> {
@@ -499,7 +538,7 @@ fn check_r(key: &str, r: f64) -> Result<Mat, SpecError> {
 
 /// The library gain `K` (1 × 4) of a [`GainSpec`]-like triple under the table `key`.
 fn gain(
-    plant: PlantKind,
+    plant: &PlantParameters,
     k: &Option<Vec<f64>>,
     k_book: &Option<Vec<f64>>,
     l: &Option<LqrSpec>,
@@ -530,10 +569,23 @@ fn gain(
 }
 
 fn state_feedback(
-    plant: PlantKind,
+    plant: &PlantParameters,
     c: &StateFeedbackSpec,
+    signal: Option<Signal>,
 ) -> Result<Box<dyn Controller>, SpecError> {
     let k = gain(plant, &c.k, &c.k_book, &c.lqr, "controller")?;
+    if let Some(signal) = signal {
+        if c.reference.is_some() {
+            return Err(SpecError::Reference {
+                kind: ControllerSpec::KINDS[0],
+                detail: "give the reference in the scenario or in controller.reference, not both",
+            });
+        }
+        return Ok(Box::new(TrackDrive::new(
+            StaticStateFeedback::new(k)?,
+            signal,
+        )));
+    }
     let r = c.reference.clone().unwrap_or(vec![0.0; 4]);
     if r.len() != 4 {
         return Err(SpecError::Length {
@@ -547,7 +599,12 @@ fn state_feedback(
     Ok(Box::new(StaticStateFeedback::new(k)?.with_reference(&r)?))
 }
 
-fn servo(plant: PlantKind, c: &LqServoSpec, ts: f64) -> Result<Box<dyn Controller>, SpecError> {
+fn servo(
+    plant: &PlantParameters,
+    c: &LqServoSpec,
+    ts: f64,
+    signal: Option<Signal>,
+) -> Result<Box<dyn Controller>, SpecError> {
     let c_q0 = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
     let (k1, k2) = match (&c.k1, c.k2, &c.lqr) {
         (Some(k1), Some(k2), None) => {
@@ -581,6 +638,30 @@ fn servo(plant: PlantKind, c: &LqServoSpec, ts: f64) -> Result<Box<dyn Controlle
             });
         }
     };
+    let sig = match signal {
+        Some(s) => {
+            if c.reference.is_some() || c.step_time.is_some() {
+                return Err(SpecError::Reference {
+                    kind: ControllerSpec::KINDS[1],
+                    detail: "give the reference in the scenario or in controller.reference/step_time, not both",
+                });
+            }
+            s
+        }
+        None => servo_step(c)?,
+    };
+    Ok(Box::new(LqIntegralServo::new(
+        &k1,
+        &k2,
+        &c_q0,
+        vec![sig],
+        ts,
+        IntegrationRule::ForwardEuler,
+    )?))
+}
+
+/// The servo's reference from the spec: `reference[0]` as a step at `step_time`.
+fn servo_step(c: &LqServoSpec) -> Result<Signal, SpecError> {
     let r = c.reference.clone().unwrap_or(vec![0.0]);
     if r.len() != 1 {
         return Err(SpecError::ServoReferenceLength { got: r.len() });
@@ -594,29 +675,21 @@ fn servo(plant: PlantKind, c: &LqServoSpec, ts: f64) -> Result<Box<dyn Controlle
             range: format!("[0, {DURATION_MAX}] s"),
         });
     }
-    let sig = Signal::step(t_step, r[0]).map_err(|source| SpecError::Step {
+    Signal::step(t_step, r[0]).map_err(|source| SpecError::Step {
         time: t_step,
         source,
-    })?;
-    Ok(Box::new(LqIntegralServo::new(
-        &k1,
-        &k2,
-        &c_q0,
-        vec![sig],
-        ts,
-        IntegrationRule::ForwardEuler,
-    )?))
+    })
 }
 
 /// Two LQR designs of the arm at `θ₁ₑ = a, b` (degrees), joined by the line in `ρ = 1 − cos θ₁`
 /// through both: `K(ρ) = K_a + (ρ − ρ_a)/(ρ_b − ρ_a)·(K_b − K_a)` as coefficients `[K₀, K₁]`.
 fn scheduled_lqr(
-    plant: PlantKind,
+    plant: &PlantParameters,
     l: &LqrSpec,
     pts: &[f64],
     schedule: Option<&str>,
 ) -> Result<Vec<Mat>, SpecError> {
-    if plant != PlantKind::Arm {
+    if plant.kind() != PlantKind::Arm {
         return Err(SpecError::DesignPoints {
             detail: ": only the arm's linearisation depends on the drive position".into(),
         });
@@ -637,8 +710,8 @@ fn scheduled_lqr(
     let r = check_r("controller.lqr", l.r)?;
     let mut k = Vec::new();
     for &deg in pts {
-        let sys = ArmPendulum::book()
-            .linearize(ArmEquilibrium::upright(deg.to_radians()))
+        let sys = plant
+            .linearize_upright(deg.to_radians())
             .map_err(|source| SpecError::Linearisation {
                 at: format!("arm at {deg}°"),
                 source,
@@ -659,7 +732,7 @@ fn scheduled_lqr(
 }
 
 fn gain_scheduled(
-    plant: PlantKind,
+    plant: &PlantParameters,
     c: &GainScheduledSpec,
 ) -> Result<Box<dyn Controller>, SpecError> {
     let mats = match (&c.coefficients, &c.lqr, &c.design_points_deg) {
@@ -693,7 +766,7 @@ fn gain_scheduled(
 }
 
 fn swing_up_balance(
-    plant: PlantKind,
+    plant: &PlantParameters,
     c: &SwingUpBalanceSpec,
 ) -> Result<Box<dyn Controller>, SpecError> {
     let b = c.balance.as_ref().ok_or(SpecError::Keys {
@@ -711,18 +784,63 @@ fn swing_up_balance(
     }
     let balance = StaticStateFeedback::new(k)?;
     let windows = vec![(1, sw.to_radians())];
+    let model = |source| SpecError::Linearisation {
+        at: format!("{} plant", plant.kind().name()),
+        source,
+    };
     Ok(match plant {
-        PlantKind::Cart => Box::new(swing_up_then_balance(
-            CartEnergyShaping::new(&CartPendulum::book(), EnergyShapingGains::cart_rig())?,
+        PlantParameters::Cart(p) => Box::new(swing_up_then_balance(
+            CartEnergyShaping::new(
+                &CartPendulum::new(*p).map_err(model)?,
+                EnergyShapingGains::cart_rig(),
+            )?,
             balance,
             windows,
         )?),
-        PlantKind::Arm => Box::new(swing_up_then_balance(
-            ArmEnergyShaping::new(&ArmPendulum::book(), EnergyShapingGains::arm_rig())?,
+        PlantParameters::Arm(p) => Box::new(swing_up_then_balance(
+            ArmEnergyShaping::new(
+                &ArmPendulum::new(*p).map_err(model)?,
+                EnergyShapingGains::arm_rig(),
+            )?,
             balance,
             windows,
         )?),
     })
+}
+
+/// State feedback that tracks a drive-position signal: `u = −K (y − [r(t), 0, …])`.
+struct TrackDrive {
+    inner: StaticStateFeedback,
+    signal: Signal,
+    shifted: Vec<f64>,
+}
+
+impl TrackDrive {
+    fn new(inner: StaticStateFeedback, signal: Signal) -> Self {
+        let ny = inner.ny();
+        Self {
+            inner,
+            signal,
+            shifted: vec![0.0; ny],
+        }
+    }
+}
+
+impl Controller for TrackDrive {
+    fn ny(&self) -> usize {
+        self.inner.ny()
+    }
+    fn nu(&self) -> usize {
+        self.inner.nu()
+    }
+    fn reset(&mut self) {
+        self.inner.reset()
+    }
+    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
+        self.shifted.copy_from_slice(y);
+        self.shifted[0] -= self.signal.value(t);
+        self.inner.update(t, &self.shifted, u)
+    }
 }
 
 #[cfg(test)]

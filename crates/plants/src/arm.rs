@@ -60,7 +60,8 @@ const MODEL: &str = "arm pendulum";
 /// Plain data: build a plant with [`ArmPendulum::new`], which validates every field. Field
 /// names follow the book's symbols.
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ArmPendulumParams {
     /// Velocity pole of the arm drive `a₁` \[1/s\] (≥ 0).
     pub a1: f64,

@@ -68,7 +68,8 @@ const MODEL: &str = "cart pendulum";
 /// assert!(plant.inertia_about_pivot() > CartPendulum::book().inertia_about_pivot());
 /// ```
 #[allow(non_snake_case)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CartPendulumParams {
     /// Velocity pole of the cart drive `a_c` \[1/s\] (≥ 0).
     pub a_c: f64,

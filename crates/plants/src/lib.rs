@@ -11,7 +11,8 @@
 //! | [`FixedCartPendulum`] | the cart rig's pendulum with the cart held: `ω_np`, `ζ_p`, closed-form eigenvalues (eqs 4.39–4.45) |
 //! | [`TwoPendulumCart`], [`TwoPendulumCartParams`] | a cart with two pendulums (book example 5.4, `p1c511_ex4_cdip`) |
 //! | [`Drive`] | the DC-motor drive `q̈ = −a q̇ + b v`, `P(s) = b/(s(s + a))`, for cart or arm |
-//! | [`RigSpec`] | the real rigs' numbers: encoders, ±5 V, 16-bit D/A, pseudo-differentiator, 1 ms |
+//! | [`RigSpec`] | the real rigs' numbers: encoders, ±5 V, 16-bit D/A, pseudo-differentiator, 1 ms, friction, travel and angle limits; their sensor and actuator chains ([`RigSpec::chains`]) |
+//! | [`PlantSpec`], [`PlantParameters`], [`Provenance`] | a plant as data: kind, parameters with provenance, rig part; TOML/serde with errors naming the key ([`spec`]) |
 //! | [`wrap_angle`], [`wrap_about`] | pendulum angles wrapped to `(−π, π]` or about an equilibrium; the drive position is never wrapped ([`angle`]) |
 //! | [`Jacobian`], [`Posture`] | the Jacobian of a model at a point; upright/hanging |
 //! | [`PlantError`] | what is wrong with a parameter, naming it and its value |
@@ -65,6 +66,7 @@ mod fixed_cart;
 mod linear;
 mod pendulum;
 pub mod rig;
+pub mod spec;
 pub mod two_pendulum;
 
 pub use angle::{wrap_about, wrap_angle};
@@ -76,5 +78,6 @@ pub use error::{PlantError, Requirement};
 pub use fixed_cart::FixedCartPendulum;
 pub use linear::{Jacobian, Posture};
 pub use pendulum::PendulumParams;
-pub use rig::{DacSpec, EncoderSpec, RigSpec, VelocityEstimatorSpec};
+pub use rig::{Coordinate, DacSpec, DriveFriction, EncoderSpec, RigSpec, VelocityEstimatorSpec};
+pub use spec::{PlantParameters, PlantSpec, PlantSpecError, Provenance};
 pub use two_pendulum::{TwoPendulumCart, TwoPendulumCartParams, TwoPendulumCartState};

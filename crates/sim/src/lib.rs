@@ -14,6 +14,7 @@
 //! | the rig's imperfections | [`SensorChain`] (encoders, pseudo-differentiator, noise), [`Actuator`] (saturation, D/A, disturbances, friction), [`Quantizer`] | each off by default, one call each |
 //! | book rig presets (plain, with quantizer) from plain numbers | [`rig::RigChains`], [`SampledLoop::with_rig`] | |
 //! | test signals | [`Signal`] | step, ramp, pulse, pulse train, sine, piecewise, sums |
+//! | a run as data: initial state, reference and disturbance, duration, imperfections on/off | [`scenario::ScenarioSpec`] | serde/TOML, errors naming the key; run by `pendulab_control::scenario::simulate` |
 //! | per-sample summaries, safety stops | [`Monitor`], [`StayWithin`], [`MaxAbs`], [`SettlingTime`] | |
 //! | batch runs on all cores | [`batch`] | grids of initial states, seeded Monte Carlo, region-of-attraction maps |
 //! | the fast paths: a fixed-size closed loop compiled once per state size (and again for FMA), SIMD lanes for batch studies, and their strategy switches (multiply–add, sine/cosine) | [`fast`] | behind one module; the general API above never needs it |
@@ -65,6 +66,7 @@ pub mod monitor;
 pub mod quantizer;
 pub mod rig;
 pub mod sampled;
+pub mod scenario;
 pub mod sensor;
 pub mod signal;
 pub mod systems;
