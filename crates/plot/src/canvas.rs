@@ -608,30 +608,7 @@ impl Canvas for RasterCanvas {
 
 /// Encodes straight RGBA bytes as PNG, optionally recording the resolution in dots per inch.
 pub(crate) fn encode_png_rgba(w: u32, h: u32, rgba: &[u8], dpi: Option<f64>) -> Result<Vec<u8>> {
-    let mut buf = Vec::new();
-    {
-        let mut enc = png::Encoder::new(&mut buf, w, h);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.set_compression(png::Compression::Fast);
-        if let Some(dpi) = dpi {
-            let ppm = (dpi / 0.0254).round() as u32;
-            enc.set_pixel_dims(Some(png::PixelDimensions {
-                xppu: ppm,
-                yppu: ppm,
-                unit: png::Unit::Meter,
-            }));
-        }
-        let mut wr = enc.write_header().map_err(|e| PlotError::Encode {
-            format: "PNG",
-            message: e.to_string(),
-        })?;
-        wr.write_image_data(rgba).map_err(|e| PlotError::Encode {
-            format: "PNG",
-            message: e.to_string(),
-        })?;
-    }
-    Ok(buf)
+    encode_png(w, h, png::ColorType::Rgba, rgba, dpi)
 }
 
 /// Encodes the canvas as an opaque RGB PNG.
@@ -642,10 +619,27 @@ pub(crate) fn encode_png_rgb(canvas: &RasterCanvas, dpi: Option<f64>) -> Result<
         // The canvas starts opaque white and every paint composites over it: alpha is 255.
         rgb.extend_from_slice(&[p.red(), p.green(), p.blue()]);
     }
+    encode_png(w, h, png::ColorType::Rgb, &rgb, dpi)
+}
+
+/// Encodes `w × h` pixels of 8-bit channels laid out as `color` (row-major, no padding) as PNG
+/// with fast compression, recording the resolution when `dpi` (dots per inch) is given (PNG's
+/// `pHYs` chunk, in pixels per metre).
+fn encode_png(
+    w: u32,
+    h: u32,
+    color: png::ColorType,
+    data: &[u8],
+    dpi: Option<f64>,
+) -> Result<Vec<u8>> {
+    let encode_error = |e: png::EncodingError| PlotError::Encode {
+        format: "PNG",
+        message: e.to_string(),
+    };
     let mut buf = Vec::new();
     {
         let mut enc = png::Encoder::new(&mut buf, w, h);
-        enc.set_color(png::ColorType::Rgb);
+        enc.set_color(color);
         enc.set_depth(png::BitDepth::Eight);
         enc.set_compression(png::Compression::Fast);
         if let Some(dpi) = dpi {
@@ -656,14 +650,8 @@ pub(crate) fn encode_png_rgb(canvas: &RasterCanvas, dpi: Option<f64>) -> Result<
                 unit: png::Unit::Meter,
             }));
         }
-        let mut wr = enc.write_header().map_err(|e| PlotError::Encode {
-            format: "PNG",
-            message: e.to_string(),
-        })?;
-        wr.write_image_data(&rgb).map_err(|e| PlotError::Encode {
-            format: "PNG",
-            message: e.to_string(),
-        })?;
+        let mut wr = enc.write_header().map_err(encode_error)?;
+        wr.write_image_data(data).map_err(encode_error)?;
     }
     Ok(buf)
 }
