@@ -8,38 +8,16 @@ use pendulab_lti::design::{StateFeedback, lqr, observer_controller, place, place
 use pendulab_lti::response::{LsimOptions, lsim};
 use pendulab_lti::{Complex64, Discretization, Mat, StateSpace};
 use pendulab_sim::Controller;
+use pendulab_testkit::cart;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
+/// The book's cart pendulum at the upright rest with its encoder outputs `y = [z, θ]`
+/// (`docs/model.md` §1, from pendulab-testkit).
 fn cdip() -> StateSpace<pendulab_lti::Continuous> {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0, //
-            0.0,
-            0.0,
-            0.0,
-            1.0, //
-            0.0,
-            0.0,
-            -ac,
-            0.0, //
-            0.0,
-            mp * g * lp / j,
-            ac * mp * lp / j,
-            -mup / j,
-        ],
-    );
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
-    let c = Mat::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
-    StateSpace::continuous(a, b, c, Mat::zeros(2, 1)).unwrap()
+    let (a, b) = cart::upright();
+    StateSpace::continuous(a, b, cart::measured_output(), Mat::zeros(2, 1)).unwrap()
 }
 
 #[test]
@@ -125,14 +103,8 @@ fn monte_carlo_error_covariance_matches_the_posterior_covariance() {
     let sd = [2e-4, 2e-3];
     let rn = Mat::from_row_slice(2, 2, &[sd[0] * sd[0], 0.0, 0.0, sd[1] * sd[1]]);
     let kf = kalman_filter(&plant, &g, &qn, &rn).unwrap();
-    let k = lqr(
-        &plant,
-        &Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[10.0, 10.0, 0.0, 0.0])),
-        &Mat::identity(1, 1),
-        None,
-    )
-    .unwrap()
-    .gain;
+    let (q, r) = cart::lqr_weights();
+    let k = lqr(&plant, &q, &r, None).unwrap().gain;
     let mut ctrl = kalman_controller(&plant, &StateFeedback::new(k).unwrap(), &kf).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(2024);
     let w = Normal::new(0.0, qn[(0, 0)].sqrt()).unwrap();

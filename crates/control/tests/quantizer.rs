@@ -9,6 +9,7 @@ use pendulab_control::quantizer::{
 };
 use pendulab_lti::design::{StateFeedback, lqr};
 use pendulab_lti::{Discretization, Mat, StateSpace};
+use pendulab_testkit::cart;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -261,45 +262,22 @@ mod serde_like {
     }
 }
 
-/// The book's ODQ setting (p2c234_ex1_cdip_odq): linearised cart pendulum, LQR
-/// Q = diag(10, 10, 0, 0), R = 1, ZOH at 10 ms, outputs y = [z, θ], step d = 2 V.
-fn cdip_error_system() -> StateSpace<pendulab_lti::Discrete> {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0, //
-            0.0,
-            0.0,
-            0.0,
-            1.0, //
-            0.0,
-            0.0,
-            -ac,
-            0.0, //
-            0.0,
-            mp * g * lp / j,
-            ac * mp * lp / j,
-            -mup / j,
-        ],
-    );
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
+/// The book's ODQ plant (p2c234_ex1_cdip_odq): the linearised cart pendulum (pendulab-testkit),
+/// its LQR gain for Q = diag(10, 10, 0, 0), R = 1, and its ZOH discretisation at 10 ms.
+fn cdip_lqr_zoh() -> (Mat, StateSpace<pendulab_lti::Discrete>) {
+    let (a, b) = cart::upright();
     let sys = StateSpace::continuous(a, b, Mat::identity(4, 4), Mat::zeros(4, 1)).unwrap();
-    let k = lqr(
-        &sys,
-        &Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[10.0, 10.0, 0.0, 0.0])),
-        &Mat::identity(1, 1),
-        None,
-    )
-    .unwrap();
-    let dsys = sys.c2d(0.01, Discretization::Zoh).unwrap();
-    let cy = Mat::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
-    feedback_error_system(&dsys, &StateFeedback::new(k.gain).unwrap(), &cy).unwrap()
+    let (q, r) = cart::lqr_weights();
+    let k = lqr(&sys, &q, &r, None).unwrap().gain;
+    (k, sys.c2d(0.01, Discretization::Zoh).unwrap())
+}
+
+/// The book's ODQ setting: the error system of [`cdip_lqr_zoh`] with outputs y = [z, θ], step
+/// d = 2 V.
+fn cdip_error_system() -> StateSpace<pendulab_lti::Discrete> {
+    let (k, dsys) = cdip_lqr_zoh();
+    let sf = StateFeedback::new(k).unwrap();
+    feedback_error_system(&dsys, &sf, &cart::measured_output()).unwrap()
 }
 
 #[test]
@@ -390,35 +368,7 @@ fn simulate_deviation(
 fn simulated_deviation_respects_the_worst_case_bound_and_beats_the_static_quantizer() {
     // Same plant and gain as the cdip design, simulated linearly: the theorem says
     // |y_i − y*_i| ≤ E_i for every run, whatever the rounding errors turn out to be.
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            -ac,
-            0.0,
-            0.0,
-            mp * g * lp / j,
-            ac * mp * lp / j,
-            -mup / j,
-        ],
-    );
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
-    let sys = StateSpace::continuous(a, b, Mat::identity(4, 4), Mat::zeros(4, 1)).unwrap();
-    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[10.0, 10.0, 0.0, 0.0]));
-    let k = lqr(&sys, &q, &Mat::identity(1, 1), None).unwrap().gain;
-    let dsys = sys.c2d(0.01, Discretization::Zoh).unwrap();
+    let (k, dsys) = cdip_lqr_zoh();
     let err = cdip_error_system();
     let d = 2.0;
     let design = odq_lp(

@@ -3,41 +3,26 @@
 
 use pendulab_control::ControlError;
 use pendulab_control::sliding_mode::{
-    ReducedWeight, RegularForm, SlidingModeController, lq_sliding_surface,
+    ReducedWeight, RegularForm, SlidingModeController, SlidingSurface, lq_sliding_surface,
 };
 use pendulab_lti::{Complex64, Mat};
-
-fn cdip() -> (Mat, Mat) {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0, //
-            0.0,
-            0.0,
-            0.0,
-            1.0, //
-            0.0,
-            0.0,
-            -ac,
-            0.0, //
-            0.0,
-            mp * g * lp / j,
-            ac * mp * lp / j,
-            -mup / j,
-        ],
-    );
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
-    (a, b)
-}
+use pendulab_testkit::cart;
 
 fn q() -> Mat {
     Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[10.0, 100.0, 1.0, 1.0]))
+}
+
+/// The book script's surface (part 2 §3.2.3): the book's shear to regular form and its
+/// weighting of the reduced problem.
+fn book_surface(a: &Mat, b: &Mat) -> SlidingSurface {
+    lq_sliding_surface(
+        a,
+        b,
+        &q(),
+        RegularForm::BookShear,
+        ReducedWeight::BookScript,
+    )
+    .unwrap()
 }
 
 /// Numbers from the committed fixture (written by the reference script).
@@ -54,7 +39,7 @@ fn fixture(key: &str) -> Vec<f64> {
 
 #[test]
 fn surfaces_match_scipy_for_both_weightings() {
-    let (a, b) = cdip();
+    let (a, b) = cart::upright();
     for (weight, key, poles) in [
         (ReducedWeight::BookScript, "S_book", "poles_book"),
         (ReducedWeight::Exact, "S_exact", "poles_exact"),
@@ -92,7 +77,7 @@ fn sliding_poles_are_those_of_the_equivalent_control_projection() {
     // is ẋ = (I − b(Sᵀb)⁻¹Sᵀ)Ax: its eigenvalues are 0 (the direction leaving the surface)
     // and the n − 1 poles of the reduced LQ closed loop — computed here without the regular
     // form at all.
-    let (a, b) = cdip();
+    let (a, b) = cart::upright();
     for form in [RegularForm::BookShear, RegularForm::Orthogonal] {
         let s = lq_sliding_surface(&a, &b, &q(), form, ReducedWeight::Exact).unwrap();
         let st = Mat::from_row_slice(1, 4, &s.s);
@@ -116,7 +101,7 @@ fn the_exact_surface_does_not_depend_on_the_regular_form() {
     // The LQ-optimal sliding surface is a property of (A, b, Q): two different regular-form
     // transformations (the book's shear, an orthogonal reflection) must give the same
     // hyperplane, i.e. parallel normals.
-    let (a, b) = cdip();
+    let (a, b) = cart::upright();
     let s1 = lq_sliding_surface(&a, &b, &q(), RegularForm::BookShear, ReducedWeight::Exact)
         .unwrap()
         .s;
@@ -132,15 +117,8 @@ fn the_exact_surface_does_not_depend_on_the_regular_form() {
 #[test]
 fn the_book_weighting_is_exact_for_a_completed_weight() {
     // care(Ã₁₁, A₁₂, Q̄₁₁, Q̄₂₂) is the exact construction for Q' = Q + Tᵀ diag(Q̄₁₂Q̄₂₂⁻¹Q̄₁₂ᵀ, 0) T.
-    let (a, b) = cdip();
-    let book = lq_sliding_surface(
-        &a,
-        &b,
-        &q(),
-        RegularForm::BookShear,
-        ReducedWeight::BookScript,
-    )
-    .unwrap();
+    let (a, b) = cart::upright();
+    let book = book_surface(&a, &b);
     let t = &book.transformation;
     let ti = t.clone().try_inverse().unwrap();
     let qbar = ti.transpose() * q() * &ti;
@@ -160,15 +138,8 @@ fn the_book_weighting_is_exact_for_a_completed_weight() {
 #[test]
 fn the_law_imposes_the_reaching_dynamics_on_the_linear_model() {
     // σ̇ = Sᵀ(Ax + bu) = −K₂ σ/(|σ| + δ) for every state (identity of the law).
-    let (a, b) = cdip();
-    let s = lq_sliding_surface(
-        &a,
-        &b,
-        &q(),
-        RegularForm::BookShear,
-        ReducedWeight::BookScript,
-    )
-    .unwrap();
+    let (a, b) = cart::upright();
+    let s = book_surface(&a, &b);
     for delta in [0.0, 5.0] {
         let c = SlidingModeController::from_surface(&s, &a, &b, 30.0, delta).unwrap();
         for x in [[0.1, 0.2, -0.3, 0.5], [-0.05, 0.01, 0.2, -1.0], [0.0; 4]] {
@@ -189,7 +160,7 @@ fn the_law_imposes_the_reaching_dynamics_on_the_linear_model() {
 
 #[test]
 fn bad_surfaces_and_laws_are_typed_errors() {
-    let (a, b) = cdip();
+    let (a, b) = cart::upright();
     let mut b0 = b.clone();
     b0[(3, 0)] = 0.0;
     assert!(matches!(
