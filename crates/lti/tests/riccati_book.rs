@@ -4,37 +4,7 @@
 
 use pendulab_lti::Mat;
 use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, care};
-
-/// A, B of the cart pendulum built from the formula in `docs/model.md` §1 with table 3.5
-/// parameters.
-fn cart_pendulum() -> (Mat, Mat) {
-    let (a_c, b_c, m_p, l_p, j_p, mu_p, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = j_p + m_p * l_p * l_p;
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0, //
-            0.0,
-            0.0,
-            0.0,
-            1.0, //
-            0.0,
-            0.0,
-            -a_c,
-            0.0, //
-            0.0,
-            m_p * g * l_p / j,
-            a_c * m_p * l_p / j,
-            -mu_p / j,
-        ],
-    );
-    let b = Mat::from_column_slice(4, 1, &[0.0, 0.0, b_c, -b_c * m_p * l_p / j]);
-    (a, b)
-}
+use pendulab_testkit::cart;
 
 /// Norm-wise relative difference. The book prints 5 decimals (rounding error ≤ 5e-6 per
 /// entry), which over gains of norm ≥ 14 is ≤ 1e-6 relative: the tolerance.
@@ -51,7 +21,7 @@ fn rel(k: &[f64], book: &[f64]) -> f64 {
 
 #[test]
 fn cdip_lqr_sim_gains() {
-    let (a, b) = cart_pendulum();
+    let (a, b) = cart::upright();
     let book = [
         (10.0, [3.16228, 13.47175, 4.48137, 2.26289]),
         (50.0, [3.16228, 15.81695, 4.72006, 2.44448]),
@@ -93,7 +63,7 @@ fn cdip_lqr_sim_gains() {
 
 #[test]
 fn cdip_lqr_servo_sim_gains() {
-    let (a, b) = cart_pendulum();
+    let (a, b) = cart::upright();
     // Augmented plant Ã = [[A, 0], [−C, 0]], B̃ = [B; 0], C = [1, 0, 0, 0].
     let mut at = Mat::zeros(5, 5);
     at.view_mut((0, 0), (4, 4)).copy_from(&a);

@@ -1,45 +1,23 @@
-//! Shared helpers of the pendulab-lti system tests: the book's plant matrices built from
-//! the formulas of `docs/model.md`, fixture loading and comparisons.
+//! Shared helpers of the pendulab-lti system tests: the book's cart pendulum (its parameters and
+//! upright linearisation from pendulab-testkit), fixture loading and comparisons.
 #![allow(dead_code)]
 
 use pendulab_lti::{Complex64, Mat};
+use pendulab_testkit::cart::CartParams;
 
-/// Cart-type pendulum parameters (book table 3.5).
-pub const AC: f64 = 6.25;
-pub const BC: f64 = 4.36;
-pub const MP: f64 = 0.107;
-pub const LP: f64 = 0.230;
-pub const JP: f64 = 1.59e-3;
-pub const MUP: f64 = 2.35e-4;
-pub const G: f64 = 9.81;
+/// Cart-type pendulum parameters (book table 3.5), from pendulab-testkit.
+const CART: CartParams = CartParams::book();
+pub const AC: f64 = CART.a_c;
+pub const BC: f64 = CART.b_c;
+pub const MP: f64 = CART.m_p;
+pub const LP: f64 = CART.l_p;
+pub const JP: f64 = CART.J_p;
+pub const MUP: f64 = CART.mu_p;
+pub const G: f64 = CART.g;
 
 /// The linearised cart pendulum at the upright rest (`docs/model.md` §1), state `[z, θ, ż, θ̇]`.
 pub fn cdip() -> (Mat, Mat) {
-    let j = JP + MP * LP * LP;
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            -AC,
-            0.0,
-            0.0,
-            MP * G * LP / j,
-            AC * MP * LP / j,
-            -MUP / j,
-        ],
-    );
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, BC, -BC * MP * LP / j]);
-    (a, b)
+    pendulab_testkit::cart::upright()
 }
 
 pub fn mat(rows: usize, cols: usize, v: &[f64]) -> Mat {
