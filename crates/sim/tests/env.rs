@@ -4,10 +4,9 @@
 mod common;
 
 use common::CartPendulum;
-use pendulab_lti::Mat;
 use pendulab_sim::env::FixedEnv;
 use pendulab_sim::fixed::FixedDynamics;
-use pendulab_sim::{Dynamics, Env, EnvConfig, SimError, rk4_step};
+use pendulab_sim::{Dynamics, Env, EnvConfig, SimError, Step, rk4_step};
 
 #[test]
 fn resets_are_seeded_and_steps_are_rk4_periods() {
@@ -56,23 +55,31 @@ fn episodes_terminate_when_the_pendulum_falls_and_truncate_at_500_steps() {
         (last.obs, 0.0, true)
     );
     // A stabilising policy u = −K x (LQR on the linear model) survives the 500 steps.
-    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[10.0, 10.0, 0.0, 0.0]));
-    let k = pendulab_lti::design::lqr(&plant.linear(), &q, &Mat::identity(1, 1), None)
-        .unwrap()
-        .gain;
-    let mut obs = env.reset(Some(3));
+    let obs = env.reset(Some(3));
+    let (n, _) = balance_to_the_end(&plant, obs, |u| env.step(u).unwrap());
+    assert_eq!(n, 500);
+}
+
+/// Runs `u = −K x` (the LQR gain of the linear model, `common::cart_lqr_gain`) through `step`
+/// from `obs` until the episode ends, asserting that it ends by truncation, not by a fall.
+/// Returns the number of steps and the last observation.
+fn balance_to_the_end(
+    plant: &CartPendulum,
+    mut obs: [f64; 4],
+    mut step: impl FnMut(f64) -> Step<4>,
+) -> (usize, [f64; 4]) {
+    let k = common::cart_lqr_gain(plant);
     let mut n = 0;
     loop {
         let u = -(0..4).map(|j| k[(0, j)] * obs[j]).sum::<f64>();
-        let s = env.step(u).unwrap();
+        let s = step(u);
         n += 1;
         obs = s.obs;
         if s.terminated || s.truncated {
             assert!(s.truncated && !s.terminated, "fell at step {n}");
-            break;
+            return (n, obs);
         }
     }
-    assert_eq!(n, 500);
 }
 
 #[test]
@@ -176,22 +183,8 @@ fn fixed_env_seeds_truncates_and_refuses_bad_input() {
     let a = env.reset(Some(7));
     assert_eq!(a, env.reset(Some(7)));
     assert_ne!(a, env.reset(None));
-    let q = Mat::from_diagonal(&nalgebra::DVector::from_row_slice(&[10.0, 10.0, 0.0, 0.0]));
-    let k = pendulab_lti::design::lqr(&plant.linear(), &q, &Mat::identity(1, 1), None)
-        .unwrap()
-        .gain;
-    let mut obs = env.reset(Some(3));
-    let mut n = 0;
-    loop {
-        let u = -(0..4).map(|j| k[(0, j)] * obs[j]).sum::<f64>();
-        let s = env.step(u).unwrap();
-        n += 1;
-        obs = s.obs;
-        if s.terminated || s.truncated {
-            assert!(s.truncated && !s.terminated, "fell at step {n}");
-            break;
-        }
-    }
+    let obs = env.reset(Some(3));
+    let (n, obs) = balance_to_the_end(&plant, obs, |u| env.step(u).unwrap());
     assert_eq!((n, env.steps()), (500, 500));
     let after = env.step(1.0).unwrap();
     assert_eq!((after.reward, after.truncated, after.obs), (0.0, true, obs));

@@ -1,6 +1,7 @@
 //! `linearize` against analytic Jacobians: the cart pendulum (the matrices of `docs/model.md` §1
 //! and hand-derived Jacobians away from equilibrium), the arm pendulum at a tilted arm
-//! equilibrium (the formula of `docs/model.md` §2), and a linear system with an output map.
+//! equilibrium (the formula of `docs/model.md` §2; both closed forms from pendulab-testkit), and
+//! a linear system with an output map.
 
 mod common;
 
@@ -9,6 +10,7 @@ use pendulab_lti::{Mat, StateSpace};
 use pendulab_sim::{
     DifferenceScheme, Dynamics, FnDynamics, LinearizeOptions, SimError, jacobians, linearize,
 };
+use pendulab_testkit::arm::ArmParams;
 
 /// Largest entry-wise relative error `|J − J_ref| / max(|J_ref|, scale·1e-3)`, where
 /// `scale = max |J_ref|`: relative for entries of normal size, absolute (w.r.t. the matrix
@@ -103,11 +105,9 @@ fn cart_pendulum_away_from_equilibrium_matches_hand_derived_jacobians() {
 
 /// The arm-type pendulum of `docs/model.md` §2 (book table 3.7), solved for the accelerations.
 fn arm_pendulum() -> impl Dynamics {
-    let (a1, b1, l1, m2, l2, j2, mu2, g) =
-        (6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81);
-    let alpha2 = j2 + m2 * l2 * l2;
-    let alpha3 = m2 * l1 * l2;
-    let alpha5 = m2 * l2 * g;
+    let p = ArmParams::book();
+    let (alpha2, alpha3, alpha5) = p.alphas();
+    let (a1, b1, mu2) = (p.a1, p.b1, p.mu2);
     FnDynamics::new(4, 1, move |_t, x: &[f64], u: &[f64], dx: &mut [f64]| {
         let th1dd = -a1 * x[2] + b1 * u[0];
         let d = x[0] - x[1];
@@ -123,37 +123,10 @@ fn arm_pendulum() -> impl Dynamics {
 
 #[test]
 fn arm_pendulum_at_tilted_arm_matches_spec_formula() {
-    let (a1, b1, l1, m2, l2, j2, mu2, g) =
-        (6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81);
-    let alpha2 = j2 + m2 * l2 * l2;
-    let alpha3 = m2 * l1 * l2;
-    let alpha5 = m2 * l2 * g;
     let sys = arm_pendulum();
     for th1e in [0.0, 0.4, -1.1, 2.0] {
-        let c = f64::cos(th1e);
-        let ar = Mat::from_row_slice(
-            4,
-            4,
-            &[
-                0.0,
-                0.0,
-                1.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                1.0,
-                0.0,
-                0.0,
-                -a1,
-                0.0,
-                0.0,
-                alpha5 / alpha2,
-                (mu2 + a1 * alpha3 * c) / alpha2,
-                -mu2 / alpha2,
-            ],
-        );
-        let br = Mat::from_row_slice(4, 1, &[0.0, 0.0, b1, -b1 * alpha3 * c / alpha2]);
+        // The closed form of docs/model.md §2 (pendulab-testkit).
+        let (ar, br) = ArmParams::book().linearization(th1e);
         let l = linearize(
             &sys,
             0.0,

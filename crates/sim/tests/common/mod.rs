@@ -1,10 +1,12 @@
 //! Test systems of the simulator's tests (independent of pendulab-plants): the cart-type
-//! pendulum of `docs/model.md` §1 (book eqs 3.7 and 3.21) written from its equations, and its
-//! linearisation at the upright rest as written there.
+//! pendulum of `docs/model.md` §1 (book eqs 3.7 and 3.21) written from its equations, its
+//! linearisation at the upright rest (the closed form of pendulab-testkit), and the controllers
+//! the tests run on it.
 #![allow(dead_code)]
 
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_sim::Dynamics;
+use pendulab_testkit::cart::{self, CartParams, Rest};
 
 /// Book table 3.5 (`docs/model.md` §1).
 #[derive(Debug, Clone, Copy)]
@@ -19,51 +21,44 @@ pub struct CartPendulum {
 }
 
 impl Default for CartPendulum {
+    /// Book table 3.5 (`docs/model.md` §1).
     fn default() -> Self {
+        let p = CartParams::book();
         Self {
-            ac: 6.25,
-            bc: 4.36,
-            mp: 0.107,
-            lp: 0.230,
-            jp: 1.59e-3,
-            mup: 2.35e-4,
-            g: 9.81,
+            ac: p.a_c,
+            bc: p.b_c,
+            mp: p.m_p,
+            lp: p.l_p,
+            jp: p.J_p,
+            mup: p.mu_p,
+            g: p.g,
         }
     }
 }
 
 impl CartPendulum {
-    /// J = J_p + m_p l_p².
-    pub fn j(&self) -> f64 {
-        self.jp + self.mp * self.lp * self.lp
+    /// The same numbers as pendulab-testkit's parameter set.
+    pub fn params(&self) -> CartParams {
+        CartParams {
+            a_c: self.ac,
+            b_c: self.bc,
+            m_p: self.mp,
+            l_p: self.lp,
+            J_p: self.jp,
+            mu_p: self.mup,
+            g: self.g,
+        }
     }
 
-    /// The linearisation at the upright rest, `docs/model.md` §1.
+    /// J = J_p + m_p l_p².
+    pub fn j(&self) -> f64 {
+        self.params().inertia()
+    }
+
+    /// The linearisation at the upright rest, `docs/model.md` §1 (pendulab-testkit's closed
+    /// form), with the full state measured: `C = I`, `D = 0`.
     pub fn linear(&self) -> StateSpace<Continuous> {
-        let j = self.j();
-        let a = Mat::from_row_slice(
-            4,
-            4,
-            &[
-                0.0,
-                0.0,
-                1.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                1.0,
-                0.0,
-                0.0,
-                -self.ac,
-                0.0,
-                0.0,
-                self.mp * self.g * self.lp / j,
-                self.ac * self.mp * self.lp / j,
-                -self.mup / j,
-            ],
-        );
-        let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, self.bc, -self.bc * self.mp * self.lp / j]);
+        let (a, b) = self.params().linearization(Rest::Upright);
         StateSpace::continuous(a, b, Mat::identity(4, 4), Mat::zeros(4, 1)).unwrap()
     }
 
@@ -154,4 +149,14 @@ pub fn cart_lq_servo(
     ]));
     let design = pendulab_lti::design::lq_servo(&cz, &q, &Mat::identity(1, 1)).unwrap();
     (cz, design)
+}
+
+/// The stabilising state feedback the tests run on the cart: `u = −K x`, `K` the LQR gain of
+/// [`CartPendulum::linear`] with the book's weights `Q = diag(10, 10, 0, 0)`, `R = 1`
+/// (pendulab-testkit), designed by pendulab-lti (a controller to run, not a reference value).
+pub fn cart_lqr_gain(plant: &CartPendulum) -> Mat {
+    let (q, r) = cart::lqr_weights();
+    pendulab_lti::design::lqr(&plant.linear(), &q, &r, None)
+        .unwrap()
+        .gain
 }
