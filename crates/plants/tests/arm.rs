@@ -10,27 +10,27 @@ use pendulab_lti::Mat;
 use pendulab_lti::analysis::{ctrb, rank};
 use pendulab_plants::*;
 use pendulab_sim::Dynamics;
+use pendulab_testkit::arm::ArmParams;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, PI};
 
 fn book() -> ArmPendulumParams {
     ArmPendulumParams::book()
 }
 
-/// The closed form of `docs/model.md` §2, written out from the parameters.
+/// The closed form of `docs/model.md` §2: pendulab-testkit's formula (the workspace's one
+/// hand-written copy), the independent reference for the plant's `linearize`.
 fn spec_model(p: &ArmPendulumParams, theta1e: f64) -> (Mat, Mat) {
-    let al2 = p.J2 + p.m2 * p.l2 * p.l2;
-    let al3 = p.m2 * p.L1 * p.l2;
-    let al5 = p.m2 * p.l2 * p.g;
-    let c = theta1e.cos();
-    #[rustfmt::skip]
-    let a = Mat::from_row_slice(4, 4, &[
-        0.0, 0.0, 1.0, 0.0,
-        0.0, 0.0, 0.0, 1.0,
-        0.0, 0.0, -p.a1, 0.0,
-        0.0, al5 / al2, (p.mu2 + p.a1 * al3 * c) / al2, -p.mu2 / al2,
-    ]);
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, p.b1, -p.b1 * al3 * c / al2]);
-    (a, b)
+    let params = ArmParams {
+        a1: p.a1,
+        b1: p.b1,
+        L1: p.L1,
+        m2: p.m2,
+        l2: p.l2,
+        J2: p.J2,
+        mu2: p.mu2,
+        g: p.g,
+    };
+    params.linearization(theta1e)
 }
 
 fn other() -> ArmPendulumParams {
@@ -187,25 +187,12 @@ fn jacobian_matches_central_differences() {
         ([1.3, -0.4, 2.0, -1.5], -2.0),
         ([-2.0, 3.0, -4.0, 7.0], 4.9),
     ];
-    for (x, u) in points {
-        let jac = plant.jacobian(&x, u);
-        let (a_fd, b_fd) = fd_jacobian(|x, u| plant.derivative_array(x, u), &x, u);
-        let scale = jac.a_matrix().amax().max(jac.b_matrix().amax());
-        for i in 0..4 {
-            for j in 0..4 {
-                assert!(
-                    (jac.a[i][j] - a_fd[i][j]).abs() <= 1e-7 * scale,
-                    "A[{i}][{j}] at {x:?}: {} vs {}",
-                    jac.a[i][j],
-                    a_fd[i][j]
-                );
-            }
-            assert!(
-                (jac.b[i] - b_fd[i]).abs() <= 1e-7 * scale,
-                "B[{i}] at {x:?}"
-            );
-        }
-    }
+    assert_jacobian_matches_fd(
+        |x, u| plant.jacobian(x, u),
+        |x, u| plant.derivative_array(x, u),
+        &points,
+        1e-7,
+    );
     // Hanging equilibria: the equilibrium Jacobian equals the general one there.
     for theta1e in [0.0, 0.7, -2.0] {
         let eq = ArmEquilibrium::hanging(theta1e);
@@ -223,11 +210,8 @@ fn jacobian_matches_central_differences() {
 fn nonlinear_model_matches_sympy_euler_lagrange() {
     // tools/reference/plants_lagrange.py (SymPy Euler–Lagrange, mpmath at 40 digits); f64
     // evaluation differs by a few roundings: 1e-12 relative to max(1, |f|).
-    let fx = fixture();
-    let cases = fx["arm_pendulum"].as_array().unwrap();
-    assert_eq!(cases.len(), 8);
-    for case in cases {
-        let p = &case["params"];
+    for case in sympy_cases("arm_pendulum") {
+        let p = &case.params;
         let params = ArmPendulumParams {
             a1: num(&p["a1"]),
             b1: num(&p["b1"]),
@@ -240,19 +224,10 @@ fn nonlinear_model_matches_sympy_euler_lagrange() {
             g: num(&p["g"]),
         };
         let plant = ArmPendulum::new(params).unwrap();
-        let x: [f64; 4] = arr(&case["x"]);
-        let f_ref: [f64; 4] = arr(&case["f"]);
-        let f = plant.derivative_array(&x, num(&case["u"]));
-        for i in 0..4 {
-            assert!(
-                (f[i] - f_ref[i]).abs() <= 1e-12 * f_ref[i].abs().max(1.0),
-                "f[{i}] at {x:?}: {} vs SymPy {}",
-                f[i],
-                f_ref[i]
-            );
-        }
+        let f = plant.derivative_array(&case.x, case.u);
+        assert_matches_sympy(&f, &case, 1e-12);
         let mut dx = [0.0; 4];
-        plant.derivative(0.0, &x, &[num(&case["u"])], &mut dx);
+        plant.derivative(0.0, &case.x, &[case.u], &mut dx);
         assert_eq!(dx, f);
     }
 }
@@ -267,10 +242,7 @@ fn pendulum_energy_is_conserved_with_the_arm_held() {
         let x0 = [theta1, theta2, 0.0, 2.0];
         let path = rk4_path(|_, x| plant.derivative_array(x, 0.0), x0, 1e-4, 100_000);
         let e0 = plant.pendulum_energy(&x0.into());
-        let drift = path
-            .iter()
-            .map(|x| (plant.pendulum_energy(&(*x).into()) - e0).abs())
-            .fold(0.0, f64::max);
+        let drift = energy_drift(&path, |x| plant.pendulum_energy(&(*x).into()));
         assert!(drift <= 1e-9 * e0, "drift {drift:e} of {e0}");
         assert!(path.iter().all(|x| x[0] == theta1 && x[2] == 0.0));
     }
@@ -290,39 +262,24 @@ fn pendulum_energy_balance_holds_with_the_arm_driven() {
     };
     let plant = ArmPendulum::new(p).unwrap();
     let v = |t: f64| 1.5 * (4.0 * t).sin() - 0.7 * (9.0 * t).cos();
-    let h = 1e-4;
-    let steps = 40_000;
-    let path = rk4_path(
-        |t, x| plant.derivative_array(x, v(t)),
+    let power = |x: &[f64; 4], v: f64| {
+        let dd1 = -p.a1 * x[2] + p.b1 * v;
+        let (s1, c1) = x[0].sin_cos();
+        let (s2, c2) = x[1].sin_cos();
+        let acc = [
+            p.L1 * (c1 * dd1 - s1 * x[2] * x[2]),
+            p.L1 * (-s1 * dd1 - c1 * x[2] * x[2]),
+        ];
+        let vrel = [p.l2 * x[3] * c2, -p.l2 * x[3] * s2];
+        -p.m2 * (acc[0] * vrel[0] + acc[1] * vrel[1]) + p.mu2 * (x[2] - x[3]) * x[3]
+    };
+    assert_energy_balance(
+        |x, v| plant.derivative_array(x, v),
+        v,
         [0.1, PI - 0.2, 0.0, 0.0],
-        h,
-        steps,
+        |x| plant.pendulum_energy(&(*x).into()),
+        power,
     );
-    let power: Vec<f64> = path
-        .iter()
-        .enumerate()
-        .map(|(k, x)| {
-            let dd1 = -p.a1 * x[2] + p.b1 * v(k as f64 * h);
-            let (s1, c1) = x[0].sin_cos();
-            let (s2, c2) = x[1].sin_cos();
-            let acc = [
-                p.L1 * (c1 * dd1 - s1 * x[2] * x[2]),
-                p.L1 * (-s1 * dd1 - c1 * x[2] * x[2]),
-            ];
-            let vrel = [p.l2 * x[3] * c2, -p.l2 * x[3] * s2];
-            -p.m2 * (acc[0] * vrel[0] + acc[1] * vrel[1]) + p.mu2 * (x[2] - x[3]) * x[3]
-        })
-        .collect();
-    let gained =
-        plant.pendulum_energy(&path[steps].into()) - plant.pendulum_energy(&path[0].into());
-    let integral = simpson(&power, h);
-    let magnitude = simpson(&power.iter().map(|p| p.abs()).collect::<Vec<_>>(), h);
-    // O(h⁴) errors of RK4 and Simpson: ~1e-12 relative expected, 1e-9 allowed.
-    assert!(
-        (gained - integral).abs() <= 1e-9 * magnitude,
-        "ΔE = {gained}, ∫P dt = {integral}"
-    );
-    assert!(magnitude > 1e-2, "the test must move energy ({magnitude})");
 }
 
 #[test]
@@ -362,31 +319,16 @@ fn energy_levels_geometry_and_states() {
 
 #[test]
 fn invalid_parameters_are_typed_errors() {
-    type Setter = fn(&mut ArmPendulumParams, f64);
-    let fields: [(&str, Setter, bool); 9] = [
-        ("a1", |p, v| p.a1 = v, true),
-        ("b1", |p, v| p.b1 = v, false),
-        ("L1", |p, v| p.L1 = v, false),
-        ("m2", |p, v| p.m2 = v, false),
-        ("l2", |p, v| p.l2 = v, false),
-        ("L2", |p, v| p.L2 = v, false),
-        ("J2", |p, v| p.J2 = v, false),
-        ("mu2", |p, v| p.mu2 = v, true),
-        ("g", |p, v| p.g = v, false),
-    ];
-    for (name, set, zero_ok) in fields {
-        for bad in [f64::NAN, f64::INFINITY, -2.0] {
-            let mut p = book();
-            set(&mut p, bad);
-            match ArmPendulum::new(p) {
-                Err(PlantError::InvalidParameter { name: n, .. }) => assert_eq!(n, name),
-                other => panic!("{name} = {bad}: expected InvalidParameter, got {other:?}"),
-            }
-        }
-        let mut p = book();
-        set(&mut p, 0.0);
-        assert_eq!(ArmPendulum::new(p).is_ok(), zero_ok, "{name} = 0");
-    }
+    let fields = fields![ArmPendulumParams;
+        a1 = true, b1 = false, L1 = false, m2 = false, l2 = false, L2 = false, J2 = false,
+        mu2 = true, g = false];
+    assert_fields_validated(
+        book(),
+        &fields,
+        &[f64::NAN, f64::INFINITY, -2.0],
+        ArmPendulum::new,
+        |_| {},
+    );
     let msg = ArmPendulum::new(ArmPendulumParams {
         J2: f64::NAN,
         ..book()

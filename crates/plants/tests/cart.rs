@@ -9,6 +9,7 @@ use common::*;
 use pendulab_lti::{Complex64, Mat};
 use pendulab_plants::*;
 use pendulab_sim::Dynamics;
+use pendulab_testkit::cart::{CartParams, Rest};
 use std::f64::consts::PI;
 
 fn book() -> CartPendulumParams {
@@ -31,38 +32,23 @@ fn upright_open_loop_poles_are_specs() {
     }
 }
 
-/// The closed-form A, B of `docs/model.md` §1 (upright); the hanging model by substituting
-/// cos π = −1 in the Jacobian of the model's equations.
+/// The closed-form A, B of `docs/model.md` §1 at the upright or hanging rest: pendulab-testkit's
+/// formula (the workspace's one hand-written copy), the independent reference for the plant's
+/// `linearize`.
 fn spec_model(p: &CartPendulumParams, posture: Posture) -> (Mat, Mat) {
-    let j = p.J_p + p.m_p * p.l_p * p.l_p;
-    let c = match posture {
-        Posture::Upright => 1.0,
-        Posture::Hanging => -1.0,
+    let params = CartParams {
+        a_c: p.a_c,
+        b_c: p.b_c,
+        m_p: p.m_p,
+        l_p: p.l_p,
+        J_p: p.J_p,
+        mu_p: p.mu_p,
+        g: p.g,
     };
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            -p.a_c,
-            0.0,
-            0.0,
-            c * p.m_p * p.g * p.l_p / j,
-            c * p.a_c * p.m_p * p.l_p / j,
-            -p.mu_p / j,
-        ],
-    );
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, p.b_c, -c * p.b_c * p.m_p * p.l_p / j]);
-    (a, b)
+    params.linearization(match posture {
+        Posture::Upright => Rest::Upright,
+        Posture::Hanging => Rest::Hanging,
+    })
 }
 
 #[test]
@@ -122,25 +108,12 @@ fn jacobian_matches_central_differences() {
         ([-0.4, 2.2, 0.9, -3.0], -2.5),
         ([0.3, -4.0, 1.1, 6.0], 4.5),
     ];
-    for (x, u) in points {
-        let jac = plant.jacobian(&x, u);
-        let (a_fd, b_fd) = fd_jacobian(|x, u| plant.derivative_array(x, u), &x, u);
-        let scale = jac.a_matrix().amax().max(jac.b_matrix().amax());
-        for i in 0..4 {
-            for j in 0..4 {
-                assert!(
-                    (jac.a[i][j] - a_fd[i][j]).abs() <= 1e-7 * scale,
-                    "A[{i}][{j}] at {x:?}: {} vs {}",
-                    jac.a[i][j],
-                    a_fd[i][j]
-                );
-            }
-            assert!(
-                (jac.b[i] - b_fd[i]).abs() <= 1e-7 * scale,
-                "B[{i}] at {x:?}"
-            );
-        }
-    }
+    assert_jacobian_matches_fd(
+        |x, u| plant.jacobian(x, u),
+        |x, u| plant.derivative_array(x, u),
+        &points,
+        1e-7,
+    );
     // The equilibrium Jacobian is the general one evaluated at the equilibrium.
     let at_eq = plant.jacobian(&[0.2, PI, 0.0, 0.0], 0.0);
     let eq = plant
@@ -169,11 +142,8 @@ fn nonlinear_model_matches_sympy_euler_lagrange() {
     // and evaluates them at 40 digits. Our f64 evaluation differs by a few roundings of
     // O(10) operations: 1e-12 relative to max(1, |f|) is ample and still catches any wrong
     // term or sign (those change f at the 1e-3 level or more).
-    let fx = fixture();
-    let cases = fx["cart_pendulum"].as_array().unwrap();
-    assert_eq!(cases.len(), 8);
-    for case in cases {
-        let p = &case["params"];
+    for case in sympy_cases("cart_pendulum") {
+        let p = &case.params;
         let params = CartPendulumParams {
             a_c: num(&p["a_c"]),
             b_c: num(&p["b_c"]),
@@ -185,17 +155,7 @@ fn nonlinear_model_matches_sympy_euler_lagrange() {
             g: num(&p["g"]),
         };
         let plant = CartPendulum::new(params).unwrap();
-        let x: [f64; 4] = arr(&case["x"]);
-        let f_ref: [f64; 4] = arr(&case["f"]);
-        let f = plant.derivative_array(&x, num(&case["u"]));
-        for i in 0..4 {
-            assert!(
-                (f[i] - f_ref[i]).abs() <= 1e-12 * f_ref[i].abs().max(1.0),
-                "f[{i}] at {x:?}: {} vs SymPy {}",
-                f[i],
-                f_ref[i]
-            );
-        }
+        assert_matches_sympy(&plant.derivative_array(&case.x, case.u), &case, 1e-12);
     }
 }
 
@@ -213,10 +173,7 @@ fn energy_is_conserved_without_friction_with_the_cart_held() {
         let x0 = [0.1, theta0, 0.0, 1.5];
         let path = rk4_path(|_, x| plant.derivative_array(x, 0.0), x0, 1e-4, 100_000);
         let e0 = plant.energy(&x0.into());
-        let drift = path
-            .iter()
-            .map(|x| (plant.energy(&(*x).into()) - e0).abs())
-            .fold(0.0, f64::max);
+        let drift = energy_drift(&path, |x| plant.energy(&(*x).into()));
         assert!(drift <= 1e-9 * e0, "θ0 = {theta0}: drift {drift:e} of {e0}");
         // The cart really stayed put.
         assert!(path.iter().all(|x| x[0] == 0.1 && x[2] == 0.0));
@@ -226,10 +183,7 @@ fn energy_is_conserved_without_friction_with_the_cart_held() {
     let x0 = [2.0, 1.5];
     let path = rk4_path(|_, x| fixed.derivative_array(x), x0, 1e-4, 100_000);
     let e0 = fixed.energy(&x0);
-    let drift = path
-        .iter()
-        .map(|x| (fixed.energy(x) - e0).abs())
-        .fold(0.0, f64::max);
+    let drift = energy_drift(&path, |x| fixed.energy(x));
     assert!(drift <= 1e-9 * e0, "fixed cart drift {drift:e}");
 }
 
@@ -245,33 +199,17 @@ fn energy_balance_holds_with_the_cart_driven() {
     };
     let plant = CartPendulum::new(p).unwrap();
     let v = |t: f64| 2.0 * (3.0 * t).sin() + 0.5 * (7.0 * t).cos();
-    let h = 1e-4;
-    let steps = 40_000; // 4 s
-    let path = rk4_path(
-        |t, x| plant.derivative_array(x, v(t)),
+    let power = |x: &[f64; 4], v: f64| {
+        let ddz = -p.a_c * x[2] + p.b_c * v;
+        -p.m_p * p.l_p * x[1].cos() * x[3] * ddz - p.mu_p * x[3] * x[3]
+    };
+    assert_energy_balance(
+        |x, v| plant.derivative_array(x, v),
+        v,
         [0.0, PI - 0.3, 0.0, 0.0],
-        h,
-        steps,
+        |x| plant.energy(&(*x).into()),
+        power,
     );
-    let power: Vec<f64> = path
-        .iter()
-        .enumerate()
-        .map(|(k, x)| {
-            let ddz = -p.a_c * x[2] + p.b_c * v(k as f64 * h);
-            -p.m_p * p.l_p * x[1].cos() * x[3] * ddz - p.mu_p * x[3] * x[3]
-        })
-        .collect();
-    let gained = plant.energy(&path[steps].into()) - plant.energy(&path[0].into());
-    let integral = simpson(&power, h);
-    let magnitude = simpson(&power.iter().map(|p| p.abs()).collect::<Vec<_>>(), h);
-    // RK4 and Simpson both err by O(h⁴) ≈ 1e-16 times derivatives of the motion (ω ≈ 10 rad/s,
-    // so ≈ 1e-12 relative): 1e-9 of the energy moved is a safe bound; a wrong coefficient in
-    // the model would show at 1e-2.
-    assert!(
-        (gained - integral).abs() <= 1e-9 * magnitude,
-        "ΔE = {gained}, ∫P dt = {integral}"
-    );
-    assert!(magnitude > 1e-2, "the test must move energy ({magnitude})");
 }
 
 #[test]
@@ -396,34 +334,16 @@ fn cart_drive_is_b_over_s_s_plus_a() {
 
 #[test]
 fn invalid_parameters_are_typed_errors() {
-    type Setter = fn(&mut CartPendulumParams, f64);
-    let fields: [(&str, Setter, bool); 8] = [
-        ("a_c", |p, v| p.a_c = v, true),
-        ("b_c", |p, v| p.b_c = v, false),
-        ("m_p", |p, v| p.m_p = v, false),
-        ("l_p", |p, v| p.l_p = v, false),
-        ("L_p", |p, v| p.L_p = v, false),
-        ("J_p", |p, v| p.J_p = v, false),
-        ("mu_p", |p, v| p.mu_p = v, true),
-        ("g", |p, v| p.g = v, false),
-    ];
-    for (name, set, zero_ok) in fields {
-        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0] {
-            let mut p = book();
-            set(&mut p, bad);
-            match CartPendulum::new(p) {
-                Err(PlantError::InvalidParameter { name: n, value, .. }) => {
-                    assert_eq!(n, name);
-                    assert!(value.is_nan() && bad.is_nan() || value == bad);
-                }
-                other => panic!("{name} = {bad}: expected InvalidParameter, got {other:?}"),
-            }
-            assert!(FixedCartPendulum::new(&p).is_err());
-        }
-        let mut p = book();
-        set(&mut p, 0.0);
-        assert_eq!(CartPendulum::new(p).is_ok(), zero_ok, "{name} = 0");
-    }
+    let fields = fields![CartPendulumParams;
+        a_c = true, b_c = false, m_p = false, l_p = false, L_p = false, J_p = false, mu_p = true,
+        g = false];
+    assert_fields_validated(
+        book(),
+        &fields,
+        &[f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0],
+        CartPendulum::new,
+        |p| assert!(FixedCartPendulum::new(p).is_err()),
+    );
     // The message names parameter and value.
     let p = CartPendulumParams {
         m_p: -0.1,

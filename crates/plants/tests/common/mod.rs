@@ -1,8 +1,11 @@
 //! Helpers shared by the plant tests: a classic RK4 written here (independent of
-//! pendulab-sim's integrators), central finite differences, the SymPy fixture.
+//! pendulab-sim's integrators), central finite differences, the SymPy fixture, and the checks
+//! every plant goes through (Jacobian against differences, model against SymPy, energy drift and
+//! energy balance along RK4 paths), written once and generic over the plant.
 #![allow(dead_code)]
 
 use pendulab_lti::Mat;
+use pendulab_plants::{Jacobian, PlantError};
 
 /// One classic fourth-order Runge–Kutta step of `ẋ = f(t, x)`.
 pub fn rk4_step<const N: usize>(
@@ -74,6 +77,75 @@ pub fn fd_jacobian<const N: usize>(
     (a, b)
 }
 
+/// Asserts that the analytic Jacobian `jacobian(x, u)` equals central differences of `f`
+/// ([`fd_jacobian`]) at each of `points`, entry by entry within `tol` times the largest entry of
+/// the analytic `A` and `B`; a failure names the entry and the point.
+pub fn assert_jacobian_matches_fd<const N: usize>(
+    jacobian: impl Fn(&[f64; N], f64) -> Jacobian<N>,
+    f: impl Fn(&[f64; N], f64) -> [f64; N],
+    points: &[([f64; N], f64)],
+    tol: f64,
+) {
+    for (x, u) in points {
+        let jac = jacobian(x, *u);
+        let (a_fd, b_fd) = fd_jacobian(&f, x, *u);
+        let scale = jac.a_matrix().amax().max(jac.b_matrix().amax());
+        for i in 0..N {
+            for j in 0..N {
+                assert!(
+                    (jac.a[i][j] - a_fd[i][j]).abs() <= tol * scale,
+                    "A[{i}][{j}] at {x:?}: {} vs {}",
+                    jac.a[i][j],
+                    a_fd[i][j]
+                );
+            }
+            assert!((jac.b[i] - b_fd[i]).abs() <= tol * scale, "B[{i}] at {x:?}");
+        }
+    }
+}
+
+/// A parameter's name as the error reports it, how to set it, and whether zero is valid.
+pub type Field<P> = (&'static str, fn(&mut P, f64), bool);
+
+/// The [`Field`]s of a parameter struct: `fields![P; a_c = true, b_c = false]` lists `a_c` (zero
+/// valid) and `b_c` (zero refused) of `P`.
+#[macro_export]
+macro_rules! fields {
+    ($p:ty; $($name:ident = $zero_ok:expr),* $(,)?) => {
+        [$((stringify!($name), (|p: &mut $p, v: f64| p.$name = v) as fn(&mut $p, f64), $zero_ok)),*]
+    };
+}
+
+/// Asserts that `new` refuses each of the values `bad` in each of `fields` (set on `book`) with
+/// `PlantError::InvalidParameter` naming the field and carrying the value, and accepts zero
+/// exactly where the field says so; `also` sees every refused parameter set, for the checks a
+/// plant adds (another constructor refusing it too).
+pub fn assert_fields_validated<P: Copy, T: std::fmt::Debug>(
+    book: P,
+    fields: &[Field<P>],
+    bad: &[f64],
+    new: impl Fn(P) -> Result<T, PlantError>,
+    also: impl Fn(&P),
+) {
+    for &(name, set, zero_ok) in fields {
+        for &bad in bad {
+            let mut p = book;
+            set(&mut p, bad);
+            match new(p) {
+                Err(PlantError::InvalidParameter { name: n, value, .. }) => {
+                    assert_eq!(n, name);
+                    assert!(value.is_nan() && bad.is_nan() || value == bad);
+                }
+                other => panic!("{name} = {bad}: expected InvalidParameter, got {other:?}"),
+            }
+            also(&p);
+        }
+        let mut p = book;
+        set(&mut p, 0.0);
+        assert_eq!(new(p).is_ok(), zero_ok, "{name} = 0");
+    }
+}
+
 /// Largest absolute entry.
 pub fn max_abs(m: &Mat) -> f64 {
     m.iter().fold(0.0f64, |acc, v| acc.max(v.abs()))
@@ -93,6 +165,84 @@ pub fn arr<const N: usize>(v: &serde_json::Value) -> [f64; N] {
     let a = v.as_array().expect("an array");
     assert_eq!(a.len(), N);
     std::array::from_fn(|i| num(&a[i]))
+}
+
+/// One case of the SymPy fixture's section `key` (`tools/reference/plants_lagrange.py`): the
+/// parameters, the state, the input, and SymPy's `f(x, u)` evaluated at 40 digits.
+pub struct SympyCase {
+    pub params: serde_json::Value,
+    pub x: [f64; 4],
+    pub u: f64,
+    pub f: [f64; 4],
+}
+
+/// The fixture's cases of section `key` (eight per plant).
+pub fn sympy_cases(key: &str) -> Vec<SympyCase> {
+    let fx = fixture();
+    let cases = fx[key].as_array().expect("a section of cases");
+    assert_eq!(cases.len(), 8);
+    cases
+        .iter()
+        .map(|case| SympyCase {
+            params: case["params"].clone(),
+            x: arr(&case["x"]),
+            u: num(&case["u"]),
+            f: arr(&case["f"]),
+        })
+        .collect()
+}
+
+/// Asserts `|f_i − f_i^SymPy| ≤ tol · max(1, |f_i^SymPy|)` for every entry.
+pub fn assert_matches_sympy(f: &[f64; 4], case: &SympyCase, tol: f64) {
+    for i in 0..4 {
+        assert!(
+            (f[i] - case.f[i]).abs() <= tol * case.f[i].abs().max(1.0),
+            "f[{i}] at {:?}: {} vs SymPy {}",
+            case.x,
+            f[i],
+            case.f[i]
+        );
+    }
+}
+
+/// The largest `|E(x) − E(x₀)|` along `path`, `x₀` its first state.
+pub fn energy_drift<const N: usize>(path: &[[f64; N]], energy: impl Fn(&[f64; N]) -> f64) -> f64 {
+    let e0 = energy(&path[0]);
+    path.iter()
+        .map(|x| (energy(x) - e0).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The energy balance along an RK4 path of `ẋ = f(x, v(t))` from `x0`, 4 s in steps of
+/// `h = 1e-4` s: asserts `E(T) − E(0) = ∫ P dt`, `P(x, v)` the power the model says flows into
+/// `E`, both integrals by Simpson's rule on the path's samples, and that the run moves energy
+/// (`∫ |P| dt > 1e-2`), so the check cannot pass by standing still.
+///
+/// RK4 and Simpson both err by O(h⁴) ≈ 1e-16 times derivatives of the motion (ω ≈ 10 rad/s, so
+/// ≈ 1e-12 relative): 1e-9 of the energy moved (`∫ |P| dt`) is a safe bound; a wrong coefficient
+/// in a model would show at 1e-2.
+pub fn assert_energy_balance<const N: usize>(
+    f: impl Fn(&[f64; N], f64) -> [f64; N],
+    v: impl Fn(f64) -> f64,
+    x0: [f64; N],
+    energy: impl Fn(&[f64; N]) -> f64,
+    power: impl Fn(&[f64; N], f64) -> f64,
+) {
+    let (h, steps) = (1e-4, 40_000);
+    let path = rk4_path(|t, x| f(x, v(t)), x0, h, steps);
+    let power: Vec<f64> = path
+        .iter()
+        .enumerate()
+        .map(|(k, x)| power(x, v(k as f64 * h)))
+        .collect();
+    let gained = energy(&path[steps]) - energy(&path[0]);
+    let integral = simpson(&power, h);
+    let magnitude = simpson(&power.iter().map(|p| p.abs()).collect::<Vec<_>>(), h);
+    assert!(
+        (gained - integral).abs() <= 1e-9 * magnitude,
+        "ΔE = {gained}, ∫P dt = {integral}"
+    );
+    assert!(magnitude > 1e-2, "the test must move energy ({magnitude})");
 }
 
 /// Composite Simpson's rule on `2m + 1` equally spaced samples.
