@@ -4,14 +4,15 @@
 //! stem of the book's MATLAB file (e.g. `p1c63_ex5_cdip_lqr_servo`). Running one returns an
 //! [`ExampleOutput`]: its numbers under fixed names built from the book's symbols (gains in the
 //! book's convention `u = +K x`), the book's printed values beside them where the book prints any,
-//! and the figures it drew. The command line (`pendulab book`), the tests and the lab report all
+//! and the figures it drew as values (rendered and written by the front end: the book touches no
+//! file and prints nothing). The command line (`pendulab book`), the tests and the lab report all
 //! use this one registry.
 //!
 //! - [`registry`](mod@registry) — [`Example`], [`RunContext`], [`registry()`], [`find`];
 //! - [`output`] — [`ExampleOutput`], [`Value`], the book's [`Reference`] values and their
-//!   [`Comparison`] with ours;
+//!   [`Comparison`] with ours, the figures and animations as [`Graphic`] values;
 //! - [`report`] — the lab report page and the README table of examples, from results;
-//! - [`error`] — [`BookError`].
+//! - [`error`] — [`BookError`] and the [`Cause`] of a failed computation.
 
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
@@ -22,6 +23,6 @@ pub mod output;
 pub mod registry;
 pub mod report;
 
-pub use error::BookError;
-pub use output::{Comparison, ExampleOutput, Reference, Value};
+pub use error::{BookError, Cause};
+pub use output::{Comparison, ExampleOutput, Graphic, GraphicKind, Reference, RenderedFile, Value};
 pub use registry::{Example, RunContext, find, registry};

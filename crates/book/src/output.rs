@@ -1,8 +1,9 @@
-//! What an example returns: named values, the book's values beside them, figure paths.
+//! What an example returns: named values, the book's values beside them, and its figures and
+//! animations as values ([`Graphic`]) that the front end renders and writes.
 
 use pendulab_lti::Complex64;
+use pendulab_plot::{Animation, Figure, PlotError};
 use serde::Serialize;
-use std::path::PathBuf;
 
 /// A value reported by an example.
 ///
@@ -74,8 +75,10 @@ pub struct ExampleOutput {
     pub values: Vec<(String, Value)>,
     /// The book's printed values for comparison.
     pub references: Vec<Reference>,
-    /// Paths of the figures written (SVG, PNG, GIF).
-    pub figures: Vec<PathBuf>,
+    /// The figures and animations drawn, in the order drawn; empty unless the run context asks
+    /// for figures ([`crate::RunContext::figures`]). Nothing is rendered or written here: the
+    /// front end calls [`Graphic::render`] and writes the files.
+    pub figures: Vec<Graphic>,
     /// Short remarks for the report (what the figure shows, differences from the book).
     pub notes: Vec<String>,
 }
@@ -103,9 +106,89 @@ impl ExampleOutput {
         });
         self
     }
+    /// Adds a figure whose files are `<stem>.svg` and `<stem>.png`.
+    pub fn figure(&mut self, stem: impl Into<String>, figure: Figure) -> &mut Self {
+        self.figures.push(Graphic {
+            stem: stem.into(),
+            kind: GraphicKind::Figure(figure),
+        });
+        self
+    }
+    /// Adds an animation whose files are `<stem>.gif` and the animated `<stem>.svg`.
+    pub fn animation(&mut self, stem: impl Into<String>, animation: Animation) -> &mut Self {
+        self.figures.push(Graphic {
+            stem: stem.into(),
+            kind: GraphicKind::Animation(animation),
+        });
+        self
+    }
     /// Looks a value up by name.
     pub fn get(&self, name: &str) -> Option<&Value> {
         self.values.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+}
+
+/// A figure or an animation an example drew, as a value: the front end renders it with
+/// [`Graphic::render`] and writes the files; the book writes nothing.
+#[derive(Debug, Clone)]
+pub struct Graphic {
+    /// File stem, unique within the example and starting with its id (e.g.
+    /// `p1c41_cdip_response_y`); [`Graphic::file_names`] gives the files.
+    pub stem: String,
+    /// What is drawn.
+    pub kind: GraphicKind,
+}
+
+/// What a [`Graphic`] holds.
+#[derive(Debug, Clone)]
+pub enum GraphicKind {
+    /// A static figure, rendered as SVG and PNG.
+    Figure(Figure),
+    /// A rig animation, rendered as an animated GIF and an animated (SMIL) SVG.
+    Animation(Animation),
+}
+
+/// One rendered file of a [`Graphic`]: its name (stem and extension, no directory) and bytes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RenderedFile {
+    /// File name, e.g. `p1c41_cdip_response_y.svg`.
+    pub name: String,
+    /// The file's contents.
+    pub bytes: Vec<u8>,
+}
+
+impl Graphic {
+    /// The extensions of the files, in the order [`Graphic::render`] returns them:
+    /// `["svg", "png"]` for a figure, `["gif", "svg"]` for an animation.
+    pub fn extensions(&self) -> [&'static str; 2] {
+        match self.kind {
+            GraphicKind::Figure(_) => ["svg", "png"],
+            GraphicKind::Animation(_) => ["gif", "svg"],
+        }
+    }
+
+    /// The file names `<stem>.<extension>`, in the order of [`Graphic::extensions`].
+    pub fn file_names(&self) -> [String; 2] {
+        self.extensions().map(|ext| format!("{}.{ext}", self.stem))
+    }
+
+    /// Renders the files in memory, in the order of [`Graphic::file_names`]: a figure's SVG
+    /// ([`Figure::to_svg`]) and PNG ([`Figure::to_png`]), an animation's GIF
+    /// ([`Animation::to_gif`]) and animated SVG ([`Animation::to_svg`]).
+    ///
+    /// # Errors
+    /// The plot crate's rendering errors (bad options, data that cannot be drawn).
+    pub fn render(&self) -> Result<Vec<RenderedFile>, PlotError> {
+        let bytes: [Vec<u8>; 2] = match &self.kind {
+            GraphicKind::Figure(f) => [f.to_svg()?.into_bytes(), f.to_png()?],
+            GraphicKind::Animation(a) => [a.to_gif()?, a.to_svg()?.into_bytes()],
+        };
+        Ok(self
+            .file_names()
+            .into_iter()
+            .zip(bytes)
+            .map(|(name, bytes)| RenderedFile { name, bytes })
+            .collect())
     }
 }
 

@@ -2,13 +2,13 @@
 
 use crate::error::BookError;
 use crate::output::ExampleOutput;
-use std::path::PathBuf;
 
 /// Everything an example may use when it runs.
 #[derive(Debug, Clone, Default)]
 pub struct RunContext {
-    /// Directory for figures; `None` computes the numbers only.
-    pub out_dir: Option<PathBuf>,
+    /// Whether to draw the figures and animations into [`ExampleOutput::figures`]; `false`
+    /// computes the numbers only (and builds no figure).
+    pub figures: bool,
     /// Contents of a measured-data CSV file (examples that take `--data`); `None` runs them on
     /// their shipped recording.
     pub data_csv: Option<String>,

@@ -479,9 +479,8 @@ fn chapter_3_figures_are_written() {
         ("p1c332_adip_id_least_square", None),
     ];
     for (id, data) in cases {
-        let ctx = dir.ctx(data);
-        let out = run_in(id, &ctx).unwrap();
-        assert!(out.figures.len() >= 2, "{id}");
-        assert_figures_larger(&out, 2000);
+        let (_, files) = dir.run(id, data);
+        assert!(files.len() >= 2, "{id}");
+        assert_figures_larger(&files, 2000);
     }
 }

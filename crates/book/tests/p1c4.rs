@@ -105,11 +105,10 @@ fn chapter_4_figures_are_written() {
         "p1c43_stability2",
         "p1c43_lyapunov_func",
     ] {
-        let ctx = dir.ctx(None);
-        let out = run_in(id, &ctx).unwrap();
-        assert!(out.figures.len() >= 2, "{id}");
-        assert_figures_larger(&out, 2000);
-        for f in &out.figures {
+        let (_, files) = dir.run(id, None);
+        assert!(files.len() >= 2, "{id}");
+        assert_figures_larger(&files, 2000);
+        for f in &files {
             assert!(f.file_name().unwrap().to_str().unwrap().starts_with(id));
         }
     }

@@ -142,20 +142,19 @@ fn p1c523_ex8_adip_lqr() {
 #[test]
 fn figures_are_written() {
     let dir = TempDir::new("p1c5");
-    let ctx = dir.ctx(None);
     for id in [
         "p1c511_ex3_adip",
         "p1c522_ex7_adip_place",
         "p1c523_ex8_adip_lqr",
     ] {
-        let out = run_in(id, &ctx).unwrap();
-        assert!(!out.figures.is_empty(), "{id}");
-        assert_figures_larger(&out, 2000);
+        let (_, files) = dir.run(id, None);
+        assert!(!files.is_empty(), "{id}");
+        assert_figures_larger(&files, 2000);
         if id == "p1c523_ex8_adip_lqr" {
             // Time responses (SVG + PNG) and the animation (GIF + SMIL SVG).
             for ext in ["svg", "png", "gif"] {
                 assert!(
-                    out.figures
+                    files
                         .iter()
                         .any(|f| f.extension().is_some_and(|e| e == ext)),
                     "{ext}"

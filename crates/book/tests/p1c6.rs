@@ -122,14 +122,13 @@ fn p1c63_ex5_cdip_lqr_servo() {
 #[test]
 fn figures_are_written() {
     let dir = TempDir::new("p1c6");
-    let ctx = dir.ctx(None);
     // Response (SVG + PNG); the servo also animates the rig (GIF + SMIL SVG).
     for (id, n) in [
         ("p1c62_ex3_cart_p_step_dis", 2),
         ("p1c63_ex5_cdip_lqr_servo", 4),
     ] {
-        let out = run_in(id, &ctx).unwrap();
-        assert_eq!(out.figures.len(), n, "{id}");
-        assert_figures_larger(&out, 2000);
+        let (_, files) = dir.run(id, None);
+        assert_eq!(files.len(), n, "{id}");
+        assert_figures_larger(&files, 2000);
     }
 }

@@ -55,9 +55,8 @@ fn p1c75_ex3_cdip_detectability() {
 #[test]
 fn figures_are_written() {
     let dir = TempDir::new("p1c7");
-    let ctx = dir.ctx(None);
-    let out = run_in("p1c74_ex1_cdip_ob_design", &ctx).unwrap();
+    let (_, files) = dir.run("p1c74_ex1_cdip_ob_design", None);
     // Response (SVG + PNG), pole map (SVG + PNG), animation (GIF + SVG).
-    assert_eq!(out.figures.len(), 6);
-    assert_figures_larger(&out, 2000);
+    assert_eq!(files.len(), 6);
+    assert_figures_larger(&files, 2000);
 }

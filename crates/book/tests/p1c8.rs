@@ -81,13 +81,12 @@ fn p1c84_ex4_cdip_ob_design_bilinear() {
 #[test]
 fn figures_are_written() {
     let dir = TempDir::new("p1c8");
-    let ctx = dir.ctx(None);
     for (id, n) in [
         ("p1c83_ex1_zero_order_hold", 2),
         ("p1c84_ex4_cdip_ob_design_bilinear", 4),
     ] {
-        let out = run_in(id, &ctx).unwrap();
-        assert_eq!(out.figures.len(), n, "{id}");
-        assert_figures_larger(&out, 2000);
+        let (_, files) = dir.run(id, None);
+        assert_eq!(files.len(), n, "{id}");
+        assert_figures_larger(&files, 2000);
     }
 }

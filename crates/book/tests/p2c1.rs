@@ -7,6 +7,7 @@ mod common;
 use common::*;
 
 use pendulab_book::{ExampleOutput, Value};
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
 fn fixture() -> serde_json::Value {
@@ -226,19 +227,18 @@ fn p2c15_constant_lq_servo_loses_the_pendulum_on_the_way_to_60_degrees() {
 
 /// The gain-scheduled example, run once per test binary (the SOS solve takes ~1–2 s), with
 /// its figures in a temporary directory.
-fn gs() -> &'static (ExampleOutput, TempDir) {
-    static GS: OnceLock<(ExampleOutput, TempDir)> = OnceLock::new();
+fn gs() -> &'static (ExampleOutput, TempDir, Vec<PathBuf>) {
+    static GS: OnceLock<(ExampleOutput, TempDir, Vec<PathBuf>)> = OnceLock::new();
     GS.get_or_init(|| {
         let dir = TempDir::new("p2c1");
-        let ctx = dir.ctx(None);
-        let out = run_in("p2c15_ex7_adip_oc_gs_servo", &ctx).unwrap();
-        (out, dir)
+        let (out, files) = dir.run("p2c15_ex7_adip_oc_gs_servo", None);
+        (out, dir, files)
     })
 }
 
 #[test]
 fn p2c15_gain_scheduled_servo_reaches_the_known_optimum() {
-    let (out, _) = gs();
+    let (out, _, _) = gs();
     let g = num(out, "gamma");
     // The M-file's gamma_obj = 1.06*double(gamma) (line 120) against the book's "γ = 236 程度"
     // (p. 164): about 236, within 0.5 % (SeDuMi's γ* stops ≈ 0.2 % above the optimum); to the
@@ -287,7 +287,7 @@ fn p2c15_gain_scheduled_servo_reaches_the_known_optimum() {
 /// r = 60° → 0.
 #[test]
 fn p2c15_gain_scheduled_servo_stays_in_its_design_ranges_and_tracks() {
-    let (out, _) = gs();
+    let (out, _, _) = gs();
     let rho_bar = 1.0 - 65f64.to_radians().cos();
     let rho = vector(out, "rho_range_seen");
     let rho_dot = vector(out, "rho_dot_range_seen");
@@ -312,7 +312,7 @@ fn p2c15_gain_scheduled_servo_stays_in_its_design_ranges_and_tracks() {
 
 #[test]
 fn p2c15_gain_scheduled_servo_writes_its_figures() {
-    let (out, dir) = gs();
+    let (_, dir, files) = gs();
     for what in ["gains", "response", "rho"] {
         for ext in ["svg", "png"] {
             let p = dir
@@ -320,7 +320,7 @@ fn p2c15_gain_scheduled_servo_writes_its_figures() {
                 .join(format!("p2c15_ex7_adip_oc_gs_servo_{what}.{ext}"));
             let len = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);
             assert!(len > 5_000, "{} has {len} bytes", p.display());
-            assert!(out.figures.contains(&p));
+            assert!(files.contains(&p));
         }
     }
     let gif = std::fs::read(dir.path().join("p2c15_ex7_adip_oc_gs_servo_animation.gif")).unwrap();

@@ -87,10 +87,9 @@ fn p2c244_sampled_data_lqr_matches_scipy() {
 #[test]
 fn p2c242_writes_its_figure() {
     let dir = TempDir::new("p2c2");
-    let ctx = dir.ctx(None);
-    let out = run_in("p2c242_ex2_cart_ipd", &ctx).unwrap();
-    assert_eq!(out.figures.len(), 2);
-    assert_figures_larger(&out, 5_000);
+    let (_, files) = dir.run("p2c242_ex2_cart_ipd", None);
+    assert_eq!(files.len(), 2);
+    assert_figures_larger(&files, 5_000);
     let png = std::fs::read(dir.path().join("p2c242_ex2_cart_ipd_response.png")).unwrap();
     assert!(png.starts_with(b"\x89PNG"));
 }

@@ -64,8 +64,7 @@ fn p2c33_nmpc_swings_up_within_25_volts() {
 #[test]
 fn p2c323_writes_its_figures_and_animation() {
     let dir = TempDir::new("p2c3");
-    let ctx = dir.ctx(None);
-    let out = run_in("p2c323_ex1_cdip_swing_up", &ctx).unwrap();
+    let (_, files) = dir.run("p2c323_ex1_cdip_swing_up", None);
     for stem in ["response", "energy_sigma"] {
         for ext in ["svg", "png"] {
             let p = dir
@@ -73,7 +72,7 @@ fn p2c323_writes_its_figures_and_animation() {
                 .join(format!("p2c323_ex1_cdip_swing_up_{stem}.{ext}"));
             let len = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);
             assert!(len > 5_000, "{} has {len} bytes", p.display());
-            assert!(out.figures.contains(&p));
+            assert!(files.contains(&p));
         }
     }
     let gif = std::fs::read(dir.path().join("p2c323_ex1_cdip_swing_up_animation.gif")).unwrap();

@@ -155,14 +155,12 @@ fn adip_lqr_servo_sim() {
 #[test]
 fn figures_and_animations_are_written() {
     let dir = TempDir::new("toolbox");
-    let ctx = dir.ctx(None);
     for id in ["cdip_lqr_sim", "adip_lqr_sim"] {
-        let out = run_in(id, &ctx).unwrap();
+        let (_, files) = dir.run(id, None);
         // Pole map and response (SVG + PNG each) and animation (GIF + SMIL SVG).
-        assert_eq!(out.figures.len(), 6, "{id}");
-        assert_figures_larger(&out, 5000);
-        let gif = out
-            .figures
+        assert_eq!(files.len(), 6, "{id}");
+        assert_figures_larger(&files, 5000);
+        let gif = files
             .iter()
             .find(|f| f.extension().is_some_and(|e| e == "gif"))
             .unwrap();

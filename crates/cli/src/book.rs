@@ -362,12 +362,13 @@ pub(crate) fn run_examples(
     let entries: Vec<Entry> = examples
         .par_iter()
         .map(|e| {
+            let dir = layout.dir_for(e);
             let ctx = RunContext {
-                out_dir: layout.dir_for(e),
+                figures: dir.is_some(),
                 data_csv: data.for_example(e),
             };
             let start = Instant::now();
-            let result = run_one(e, &ctx);
+            let (result, files) = run_one(e, &ctx, dir.as_deref());
             let seconds = start.elapsed().as_secs_f64();
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
             if log_lines {
@@ -384,6 +385,7 @@ pub(crate) fn run_examples(
                 example: *e,
                 result,
                 seconds: Some(seconds),
+                files,
             }
         })
         .collect();
@@ -391,18 +393,25 @@ pub(crate) fn run_examples(
     entries
 }
 
-/// Runs one example; its figure directory is created first.
-fn run_one(e: &Example, ctx: &RunContext) -> Result<ExampleOutput, BookError> {
-    if let Some(dir) = &ctx.out_dir
-        && let Err(err) = std::fs::create_dir_all(dir)
+/// Runs one example and, given a figure directory (created first), renders its figures and
+/// writes them there; returns the result and the files written. A figure that cannot be
+/// rendered or written turns the result into that error.
+fn run_one(
+    e: &Example,
+    ctx: &RunContext,
+    dir: Option<&Path>,
+) -> (Result<ExampleOutput, BookError>, Vec<PathBuf>) {
+    if let Some(dir) = dir
+        && let Err(source) = std::fs::create_dir_all(dir)
     {
-        return Err(BookError::Figure {
+        let err = BookError::WriteFigure {
             id: e.id.to_string(),
-            path: dir.display().to_string(),
-            message: err.to_string(),
-        });
+            path: dir.to_path_buf(),
+            source,
+        };
+        return (Err(err), Vec::new());
     }
-    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (e.run)(ctx))) {
+    let result = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| (e.run)(ctx))) {
         Ok(r) => r,
         Err(payload) => {
             let what = payload
@@ -410,12 +419,49 @@ fn run_one(e: &Example, ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 .map(|s| s.to_string())
                 .or_else(|| payload.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown panic".into());
-            Err(BookError::Computation {
+            Err(BookError::Panicked {
                 id: e.id.to_string(),
-                message: format!("panicked: {what}"),
+                payload: what,
             })
         }
+    };
+    match (result, dir) {
+        (Ok(out), Some(dir)) => match write_figures(e.id, &out, dir) {
+            Ok(files) => (Ok(out), files),
+            Err(err) => (Err(err), Vec::new()),
+        },
+        (result, _) => (result, Vec::new()),
     }
+}
+
+/// Renders every figure of `out` and writes its files into `dir`, in order.
+///
+/// # Errors
+/// [`BookError::Figure`] when a figure cannot be rendered, [`BookError::WriteFigure`] when a
+/// file cannot be written.
+pub(crate) fn write_figures(
+    id: &str,
+    out: &ExampleOutput,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, BookError> {
+    let mut files = Vec::new();
+    for g in &out.figures {
+        let rendered = g.render().map_err(|source| BookError::Figure {
+            id: id.to_string(),
+            stem: g.stem.clone(),
+            source,
+        })?;
+        for f in rendered {
+            let path = dir.join(&f.name);
+            std::fs::write(&path, &f.bytes).map_err(|source| BookError::WriteFigure {
+                id: id.to_string(),
+                path: path.clone(),
+                source,
+            })?;
+            files.push(path);
+        }
+    }
+    Ok(files)
 }
 
 /// The JSON line of `docs/report.md` (`pendulab book`) for one result.
@@ -426,9 +472,7 @@ pub(crate) fn json_line(e: &Entry) -> Result<String> {
         values: o
             .map(|o| o.values.iter().map(|(k, v)| (k.as_str(), v)).collect())
             .unwrap_or_default(),
-        figures: o
-            .map(|o| o.figures.iter().map(|p| p.display().to_string()).collect())
-            .unwrap_or_default(),
+        figures: e.files.iter().map(|p| p.display().to_string()).collect(),
         needs_data: match &e.result {
             Err(BookError::NeedsData { .. }) => e.example.needs_data.or(Some("measured data")),
             _ => None,
@@ -475,7 +519,7 @@ fn print_human(e: &Entry) {
             pendulab_book::report::format::value_text(v)
         );
     }
-    for f in &o.figures {
+    for f in &e.files {
         println!("  figure: {}", f.display());
     }
     for n in &o.notes {

@@ -1,9 +1,9 @@
 //! `pendulab report`: the lab report.
 //!
-//! Runs every book example (in parallel), writes their figures under `DIR/figures/<id>/`, the
-//! notebook page `DIR/index.html`, the JSON lines of every example (`DIR/results.jsonl`, the
-//! format of `pendulab book run --json`) and the README table of examples with their status
-//! (`DIR/status.md`, as `pendulab book list --markdown` prints it).
+//! Runs every book example (in parallel), renders and writes their figures under
+//! `DIR/figures/<id>/`, the notebook page `DIR/index.html`, the JSON lines of every example
+//! (`DIR/results.jsonl`, the format of `pendulab book run --json`) and the README table of
+//! examples with their status (`DIR/status.md`, as `pendulab book list --markdown` prints it).
 
 use crate::book::{DataFiles, OutLayout, json_line, prepare_out_dir, run_examples};
 use anyhow::{Context, Result, bail};
@@ -172,31 +172,22 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pendulab_book::{BookError, ExampleOutput, RunContext, Value};
+    use pendulab_book::{BookError, Cause, ExampleOutput, RunContext, Value};
 
     fn draws(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let mut o = ExampleOutput::default();
         o.value("x", Value::Number(1.5));
         o.reference("x", Value::Number(1.5), "book", 0.0);
-        let dir = ctx
-            .out_dir
-            .clone()
-            .expect("the report gives a figure directory");
-        let path = dir.join("fig.svg");
-        std::fs::write(&path, "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").map_err(|e| {
-            BookError::Figure {
-                id: "draws".into(),
-                path: path.display().to_string(),
-                message: e.to_string(),
-            }
-        })?;
-        o.figures.push(path);
+        assert!(ctx.figures, "the report asks for figures");
+        let mut ax = pendulab_plot::Axes::new();
+        ax.plot(&[0.0, 1.0], &[0.0, 1.5]);
+        o.figure("fig", pendulab_plot::Figure::new(ax));
         Ok(o)
     }
     fn fails(_: &RunContext) -> Result<ExampleOutput, BookError> {
         Err(BookError::Computation {
             id: "fails".into(),
-            message: "Riccati <solver> diverged".into(),
+            source: Box::new(Cause::Check("Riccati <solver> diverged".into())),
         })
     }
     fn panics(_: &RunContext) -> Result<ExampleOutput, BookError> {
@@ -220,7 +211,7 @@ mod tests {
             None => Ok(ExampleOutput::default()),
             Some(_) => Err(BookError::Computation {
                 id: "takes_none".into(),
-                message: "was given data".into(),
+                source: Box::new(Cause::Check("was given data".into())),
             }),
         }
     }

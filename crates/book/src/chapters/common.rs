@@ -1,8 +1,8 @@
 //! Helpers shared by every chapter: error mapping, the book's gain and pole conventions, the
-//! rig presets, small signal summaries, stacked time-response figures and figure/animation
-//! writing.
+//! rig presets, small signal summaries, stacked time-response figures, and adding figures and
+//! animations to an example's output (as values; the front end renders and writes them).
 
-use crate::error::BookError;
+use crate::error::{BookError, Cause};
 use crate::output::ExampleOutput;
 use crate::registry::RunContext;
 use pendulab_lti::{Complex64, Continuous, Mat, StateSpace, Trajectory};
@@ -13,15 +13,15 @@ use pendulab_plot::{
 };
 use pendulab_sim::rig::RigChains;
 use pendulab_sim::{Actuator, SensorChain};
-use std::path::Path;
 
 // ------------------------------------------------------------------------------ errors
 
-/// A [`BookError::Computation`] of example `id` with the message `e`.
-pub(crate) fn fail(id: &str, e: impl std::fmt::Display) -> BookError {
+/// A [`BookError::Computation`] of example `id` caused by `cause` (a toolkit error, or the
+/// text of a failed check of the example's own).
+pub(crate) fn fail(id: &str, cause: impl Into<Cause>) -> BookError {
     BookError::Computation {
         id: id.to_string(),
-        message: e.to_string(),
+        source: Box::new(cause.into()),
     }
 }
 
@@ -31,18 +31,18 @@ pub(crate) trait Ctx<T> {
     fn ctx(self, id: &str) -> Result<T, BookError>;
 }
 
-impl<T, E: std::fmt::Display> Ctx<T> for Result<T, E> {
+impl<T, E: Into<Cause>> Ctx<T> for Result<T, E> {
     fn ctx(self, id: &str) -> Result<T, BookError> {
         self.map_err(|e| fail(id, e))
     }
 }
 
-/// A [`BookError::Figure`] of example `id` about the file `path`.
-fn figure_error(id: &str, path: &Path, e: impl std::fmt::Display) -> BookError {
+/// A [`BookError::Figure`] of example `id` about the figure `stem`.
+fn figure_error(id: &str, stem: &str, source: PlotError) -> BookError {
     BookError::Figure {
         id: id.to_string(),
-        path: path.display().to_string(),
-        message: e.to_string(),
+        stem: stem.to_string(),
+        source,
     }
 }
 
@@ -258,30 +258,15 @@ pub(crate) fn stacked(title: &str, xlabel: &str, panels: Vec<PanelSpec<'_>>) -> 
     Figure::column(axes).title(title).size(640.0, h)
 }
 
-/// Writes `fig` as `dir/stem.svg` + `dir/stem.png` and records both paths.
-///
-/// # Errors
-/// [`BookError::Figure`] naming the path.
-pub(crate) fn write_figure(
-    id: &str,
-    out: &mut ExampleOutput,
-    dir: &Path,
-    stem: &str,
-    fig: &Figure,
-) -> Result<(), BookError> {
-    let saved = fig
-        .save(dir, stem)
-        .map_err(|e| figure_error(id, &dir.join(stem), e))?;
-    out.figures.push(saved.svg);
-    out.figures.push(saved.png);
-    Ok(())
+/// Adds `fig` to `out` under the file stem `stem` (`stem.svg`, `stem.png`).
+pub(crate) fn write_figure(out: &mut ExampleOutput, stem: &str, fig: Figure) {
+    out.figure(stem, fig);
 }
 
-/// Writes `fig` as `<out>/<id>_<what>.svg/.png` when the context has an output directory
-/// (nothing otherwise).
+/// Adds `fig` to `out` as `<id>_<what>` when the context asks for figures (nothing otherwise).
 ///
 /// # Errors
-/// [`BookError::Figure`] naming the path, also when `fig` could not be drawn.
+/// [`BookError::Figure`] naming the figure when `fig` could not be drawn.
 pub(crate) fn save_figure(
     ctx: &RunContext,
     out: &mut ExampleOutput,
@@ -289,12 +274,13 @@ pub(crate) fn save_figure(
     what: &str,
     fig: Result<Figure, PlotError>,
 ) -> Result<(), BookError> {
-    let Some(dir) = &ctx.out_dir else {
+    if !ctx.figures {
         return Ok(());
-    };
+    }
     let stem = format!("{id}_{what}");
-    let fig = fig.map_err(|e| figure_error(id, &dir.join(format!("{stem}.svg")), e))?;
-    write_figure(id, out, dir, &stem, &fig)
+    let fig = fig.map_err(|e| figure_error(id, &stem, e))?;
+    write_figure(out, &stem, fig);
+    Ok(())
 }
 
 // ------------------------------------------------------------------------------- animations
@@ -353,33 +339,26 @@ pub(crate) fn run_animation(
     animation(rig, tr.t(), tr.x_signal(0), tr.x_signal(1), title)
 }
 
-/// Writes `anim` as `dir/stem.gif` and the animated `dir/stem.svg` and records both paths.
+/// Adds `anim` to `out` under the file stem `stem` (`stem.gif`, the animated `stem.svg`).
 ///
 /// # Errors
-/// [`BookError::Figure`] naming the path.
+/// [`BookError::Figure`] naming the animation when it could not be built.
 pub(crate) fn write_animation(
     id: &str,
     out: &mut ExampleOutput,
-    dir: &Path,
     stem: &str,
     anim: Result<Animation, PlotError>,
 ) -> Result<(), BookError> {
-    let anim = anim.map_err(|e| figure_error(id, &dir.join(stem), e))?;
-    std::fs::create_dir_all(dir).map_err(|e| figure_error(id, dir, e))?;
-    let gif = dir.join(format!("{stem}.gif"));
-    anim.save_gif(&gif).map_err(|e| figure_error(id, &gif, e))?;
-    let svg = dir.join(format!("{stem}.svg"));
-    anim.save_svg(&svg).map_err(|e| figure_error(id, &svg, e))?;
-    out.figures.push(gif);
-    out.figures.push(svg);
+    let anim = anim.map_err(|e| figure_error(id, stem, e))?;
+    out.animation(stem, anim);
     Ok(())
 }
 
-/// Writes the animation `build` makes as `<out>/<id>_<what>.gif` and `.svg` when the
-/// context has an output directory (`build` is not called otherwise).
+/// Adds the animation `build` makes as `<id>_<what>` when the context asks for figures
+/// (`build` is not called otherwise).
 ///
 /// # Errors
-/// [`BookError::Figure`] naming the path.
+/// [`BookError::Figure`] naming the animation.
 pub(crate) fn save_animation(
     ctx: &RunContext,
     out: &mut ExampleOutput,
@@ -387,8 +366,8 @@ pub(crate) fn save_animation(
     what: &str,
     build: impl FnOnce() -> Result<Animation, PlotError>,
 ) -> Result<(), BookError> {
-    let Some(dir) = &ctx.out_dir else {
+    if !ctx.figures {
         return Ok(());
-    };
-    write_animation(id, out, dir, &format!("{id}_{what}"), build())
+    }
+    write_animation(id, out, &format!("{id}_{what}"), build())
 }

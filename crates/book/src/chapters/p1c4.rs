@@ -82,7 +82,7 @@ fn p1c41_cdip_response(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          exact zero-order-hold discretisation; y3 = y1 + y2 holds to rounding (eq. 4.24)."
             .into(),
     );
-    if let Some(dir) = &ctx.out_dir {
+    if ctx.figures {
         let fig = stacked(
             "p1c41_cdip_response: y3(t) = y1(t) + y2(t)",
             "time [s]",
@@ -95,7 +95,7 @@ fn p1c41_cdip_response(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                 ],
             )],
         );
-        write_figure(ID41, &mut out, dir, "p1c41_cdip_response_y", &fig)?;
+        write_figure(&mut out, "p1c41_cdip_response_y", fig);
     }
     Ok(out)
 }
@@ -163,9 +163,9 @@ fn p1c43_stability1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         0.0005 * std::f64::consts::SQRT_2,
     );
     out.reference("stable", Value::Bool(false), "book Part 1 §4.3", 0.0);
-    if let Some(dir) = &ctx.out_dir {
+    if ctx.figures {
         let fig = eig_figure("p1c43_stability1: eigenvalues of A (not stable)", &ev);
-        write_figure(ID431, &mut out, dir, "p1c43_stability1_eig", &fig)?;
+        write_figure(&mut out, "p1c43_stability1_eig", fig);
     }
     Ok(out)
 }
@@ -215,9 +215,9 @@ fn p1c43_stability2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          (theorem 4.3), as the eigenvalues of A confirm."
             .into(),
     );
-    if let Some(dir) = &ctx.out_dir {
+    if ctx.figures {
         let fig = eig_figure("p1c43_stability2: eigenvalues of A (stable)", &ev);
-        write_figure(ID432, &mut out, dir, "p1c43_stability2_eig", &fig)?;
+        write_figure(&mut out, "p1c43_stability2_eig", fig);
     }
     Ok(out)
 }
@@ -248,12 +248,12 @@ fn p1c43_lyapunov_func(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          unbounded: the bowl drawn in the book."
             .into(),
     );
-    if let Some(dir) = &ctx.out_dir {
+    if ctx.figures {
         let s = Surface::new(&grid, &grid, &z)
             .labels("x1", "x2", "V(x)")
             .title("p1c43_lyapunov_func: V(x) = x1² + x2²");
         let fig = Figure::new(s).size(640.0, 520.0);
-        write_figure(ID433, &mut out, dir, "p1c43_lyapunov_func_surface", &fig)?;
+        write_figure(&mut out, &format!("{ID433}_surface"), fig);
     }
     Ok(out)
 }

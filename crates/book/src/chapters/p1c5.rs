@@ -4,7 +4,7 @@
 //! `u = −K x`; `K_book = −K`).
 
 use super::common::*;
-use crate::error::BookError;
+use crate::error::{BookError, Cause};
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_lti::analysis::{controllable_canonical_form, ctrb, rank};
@@ -141,11 +141,12 @@ fn ex2(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 }
 
 /// det M_c of the arm model linearised at `θ1e`.
-pub(crate) fn arm_det_mc(plant: &ArmPendulum, theta1e: f64) -> Result<f64, String> {
-    let sys = plant
-        .linearize(ArmEquilibrium::upright(theta1e))
-        .map_err(|e| e.to_string())?;
-    let mc = ctrb(sys.a(), sys.b()).map_err(|e| e.to_string())?;
+///
+/// # Errors
+/// The linearisation's [`Cause::Plant`] or the controllability matrix's [`Cause::Lti`].
+pub(crate) fn arm_det_mc(plant: &ArmPendulum, theta1e: f64) -> Result<f64, Cause> {
+    let sys = plant.linearize(ArmEquilibrium::upright(theta1e))?;
+    let mc = ctrb(sys.a(), sys.b())?;
     Ok(mc.determinant())
 }
 
@@ -168,7 +169,7 @@ fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "det M_c vanishes only where cos θ1e = 0 and μ2 = 0: with the book's μ2 = 1.01e-4 it is \
          {d90:.4e} at θ1e = π/2 (tiny against {d0:.4e} at 0), without friction {d90_free:.1e}."
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let th: Vec<f64> = (0..=360).map(|k| -PI + k as f64 * PI / 180.0).collect();
         let deg: Vec<f64> = th.iter().map(|t| t.to_degrees()).collect();
         let mut dets = Vec::with_capacity(th.len());
@@ -332,7 +333,7 @@ fn ex7_adip_place(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         1e-6,
     );
     out.notes.push(BOOK_CONVENTION.into());
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let open = sorted(sys.poles().ctx(id)?);
         let fig = PoleZeroMap::new()
             .poles("open loop", &open)
@@ -393,7 +394,7 @@ fn ex8_adip_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "Nonlinear arm pendulum from θ1 = 0 (pendulum upright) under u = K(x − x_e), \
          x_e = [π/4, 0, 0, 0], velocities by the pseudo-differentiator, 1 ms; {BOOK_CONVENTION}."
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let mut tr = TimeResponse::new().title("p1c523_ex8_adip_lqr: LQR at θ1e = π/4");
         for (label, t) in &runs {
             tr = tr.run(label.clone(), t);

@@ -11,7 +11,7 @@ use crate::registry::{Example, RunContext};
 use pendulab_lti::design::lq_servo;
 use pendulab_lti::linalg::eigenvalues;
 use pendulab_lti::response::{LsimOptions, lsim, time_vector};
-use pendulab_lti::{Complex64, InputHold, Mat, StateSpace, Trajectory};
+use pendulab_lti::{Complex64, InputHold, LtiError, Mat, StateSpace, Trajectory};
 use pendulab_plants::{CartEquilibrium, CartPendulum, CartPendulumParams, RigSpec};
 use pendulab_plot::{Channel, SignalPanel, TimeResponse};
 use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo};
@@ -145,7 +145,7 @@ impl DriveLoop {
     }
 
     /// Closed-loop poles (roots of the characteristic polynomial, as companion eigenvalues).
-    pub(crate) fn poles(&self) -> Result<Vec<Complex64>, String> {
+    pub(crate) fn poles(&self) -> Result<Vec<Complex64>, LtiError> {
         let ch = self.characteristic();
         let n = ch.len() - 1;
         let mut comp = Mat::zeros(n, n);
@@ -155,7 +155,7 @@ impl DriveLoop {
         for i in 1..n {
             comp[(i, i - 1)] = 1.0;
         }
-        eigenvalues(&comp).map(sorted).map_err(|e| e.to_string())
+        eigenvalues(&comp).map(sorted)
     }
 
     /// `e∞` for the reference `r0/s^k` and the input disturbance `d0/s`.
@@ -178,7 +178,7 @@ impl DriveLoop {
 
     /// The closed loop in state space, inputs `[r, d]`, outputs `[z, e, v]`; states `[z, ż]`
     /// (P) or `[z, ż, ∫e]` (PI, `v = k_P e + k_I ∫e`).
-    fn state_space(&self) -> Result<StateSpace<pendulab_lti::Continuous>, String> {
+    fn state_space(&self) -> Result<StateSpace<pendulab_lti::Continuous>, LtiError> {
         let (a, b) = (self.a, self.b);
         let kp = self.c_num[0];
         let ki = if self.c_num.len() == 2 {
@@ -207,7 +207,7 @@ impl DriveLoop {
             bm[(2, 0)] = 1.0;
             cm[(2, 2)] = ki;
         }
-        StateSpace::continuous(am, bm, cm, dm).map_err(|e| e.to_string())
+        StateSpace::continuous(am, bm, cm, dm)
     }
 
     /// Simulates the loop on `[0, t_final]` at 1 ms for `r(t)` and `d(t)`.
@@ -216,9 +216,9 @@ impl DriveLoop {
         t_final: f64,
         r: impl Fn(f64) -> f64,
         d: impl Fn(f64) -> f64,
-    ) -> Result<Trajectory, String> {
+    ) -> Result<Trajectory, LtiError> {
         let sys = self.state_space()?;
-        let t = time_vector(t_final, 1e-3).map_err(|e| e.to_string())?;
+        let t = time_vector(t_final, 1e-3)?;
         let u = Mat::from_fn(t.len(), 2, |k, j| if j == 0 { r(t[k]) } else { d(t[k]) });
         // The steps are held between samples (a step at 2.5 s acts from 2.5 s on).
         lsim(
@@ -230,7 +230,6 @@ impl DriveLoop {
                 hold: InputHold::Zoh,
             },
         )
-        .map_err(|e| e.to_string())
     }
 }
 
@@ -241,7 +240,7 @@ fn drive_figure(
     traj: &Trajectory,
     out: &mut ExampleOutput,
 ) -> Result<(), BookError> {
-    if ctx.out_dir.is_none() {
+    if !ctx.figures {
         return Ok(());
     }
     let fig = TimeResponse::new()
@@ -466,7 +465,7 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          moves {undershoot:.4} m the wrong way (non-minimum-phase zero of z/v). Simulated on the \
          nonlinear cart with pseudo-differentiated velocities; error at 5 s {e_end:.2e} m."
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let fig = TimeResponse::new()
             .run("LQ servo", &run.trajectory)
             .title("p1c63_ex5: LQ integral servo, r = 0.5 m, d = 5 V from 2.5 s")

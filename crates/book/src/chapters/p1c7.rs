@@ -105,7 +105,7 @@ pub(crate) fn ob_figure(
     runs: &[(&str, &Trajectory)],
     out: &mut ExampleOutput,
 ) -> Result<(), BookError> {
-    if ctx.out_dir.is_none() {
+    if !ctx.figures {
         return Ok(());
     }
     let mut tr = TimeResponse::new().title(title);
@@ -174,7 +174,7 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          its Tustin discretisation at 1 ms on the quantised rig (encoders z, θ; ±5 V, 16-bit D/A)."
             .into(),
     );
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         // For comparison: the same K as state feedback with the rig's pseudo-differentiated
         // velocities (preset "with quantizer").
         let sf = StaticStateFeedback::from_state_feedback(&fb).ctx(id)?;

@@ -7,7 +7,7 @@ use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_lti::design::observer_controller;
 use pendulab_lti::linalg::eigenvalues;
-use pendulab_lti::{Complex64, Discretization, TransferFunction};
+use pendulab_lti::{Complex64, Discretization, LtiError, TransferFunction};
 use pendulab_plot::{Bode, PoleZeroMap};
 
 /// The chapter's examples, in book order.
@@ -49,9 +49,9 @@ pub(crate) fn examples() -> Vec<Example> {
 }
 
 /// `1/(s² + s + 1)` discretised at 1 s: `(num, den)` with `den` monic, descending powers of z.
-pub(crate) fn discretize_c(method: Discretization) -> Result<(Vec<f64>, Vec<f64>), String> {
-    let c = TransferFunction::continuous(&[1.0], &[1.0, 1.0, 1.0]).map_err(|e| e.to_string())?;
-    let d = c.c2d(1.0, method).map_err(|e| e.to_string())?;
+pub(crate) fn discretize_c(method: Discretization) -> Result<(Vec<f64>, Vec<f64>), LtiError> {
+    let c = TransferFunction::continuous(&[1.0], &[1.0, 1.0, 1.0])?;
+    let d = c.c2d(1.0, method)?;
     let lead = d.den().leading();
     let num: Vec<f64> = d.num().coefficients().iter().map(|v| v / lead).collect();
     let den: Vec<f64> = d.den().coefficients().iter().map(|v| v / lead).collect();
@@ -76,7 +76,7 @@ fn tf_example(
     out.notes.push(format!(
         "{what}: C[z] = num/den in descending powers of z, den monic."
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let c = TransferFunction::continuous(&[1.0], &[1.0, 1.0, 1.0]).ctx(id)?;
         let d = TransferFunction::discrete(&num, &den, 1.0).ctx(id)?;
         // Up to the Nyquist frequency π rad/s of ts = 1 s.
@@ -153,7 +153,7 @@ fn ob_discrete(
         "Controller (A + BK + LC, −L, K) of p1c74_ex1 (book signs) discretised by {label} at \
          ts = 10 ms and run on the quantised rig (encoders z, θ; ±5 V, 16-bit D/A) from θ0 = 10°."
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let cont = run_ob_controller(
             id,
             &lin,

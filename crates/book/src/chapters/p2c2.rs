@@ -152,7 +152,7 @@ fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         dev_s[0] / dev_q[0],
         dev_s[1] / dev_q[1]
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let fig = state_panels(
             TimeResponse::new()
                 .title("p2c234_ex1: input quantisation d = 2 V, θ(0) = 10°")
@@ -278,7 +278,7 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          derivative's pole at z = −1 feeds an oscillation at the Nyquist frequency that grows, so overshoot_discrete depends on \
          the 1 s window."
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let mut az = Axes::new();
         az.ylabel("z [m]");
         az.plot(&t, &zc).label("continuous").color(palette(0));
@@ -368,7 +368,7 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "Van Loan: Q_d, S_d, R_d make Σ [x_k; u_k]ᵀ[[Q_d, S_d], [S_dᵀ, R_d]][x_k; u_k] equal ∫(xᵀQx + uᵀRu)dt for held inputs; K_d = dlqr(A_d, B_d, Q_d, R_d, S_d)."
             .into(),
     );
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let fig = state_panels(
             TimeResponse::new()
                 .title("p2c244_ex3: θ(0) = 15°, sampled-data LQR vs held continuous gain")

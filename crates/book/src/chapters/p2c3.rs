@@ -136,7 +136,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "S from the regular form with the book's shear T and care on the reduced system (Q = diag(10, 100, 1, 1), the book script's weighting)."
             .into(),
     );
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let fig = TimeResponse::new()
             .title("p2c323_ex1: swing-up and sliding-mode balancing")
             .run("δ = 0", &run0.trajectory)
@@ -272,7 +272,7 @@ fn p2c33_nmpc(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "Update times are wall-clock on the machine that ran the example (the book: < 0.2 ms on a laptop); see `pendulab bench nmpc-update`."
             .into(),
     );
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let (plain, _, _) = nmpc_run(id, false)?;
         let fig = TimeResponse::new()
             .title("p2c33: NMPC (C/GMRES) swing-up of the arm pendulum")

@@ -205,7 +205,7 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
          4 s; pendulum hanging.",
         c.amplitude * scale
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let (qlabel, thlabel) = if c.arm {
             ("arm θ1 [deg]", "pendulum θ2 − π [deg]")
         } else {
@@ -325,7 +325,7 @@ fn lqr_figures(
     rig: Rig,
     out: &mut ExampleOutput,
 ) -> Result<(), BookError> {
-    if ctx.out_dir.is_none() {
+    if !ctx.figures {
         return Ok(());
     }
     let mut map =
@@ -491,7 +491,7 @@ fn servo_sample(ctx: &RunContext, c: &ServoCase) -> Result<ExampleOutput, BookEr
          error at 8 s {e_end:.2e} {unit}.",
         c.r * scale
     ));
-    if ctx.out_dir.is_some() {
+    if ctx.figures {
         let panel0 = if c.arm {
             SignalPanel::new(Channel::State(0), "arm θ1 [deg]")
                 .scaled(DEG)

@@ -185,7 +185,7 @@ fn example_html(s: &mut String, e: &Entry, base: &Path) {
     }
     s.push_str("</p>\n");
     match &e.result {
-        Ok(out) => output_html(s, out, base),
+        Ok(out) => output_html(s, out, &e.files, base),
         Err(BookError::NeedsData { what, .. }) => {
             let _ = writeln!(
                 s,
@@ -217,7 +217,7 @@ fn round_time(t: f64) -> f64 {
 }
 
 /// Values with the book's values beside them, notes and figures of a successful run.
-fn output_html(s: &mut String, out: &ExampleOutput, base: &Path) {
+fn output_html(s: &mut String, out: &ExampleOutput, files: &[PathBuf], base: &Path) {
     let comparisons = out.comparisons();
     let refs: Vec<(&Reference, &crate::output::Comparison)> =
         out.references.iter().zip(&comparisons).collect();
@@ -263,7 +263,7 @@ fn output_html(s: &mut String, out: &ExampleOutput, base: &Path) {
         }
         s.push_str("</ul>\n");
     }
-    figures_html(s, &out.figures, base);
+    figures_html(s, files, base);
 }
 
 /// The "book" and "check" cells of a value row.
@@ -449,6 +449,7 @@ mod tests {
             example: example(id, section),
             result,
             seconds: Some(0.01234),
+            files: Vec::new(),
         }
     }
 
@@ -465,13 +466,14 @@ mod tests {
                 example: ex,
                 result: Ok(o),
                 seconds: None,
+                files: Vec::new(),
             },
             entry(
                 "err",
                 "Part 1 §4.1",
                 Err(BookError::Computation {
                     id: "err".into(),
-                    message: "matrix <A> is singular & bad".into(),
+                    source: Box::new(crate::Cause::Check("matrix <A> is singular & bad".into())),
                 }),
             ),
         ];
@@ -545,23 +547,21 @@ mod tests {
     #[test]
     fn figures_are_linked_relative_and_grouped_by_stem() {
         let base = PathBuf::from("out");
-        let o = ExampleOutput {
-            figures: vec![
-                base.join("figures/fig/step.svg"),
-                base.join("figures/fig/step.png"),
-                base.join("figures/fig/cart anim.gif"),
-                base.join("figures/fig/cart anim.svg"),
-                base.join("figures/fig/only.png"),
-                base.join("figures/fig/data.csv"),
-                PathBuf::from("/elsewhere/x.png"),
-            ],
-            ..ExampleOutput::default()
-        };
+        let mut e = entry("fig", "Part 1 §4.1", Ok(ExampleOutput::default()));
+        e.files = vec![
+            base.join("figures/fig/step.svg"),
+            base.join("figures/fig/step.png"),
+            base.join("figures/fig/cart anim.gif"),
+            base.join("figures/fig/cart anim.svg"),
+            base.join("figures/fig/only.png"),
+            base.join("figures/fig/data.csv"),
+            PathBuf::from("/elsewhere/x.png"),
+        ];
         let opts = ReportOptions {
             base_dir: PathBuf::from("./out"),
             ..ReportOptions::default()
         };
-        let page = html(&[entry("fig", "Part 1 §4.1", Ok(o))], &opts);
+        let page = html(&[e], &opts);
         let a = article(&page, "fig");
         assert_eq!(a.matches("<figure>").count(), 4, "{a}");
         // SVG shown when a PNG shares the stem; both linked.
@@ -591,7 +591,9 @@ mod tests {
                 "Part 1 §3.3",
                 Err(BookError::Computation {
                     id: "broken".into(),
-                    message: "Riccati solver did not converge".into(),
+                    source: Box::new(crate::Cause::Check(
+                        "Riccati solver did not converge".into(),
+                    )),
                 }),
             ),
         ];

@@ -1,11 +1,11 @@
 //! The lab report: results of book examples as one HTML notebook and as a Markdown table.
 //!
 //! This module only turns results into text; it runs nothing and touches no file. The caller
-//! (the `pendulab report` command) runs the examples, writes their figures under an output
-//! directory and passes the results here with that directory, so figure links can be made
-//! relative to the page:
+//! (the `pendulab report` command) runs the examples, renders and writes their figures under an
+//! output directory and passes the results here with the files written ([`Entry::files`]) and
+//! that directory, so figure links can be made relative to the page:
 //!
-//! - [`Entry`] — one example with its result and run time;
+//! - [`Entry`] — one example with its result, run time and figure files;
 //! - [`Status`] — reproduced / runs / differs / needs data / failing, from a result;
 //! - [`html`] — the self-contained page (inline style, no scripts, no external resources;
 //!   figures are linked relative to [`ReportOptions::base_dir`]);
@@ -32,6 +32,9 @@ pub struct Entry {
     pub result: Result<ExampleOutput, BookError>,
     /// Wall-clock run time in seconds (`None` when not measured).
     pub seconds: Option<f64>,
+    /// The files the front end wrote for the example's figures ([`crate::Graphic::render`]),
+    /// in the order written; the page links them relative to [`ReportOptions::base_dir`].
+    pub files: Vec<PathBuf>,
 }
 
 impl Entry {
@@ -122,7 +125,7 @@ pub struct Summary {
     pub needs_data: usize,
     /// [`Status::Failing`].
     pub failing: usize,
-    /// Figures written, over all examples.
+    /// Figure files written, over all examples ([`Entry::files`]).
     pub figures: usize,
 }
 
@@ -135,8 +138,8 @@ impl Summary {
         };
         for e in entries {
             *s.count_mut(e.status()) += 1;
-            if let Ok(out) = &e.result {
-                s.figures += out.figures.len();
+            if e.result.is_ok() {
+                s.figures += e.files.len();
             }
         }
         s
@@ -319,7 +322,7 @@ mod tests {
     fn no_run(_: &RunContext) -> Result<ExampleOutput, BookError> {
         Err(BookError::Computation {
             id: "test".into(),
-            message: "not run in tests".into(),
+            source: Box::new(crate::Cause::Check("not run in tests".into())),
         })
     }
 
@@ -362,25 +365,24 @@ mod tests {
 
     #[test]
     fn summary_counts_each_status_and_the_figures() {
-        let with_fig = ExampleOutput {
-            figures: vec!["a.svg".into(), "a.png".into()],
-            ..ExampleOutput::default()
-        };
         let entries = vec![
             Entry {
                 example: example("a", "Part 1 §4.1"),
-                result: Ok(with_fig),
+                result: Ok(ExampleOutput::default()),
                 seconds: None,
+                files: vec!["a.svg".into(), "a.png".into()],
             },
             Entry {
                 example: example("b", "Part 1 §4.1"),
                 result: ok_with(2.0, 2.0, 0.0),
                 seconds: None,
+                files: Vec::new(),
             },
             Entry {
                 example: example("c", "Part 1 §4.1"),
                 result: Err(BookError::UnknownId("c".into())),
                 seconds: None,
+                files: Vec::new(),
             },
         ];
         let s = Summary::of(&entries);
@@ -423,6 +425,7 @@ mod tests {
             example: example(id, section),
             result: Ok(ExampleOutput::default()),
             seconds: None,
+            files: Vec::new(),
         })
         .collect();
         let ch = chapters(&entries);
@@ -459,6 +462,7 @@ mod tests {
                 example: ex,
                 result: ok_with(1.0, 1.0, 0.0),
                 seconds: None,
+                files: Vec::new(),
             },
             Entry {
                 example: example("needs", "Part 1 §3.3"),
@@ -467,6 +471,7 @@ mod tests {
                     what: "arm data".into(),
                 }),
                 seconds: None,
+                files: Vec::new(),
             },
         ];
         let md = markdown_table(&entries);

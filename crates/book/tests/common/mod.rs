@@ -1,5 +1,5 @@
 //! Helpers shared by the book's test files: running an example, reading its values, comparing
-//! numbers and writing figures into a scratch directory.
+//! numbers and rendering figures into files of a scratch directory (as the command line does).
 
 // Each test file uses its own subset of these helpers.
 #![allow(dead_code)]
@@ -18,7 +18,7 @@ pub fn run_with(id: &str, data: Option<String>) -> Result<ExampleOutput, BookErr
     run_in(
         id,
         &RunContext {
-            out_dir: None,
+            figures: false,
             data_csv: data,
         },
     )
@@ -101,12 +101,27 @@ impl TempDir {
         &self.0
     }
 
-    /// A run context writing figures here, with optional CSV data.
+    /// A run context drawing figures, with optional CSV data.
     pub fn ctx(&self, data: Option<String>) -> RunContext {
         RunContext {
-            out_dir: Some(self.0.clone()),
+            figures: true,
             data_csv: data,
         }
+    }
+
+    /// Runs example `id` with figures on the optional CSV data `data` (it must succeed),
+    /// renders every figure and writes its files here; the output and the files written.
+    pub fn run(&self, id: &str, data: Option<String>) -> (ExampleOutput, Vec<PathBuf>) {
+        let out = run_in(id, &self.ctx(data)).unwrap();
+        let mut files = Vec::new();
+        for g in &out.figures {
+            for f in g.render().unwrap() {
+                let path = self.0.join(&f.name);
+                std::fs::write(&path, &f.bytes).unwrap();
+                files.push(path);
+            }
+        }
+        (out, files)
     }
 }
 
@@ -116,9 +131,9 @@ impl Drop for TempDir {
     }
 }
 
-/// Every figure file of `out` exists and is larger than `min_bytes`.
-pub fn assert_figures_larger(out: &ExampleOutput, min_bytes: u64) {
-    for f in &out.figures {
+/// Every figure file in `files` exists and is larger than `min_bytes`.
+pub fn assert_figures_larger(files: &[PathBuf], min_bytes: u64) {
+    for f in files {
         let len = std::fs::metadata(f).map(|m| m.len()).unwrap_or(0);
         assert!(len > min_bytes, "{} has {len} bytes", f.display());
     }
