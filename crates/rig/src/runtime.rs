@@ -184,7 +184,7 @@ impl Safety {
                 v.to_string(),
                 format!(
                     "(0, {}] V (the {} rig's amplifier range)",
-                    spec.input_limit, spec.name
+                    spec.input_limit, plant.name()
                 ),
             );
         }
