@@ -368,7 +368,7 @@ fn run_batch(budget: &Budget) -> Result<BenchReport> {
         figure: executed as f64 / median,
         unit: "trajectory-steps/s".into(),
         check: json!({
-            "figure_measures": "RK4 steps integrated (runs stop at the first sample with |theta| > pi/2) per wall second: lane kernel (pendulab_sim::lanes, 8 runs per lane group, AnchoredSinCos: polynomial sin/cos once per RK4 step, the later stages' by the addition theorem, AVX2 when available), rayon on all cores",
+            "figure_measures": "RK4 steps integrated (runs stop at the first sample with |theta| > pi/2) per wall second: lane kernel (pendulab_sim::fast::lanes, 8 runs per lane group, AnchoredSinCos: polynomial sin/cos once per RK4 step, the later stages' by the addition theorem, AVX2 when available), rayon on all cores",
             "poly_lanes_steps_per_s": poly_steps as f64 / median_poly,
             "poly_lanes_grid_seconds_median": median_poly,
             "threads": rayon::current_num_threads(),
