@@ -111,28 +111,22 @@ impl Affine {
         a
     }
 
-    /// `c · a` for a constant `c`.
+    /// `c · a` for a constant `c`: entry `(i, col)` of a term at `(k, col)` gets `c_ik` times
+    /// its coefficient.
     pub(super) fn left_mul(c: &Mat, a: &Affine) -> Affine {
         // Nonzeros of each column k of c: (i, c_ik).
-        let cols: Vec<Vec<(u32, f64)>> = (0..c.ncols())
-            .map(|k| {
-                (0..c.nrows())
-                    .filter(|&i| c[(i, k)] != 0.0)
-                    .map(|i| (i as u32, c[(i, k)]))
-                    .collect()
+        let by_k = nonzeros_by(c.ncols(), c.nrows(), |k, i| c[(i, k)]);
+        let lin = a
+            .lin
+            .iter()
+            .flat_map(|l| {
+                by_k[l.row as usize].iter().map(move |&(i, cik)| Lin {
+                    row: i,
+                    coef: cik * l.coef,
+                    ..*l
+                })
             })
             .collect();
-        let mut lin = Vec::new();
-        for l in &a.lin {
-            for &(i, cik) in &cols[l.row as usize] {
-                lin.push(Lin {
-                    row: i,
-                    col: l.col,
-                    var: l.var,
-                    coef: cik * l.coef,
-                });
-            }
-        }
         let mut out = Affine {
             constant: c * &a.constant,
             lin,
@@ -141,27 +135,22 @@ impl Affine {
         out
     }
 
-    /// `a · c` for a constant `c`.
+    /// `a · c` for a constant `c`: entry `(row, j)` of a term at `(row, k)` gets its
+    /// coefficient times `c_kj`.
     pub(super) fn right_mul(a: &Affine, c: &Mat) -> Affine {
-        let rows: Vec<Vec<(u32, f64)>> = (0..c.nrows())
-            .map(|k| {
-                (0..c.ncols())
-                    .filter(|&j| c[(k, j)] != 0.0)
-                    .map(|j| (j as u32, c[(k, j)]))
-                    .collect()
+        // Nonzeros of each row k of c: (j, c_kj).
+        let by_k = nonzeros_by(c.nrows(), c.ncols(), |k, j| c[(k, j)]);
+        let lin = a
+            .lin
+            .iter()
+            .flat_map(|l| {
+                by_k[l.col as usize].iter().map(move |&(j, ckj)| Lin {
+                    col: j,
+                    coef: l.coef * ckj,
+                    ..*l
+                })
             })
             .collect();
-        let mut lin = Vec::new();
-        for l in &a.lin {
-            for &(j, ckj) in &rows[l.col as usize] {
-                lin.push(Lin {
-                    row: l.row,
-                    col: j,
-                    var: l.var,
-                    coef: l.coef * ckj,
-                });
-            }
-        }
         let mut out = Affine {
             constant: &a.constant * c,
             lin,
@@ -265,4 +254,21 @@ impl Affine {
     pub(super) fn max_var(&self) -> Option<VarId> {
         self.lin.iter().map(|l| l.var).max()
     }
+}
+
+/// For each `k < outer`, the nonzero entries `(i, entry(k, i))`, `i < inner`, in order of `i`
+/// (the nonzeros of a constant's columns or rows, as the products with it need them).
+fn nonzeros_by(
+    outer: usize,
+    inner: usize,
+    entry: impl Fn(usize, usize) -> f64,
+) -> Vec<Vec<(u32, f64)>> {
+    (0..outer)
+        .map(|k| {
+            (0..inner)
+                .map(|i| (i as u32, entry(k, i)))
+                .filter(|&(_, v)| v != 0.0)
+                .collect()
+        })
+        .collect()
 }
