@@ -355,3 +355,103 @@ fn scenario_files_round_trip_and_refuse_unknown_keys() {
         .to_string();
     assert!(e.contains("frequency"), "{e}");
 }
+
+#[test]
+fn arm_linear_plant_run_equals_the_exact_discrete_closed_loop() {
+    // The arm's LQR gain from the factory, read back from the controller (u = −K e_i), and
+    // the exact ZOH closed loop Φ − Γ K of the arm's upright linearisation.
+    let ts = 1e-3;
+    let spec = ControllerSpec::StateFeedback(StateFeedbackSpec {
+        lqr: Some(LqrSpec {
+            q: vec![1.0, 10.0, 0.0, 0.0],
+            r: 1.0,
+        }),
+        ..Default::default()
+    });
+    let mut probe = build(&spec, PlantKind::Arm, ts).unwrap().controller;
+    let mut k = Mat::zeros(1, 4);
+    for i in 0..4 {
+        let mut y = [0.0; 4];
+        y[i] = 1.0;
+        let mut u = [0.0];
+        probe.update(0.0, &y, &mut u);
+        k[(0, i)] = -u[0];
+    }
+    let lin = PlantSpec::book(PlantKind::Arm)
+        .parameters()
+        .linearize_upright(0.0)
+        .unwrap();
+    let d = lin.c2d(ts, Discretization::Zoh).unwrap();
+    let cl = pendulab_lti::StateSpace::discrete(
+        d.a() - d.b() * &k,
+        d.b().clone(),
+        Mat::identity(4, 4),
+        Mat::zeros(4, 1),
+        ts,
+    )
+    .unwrap();
+    let x0 = [0.1, 0.05, 0.0, 0.0];
+    let mut scenario = ScenarioSpec::new(x0.to_vec(), 3.0);
+    scenario.substeps = 10;
+    let built = build(&spec, PlantKind::Arm, ts).unwrap();
+    let run = simulate_on(lin, &RigSpec::arm(), &spec, built, &scenario).unwrap();
+    let exact = initial(&cl, &x0, &run.t).unwrap();
+    let mut worst: f64 = 0.0;
+    for (k, xk) in run.x.iter().enumerate() {
+        for i in 0..4 {
+            worst = worst.max((xk[i] - exact.x()[(k, i)]).abs());
+        }
+    }
+    assert!(worst < 1e-9, "max |x_run − x_exact| = {worst:e}");
+}
+
+#[test]
+fn a_swing_up_run_switches_once_and_ends_upright() {
+    // Energy shaping from the hanging rest, then the book's balance gain inside 17°: the run
+    // records the switch, has no angle window (it starts outside it) and ends upright.
+    let plant = PlantSpec::book(PlantKind::Cart);
+    let spec = ControllerSpec::SwingUpBalance(pendulab_control::spec::SwingUpBalanceSpec {
+        balance: Some(pendulab_control::spec::GainSpec {
+            k_book: Some(K_BOOK.to_vec()),
+            ..Default::default()
+        }),
+        switch_deg: None,
+    });
+    // (The hanging rest itself is an equilibrium of the energy shaping: start 1 mrad off.)
+    let mut s = ScenarioSpec::new(vec![0.0, std::f64::consts::PI + 0.001, 0.0, 0.0], 20.0);
+    s.imperfections = Imperfections::with_quantizer();
+    let run = simulate(&plant, &spec, &s).unwrap();
+    assert_eq!(run.switch_times.len(), 1, "{:?}", run.switch_times);
+    assert_eq!(run.summary.left_angle_window, None);
+    let theta = pendulab_plants::wrap_angle(run.summary.final_state[1]);
+    assert!(theta.abs() < 1e-2, "final θ = {theta}");
+}
+
+#[test]
+fn specs_round_trip_through_json_for_the_other_front_ends() {
+    let mut s = ScenarioSpec::new(vec![0.0, 0.1, 0.0, 0.0], 2.0);
+    s.reference = SignalSpec::Step {
+        time: 0.5,
+        amplitude: 0.1,
+    };
+    s.imperfections.noise = Some(NoiseSpec {
+        std: vec![0.0; 4],
+        seed: 9,
+    });
+    let js = serde_json::to_string(&s).unwrap();
+    assert_eq!(serde_json::from_str::<ScenarioSpec>(&js).unwrap(), s);
+    let c = book_gain();
+    let jc = serde_json::to_string(&c).unwrap();
+    assert_eq!(serde_json::from_str::<ControllerSpec>(&jc).unwrap(), c);
+    let p = PlantSpec::book(PlantKind::Cart);
+    let jp = serde_json::to_string(&p).unwrap();
+    // The three read from JSON give the same run as the values they came from.
+    let a = simulate(&p, &c, &s).unwrap();
+    let b = simulate(
+        &serde_json::from_str(&jp).unwrap(),
+        &serde_json::from_str(&jc).unwrap(),
+        &serde_json::from_str(&js).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(a, b);
+}
