@@ -453,6 +453,23 @@ fn scale_triangle<T: Real>(uplo: Uplo, n: usize, beta: T, c: &mut [T], ldc: usiz
     }
 }
 
+/// The start of the rank-k updates `syrk` and `syr2k`: nothing to do when `n = 0` or when
+/// the `α` term vanishes and `β = 1`; otherwise `C ← β C` on the `uplo` triangle. True if the
+/// `α` term (`α ≠ 0`, `k > 0`) remains to be added.
+fn begin_rank_update<T: Real>(
+    uplo: Uplo,
+    (n, k): (usize, usize),
+    (alpha, beta): (T, T),
+    (c, ldc): (&mut [T], usize),
+) -> bool {
+    let no_product = alpha == T::zero() || k == 0;
+    if n == 0 || (no_product && beta == T::one()) {
+        return false;
+    }
+    scale_triangle(uplo, n, beta, c, ldc);
+    !no_product
+}
+
 /// `C ← α A Aᵀ + β C` (`trans = No`, `A` is `n × k`) or `C ← α Aᵀ A + β C` (`trans = Yes`,
 /// `A` is `k × n`), updating only the `uplo` triangle of `C` (xSYRK).
 pub(crate) fn syrk<T: Real>(
@@ -464,11 +481,7 @@ pub(crate) fn syrk<T: Real>(
     beta: T,
     (c, ldc): (&mut [T], usize),
 ) {
-    if n == 0 || ((alpha == T::zero() || k == 0) && beta == T::one()) {
-        return;
-    }
-    scale_triangle(uplo, n, beta, c, ldc);
-    if alpha == T::zero() || k == 0 {
+    if !begin_rank_update(uplo, (n, k), (alpha, beta), (c, ldc)) {
         return;
     }
     match trans {
@@ -515,11 +528,7 @@ pub(crate) fn syr2k<T: Real>(
     beta: T,
     (c, ldc): (&mut [T], usize),
 ) {
-    if n == 0 || ((alpha == T::zero() || k == 0) && beta == T::one()) {
-        return;
-    }
-    scale_triangle(uplo, n, beta, c, ldc);
-    if alpha == T::zero() || k == 0 {
+    if !begin_rank_update(uplo, (n, k), (alpha, beta), (c, ldc)) {
         return;
     }
     match trans {
