@@ -371,3 +371,19 @@ pub(crate) fn save_animation(
     }
     write_animation(id, out, &format!("{id}_{what}"), build())
 }
+
+/// Adds the [`run_animation`] of the recorded run `tr` on `rig`, titled `title`, as
+/// `<id>_animation` when the context asks for figures (nothing is built otherwise).
+///
+/// # Errors
+/// [`BookError::Figure`] naming the animation.
+pub(crate) fn save_run_animation(
+    ctx: &RunContext,
+    out: &mut ExampleOutput,
+    id: &str,
+    rig: Rig,
+    tr: &Trajectory,
+    title: &str,
+) -> Result<(), BookError> {
+    save_animation(ctx, out, id, "animation", || run_animation(rig, tr, title))
+}

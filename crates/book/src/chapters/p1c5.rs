@@ -8,7 +8,7 @@ use crate::error::{BookError, Cause};
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_lti::analysis::{controllable_canonical_form, ctrb, rank};
-use pendulab_lti::design::{lqr, place};
+use pendulab_lti::design::{StateFeedback, lqr, place};
 use pendulab_lti::{Continuous, Mat, StateSpace, Trajectory};
 use pendulab_plants::{
     ArmEquilibrium, ArmPendulum, ArmPendulumParams, Posture, RigSpec, TwoPendulumCart,
@@ -279,8 +279,7 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c522_ex6";
     let a = m(2, 2, &[1.0, 0.0, 1.0, 1.0]);
     let b = m(2, 1, &[1.0, 1.0]);
-    let sys = StateSpace::continuous(a.clone(), b.clone(), m(1, 2, &[1.0, 0.0]), Mat::zeros(1, 1))
-        .ctx(id)?;
+    let sys = StateSpace::continuous(a, b, m(1, 2, &[1.0, 0.0]), Mat::zeros(1, 1)).ctx(id)?;
     let f = controllable_canonical_form(&sys).ctx(id)?;
     // Desired (s + 1)(s + 2) = s² + 3 s + 2.
     let (d0, d1) = (2.0, 3.0);
@@ -291,8 +290,12 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .try_inverse()
             .ok_or_else(|| fail(id, "the canonical transformation T is singular"))?;
     let k = &k_hat * t_inv;
-    let closed = &a + &b * &k;
-    let poles = sorted(pendulab_lti::linalg::eigenvalues(&closed).ctx(id)?);
+    // The closed loop A + BK (book sign) of the toolkit's state feedback.
+    let closed = StateFeedback::from_book(&k)
+        .ctx(id)?
+        .closed_loop(&sys)
+        .ctx(id)?;
+    let poles = sorted(closed.poles().ctx(id)?);
     let mut out = ExampleOutput::default();
     out.value("K", Value::vector(&[k[(0, 0)], k[(0, 1)]]))
         .value("K_hat", Value::vector(&[k_hat[(0, 0)], k_hat[(0, 1)]]))
@@ -411,9 +414,14 @@ fn ex8_adip_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .figure()
             .ctx(id)?;
         save_figure(ctx, &mut out, id, "response", Ok(fig))?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Arm, &runs[0].1, "p1c523_ex8_adip_lqr, case 1")
-        })?;
+        save_run_animation(
+            ctx,
+            &mut out,
+            id,
+            Rig::Arm,
+            &runs[0].1,
+            "p1c523_ex8_adip_lqr, case 1",
+        )?;
     }
     Ok(out)
 }

@@ -480,9 +480,14 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .figure()
             .ctx(id)?;
         save_figure(ctx, &mut out, id, "response", Ok(fig))?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Cart, &run.trajectory, "p1c63_ex5: LQ integral servo")
-        })?;
+        save_run_animation(
+            ctx,
+            &mut out,
+            id,
+            Rig::Cart,
+            &run.trajectory,
+            "p1c63_ex5: LQ integral servo",
+        )?;
     }
     Ok(out)
 }

@@ -208,9 +208,14 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             .title("p1c74_ex1: state-feedback and observer poles")
             .figure();
         save_figure(ctx, &mut out, id, "poles", Ok(fig))?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Cart, &traj, "p1c74_ex1_cdip_ob_design")
-        })?;
+        save_run_animation(
+            ctx,
+            &mut out,
+            id,
+            Rig::Cart,
+            &traj,
+            "p1c74_ex1_cdip_ob_design",
+        )?;
     }
     Ok(out)
 }

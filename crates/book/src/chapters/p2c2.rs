@@ -163,9 +163,7 @@ fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .panel(SignalPanel::new(Channel::Input(0), "v [V]").stairs())
         .figure();
         save_figure(ctx, &mut out, id, "response", fig)?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Cart, &odq.trajectory, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, Rig::Cart, &odq.trajectory, id)?;
     }
     Ok(out)
 }
@@ -379,9 +377,7 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .panel(SignalPanel::new(Channel::Input(0), "u [V]").stairs())
         .figure();
         save_figure(ctx, &mut out, id, "response", fig)?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Cart, &run_kd.trajectory, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, Rig::Cart, &run_kd.trajectory, id)?;
     }
     Ok(out)
 }

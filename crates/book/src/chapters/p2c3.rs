@@ -194,9 +194,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             Ok(Figure::column([ax_e, ax_s])
                 .title("p2c323_ex1: pendulum energy E(t) and switching function σ(t)")),
         )?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Cart, &run5.trajectory, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, Rig::Cart, &run5.trajectory, id)?;
     }
     Ok(out)
 }
@@ -287,9 +285,7 @@ fn p2c33_nmpc(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             )
             .figure();
         save_figure(ctx, &mut out, id, "response", fig)?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Arm, &run.trajectory, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, Rig::Arm, &run.trajectory, id)?;
     }
     Ok(out)
 }

@@ -237,9 +237,7 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
             .ctx(id)?;
         save_figure(ctx, &mut out, id, "response", Ok(fig))?;
         let rig = if c.arm { Rig::Arm } else { Rig::Cart };
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(rig, &traj, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, rig, &traj, id)?;
     }
     Ok(out)
 }
@@ -356,9 +354,14 @@ fn lqr_figures(
         .ctx(id)?;
     save_figure(ctx, out, id, "response", Ok(fig))?;
     let last = runs.len() - 1;
-    save_animation(ctx, out, id, "animation", || {
-        run_animation(rig, &runs[last].1, &format!("{id}, {}", runs[last].0))
-    })
+    save_run_animation(
+        ctx,
+        out,
+        id,
+        rig,
+        &runs[last].1,
+        &format!("{id}, {}", runs[last].0),
+    )
 }
 
 /// The arm LQR sample's weights `q1`.
@@ -521,9 +524,7 @@ fn servo_sample(ctx: &RunContext, c: &ServoCase) -> Result<ExampleOutput, BookEr
             .ctx(id)?;
         save_figure(ctx, &mut out, id, "response", Ok(fig))?;
         let rig = if c.arm { Rig::Arm } else { Rig::Cart };
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(rig, &traj, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, rig, &traj, id)?;
     }
     Ok(out)
 }

@@ -68,17 +68,15 @@ pub(super) fn p1c332_adip_id_arm(ctx: &RunContext) -> Result<ExampleOutput, Book
          (pendulab): MATLAB compare fit of the identified loop.",
         data_source(ctx, ARM_STEP)
     ));
-    if ctx.figures {
-        let sim = padded(&val.simulated, val.start);
-        fit_figure(
-            ID332A,
-            &mut out,
-            "p1c332_adip_id_arm_fit",
-            "p1c332_adip_id_arm: arm step, measured and identified",
-            t,
-            &[("arm angle θ1 [rad]", th1, &sim)],
-        )?;
-    }
+    save_fit(
+        ctx,
+        ID332A,
+        &mut out,
+        "p1c332_adip_id_arm_fit",
+        "p1c332_adip_id_arm: arm step, measured and identified",
+        (t, "arm angle θ1 [rad]", th1),
+        &val,
+    )?;
     Ok(out)
 }
 

@@ -109,6 +109,27 @@ pub(super) fn fit_figure(
     Ok(())
 }
 
+/// Adds the one-panel fit figure `stem` of the measured `y` over `t` (legend `label`) with the
+/// identified model's simulation from `val`, when the context asks for figures.
+///
+/// # Errors
+/// The figure's errors ([`BookError::Computation`]).
+pub(super) fn save_fit(
+    ctx: &RunContext,
+    id: &'static str,
+    out: &mut ExampleOutput,
+    stem: &str,
+    title: &str,
+    (t, label, y): (&[f64], &str, &[f64]),
+    val: &pendulab_ident::Validation,
+) -> Result<(), BookError> {
+    if !ctx.figures {
+        return Ok(());
+    }
+    let sim = padded(&val.simulated, val.start);
+    fit_figure(id, out, stem, title, t, &[(label, y, &sim)])
+}
+
 /// Pads a validation output (which starts at sample `start`) with NaN to the data length.
 pub(super) fn padded(sim: &[f64], start: usize) -> Vec<f64> {
     let mut v = vec![f64::NAN; start];

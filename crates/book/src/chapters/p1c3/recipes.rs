@@ -169,17 +169,15 @@ pub(super) fn p1c321_cdip_id_cart(ctx: &RunContext) -> Result<ExampleOutput, Boo
          the identified loop."
             .into(),
     );
-    if ctx.figures {
-        let sim = padded(&val.simulated, val.start);
-        fit_figure(
-            ID321C,
-            &mut out,
-            "p1c321_cdip_id_cart_fit",
-            "p1c321_cdip_id_cart: k_P = 10 step, measured and identified",
-            t,
-            &[("cart position z [m]", z, &sim)],
-        )?;
-    }
+    save_fit(
+        ctx,
+        ID321C,
+        &mut out,
+        "p1c321_cdip_id_cart_fit",
+        "p1c321_cdip_id_cart: k_P = 10 step, measured and identified",
+        (t, "cart position z [m]", z),
+        &val,
+    )?;
     Ok(out)
 }
 
@@ -214,17 +212,15 @@ pub(super) fn p1c321_cdip_id_pend(ctx: &RunContext) -> Result<ExampleOutput, Boo
          --amplitude-correction` removes it."
             .into(),
     );
-    if ctx.figures {
-        let sim = padded(&val.simulated, val.start);
-        fit_figure(
-            ID321D,
-            &mut out,
-            "p1c321_cdip_id_pend_fit",
-            "p1c321_cdip_id_pend: free oscillation, measured and identified",
-            t,
-            &[("pendulum angle φ [rad]", th, &sim)],
-        )?;
-    }
+    save_fit(
+        ctx,
+        ID321D,
+        &mut out,
+        "p1c321_cdip_id_pend_fit",
+        "p1c321_cdip_id_pend: free oscillation, measured and identified",
+        (t, "pendulum angle φ [rad]", th),
+        &val,
+    )?;
     Ok(out)
 }
 

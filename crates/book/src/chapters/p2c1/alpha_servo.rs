@@ -140,9 +140,7 @@ pub(super) fn save_servo_comparison(
         "response",
         arm_response(title, &[(label, &run), ("Riccati LQ", &lq_run)], Some(30.0)),
     )?;
-    save_animation(ctx, out, id, "animation", || {
-        run_animation(Rig::Arm, &run.trajectory, id)
-    })
+    save_run_animation(ctx, out, id, Rig::Arm, &run.trajectory, id)
 }
 
 pub(super) fn multiobjective_regions() -> [Region; 3] {

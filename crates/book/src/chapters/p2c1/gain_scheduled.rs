@@ -94,9 +94,7 @@ pub(super) fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             None,
         ),
     )?;
-    save_animation(ctx, &mut out, id, "animation", || {
-        run_animation(Rig::Arm, &run.trajectory, id)
-    })?;
+    save_run_animation(ctx, &mut out, id, Rig::Arm, &run.trajectory, id)?;
     Ok(out)
 }
 
@@ -330,9 +328,7 @@ pub(super) fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             Ok(pendulab_plot::Figure::column([ax1, ax2])
                 .title("p2c15_ex7: scheduling parameter and its rate inside the design ranges")),
         )?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Arm, &run.trajectory, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, Rig::Arm, &run.trajectory, id)?;
     }
     Ok(out)
 }

@@ -118,9 +118,7 @@ pub(super) fn p2c13_report(
         ),
     )?;
     // Animation at the vertex the nominal LQ servo cannot hold (a1 max, b1 min).
-    save_animation(ctx, out, id, "animation", || {
-        run_animation(Rig::Arm, &runs[1].1.trajectory, id)
-    })?;
+    save_run_animation(ctx, out, id, Rig::Arm, &runs[1].1.trajectory, id)?;
     Ok(())
 }
 

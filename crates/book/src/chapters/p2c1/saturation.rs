@@ -196,9 +196,7 @@ pub(super) fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             )
             .figure();
         save_figure(ctx, &mut out, id, "response", fig)?;
-        save_animation(ctx, &mut out, id, "animation", || {
-            run_animation(Rig::Arm, &rig_run.trajectory, id)
-        })?;
+        save_run_animation(ctx, &mut out, id, Rig::Arm, &rig_run.trajectory, id)?;
     }
     Ok(out)
 }
