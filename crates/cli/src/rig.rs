@@ -19,11 +19,11 @@
 //! `safety.watchdog_periods` ([`pendulab_rig::Safety`]), and the emulator's initial state and
 //! imperfections (the `*_MAX` constants below).
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use pendulab_control::spec::{Built, build};
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind, PlantStart};
 use pendulab_rig::runtime::{RunConfig, StopReason, run as run_loop};
-use pendulab_rig::{Logger, Safety, config};
+use pendulab_rig::{ConfigError, Logger, RigError, Safety, config};
 use std::io::Write;
 use std::net::{SocketAddr, ToSocketAddrs};
 use std::path::PathBuf;
@@ -365,9 +365,18 @@ fn run_controller(a: &RunArgs) -> Result<()> {
         );
     }
     if let Some(w) = a.watchdog_periods {
-        loaded
-            .override_watchdog_periods(w)
-            .with_context(|| format!("--watchdog-periods {w}"))?;
+        loaded.override_watchdog_periods(w).map_err(|e| match e {
+            // The flag's own value out of range: named once, as the flag.
+            RigError::Config(ConfigError::Invalid {
+                key,
+                value,
+                requirement,
+            }) if key == "safety.watchdog_periods" => {
+                anyhow!("--watchdog-periods {value}: {requirement} (the file's {key})")
+            }
+            // Another key refused because of the flag (a hold no longer below it).
+            e => anyhow::Error::new(e).context(format!("--watchdog-periods {w}")),
+        })?;
     }
     if let Some(c) = a.cpu {
         let n = cpus_present();

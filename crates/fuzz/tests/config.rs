@@ -53,7 +53,7 @@ static LOADED: AtomicUsize = AtomicUsize::new(0);
 /// What `pendulab rig run` does with a file: load and check it, then build its controller.
 fn load(text: &str) -> Result<(Loaded, Built), RigError> {
     let l = pendulab_rig::config::load(text)?;
-    let b = build(&l.spec, l.plant, l.ts).map_err(|e| RigError::Config(e.to_string()))?;
+    let b = build(&l.spec, l.plant, l.ts).map_err(|e| RigError::Config(e.into()))?;
     Ok((l, b))
 }
 
@@ -68,7 +68,7 @@ fn loads_sanely(bytes: &[u8]) -> Result<(), String> {
         LOADED.fetch_add(1, Ordering::Relaxed);
     }
     match loaded {
-        Err(RigError::Config(m)) if !m.trim().is_empty() => Ok(()),
+        Err(RigError::Config(m)) if !m.to_string().trim().is_empty() => Ok(()),
         Err(e) => Err(format!(
             "an error that is not a non-empty Config error: {e:?}"
         )),

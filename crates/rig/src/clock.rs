@@ -7,6 +7,57 @@
 
 use std::time::{Duration, Instant};
 
+/// Why the scheduler refused [`try_realtime`] or [`pin_to_cpu`] (the loop then runs on
+/// without it and says so). The OS error, where there is one, is the
+/// [`std::error::Error::source`].
+#[derive(Debug, thiserror::Error)]
+pub enum SchedError {
+    /// `sched_setscheduler(SCHED_FIFO)` refused (usually: no `CAP_SYS_NICE` or `rtprio`
+    /// limit).
+    #[error("SCHED_FIFO priority {priority}")]
+    Realtime {
+        /// The priority asked for (1–99).
+        priority: i32,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// `sched_setaffinity` refused the CPU.
+    #[error("CPU {cpu}")]
+    Pin {
+        /// The CPU asked for.
+        cpu: usize,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The CPU's number is beyond the affinity mask.
+    #[error("CPU {cpu}: beyond the affinity mask of {max} CPUs")]
+    CpuOutOfRange {
+        /// The CPU asked for.
+        cpu: usize,
+        /// The mask's size.
+        max: usize,
+    },
+    /// Not available on this operating system (Linux only).
+    #[error("{0}: only supported on Linux")]
+    Unsupported(
+        /// What was asked for.
+        &'static str,
+    ),
+}
+
+impl SchedError {
+    /// The message with the OS error, on one line (`"SCHED_FIFO priority 80: Operation not
+    /// permitted (os error 1)"`), for the run's `scheduling` line.
+    pub fn describe(&self) -> String {
+        match std::error::Error::source(self) {
+            Some(s) => format!("{self}: {s}"),
+            None => self.to_string(),
+        }
+    }
+}
+
 /// Waits until `deadline`: sleeps until `margin` before it, then spins. Returns at once if the
 /// deadline has passed.
 pub fn sleep_until(deadline: Instant, margin: Duration) {
@@ -31,9 +82,9 @@ pub fn sleep_until(deadline: Instant, margin: Duration) {
 /// a runaway loop from locking the machine.
 ///
 /// # Errors
-/// A message with the OS error if the policy cannot be set (the caller runs on without it),
-/// or on systems other than Linux.
-pub fn try_realtime(priority: i32) -> Result<(), String> {
+/// [`SchedError::Realtime`] with the OS error if the policy cannot be set (the caller runs on
+/// without it); [`SchedError::Unsupported`] on systems other than Linux.
+pub fn try_realtime(priority: i32) -> Result<(), SchedError> {
     #[cfg(target_os = "linux")]
     {
         let param = libc::sched_param {
@@ -43,10 +94,10 @@ pub fn try_realtime(priority: i32) -> Result<(), String> {
         // a stack value that outlives the call.
         let rc = unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) };
         if rc != 0 {
-            return Err(format!(
-                "SCHED_FIFO priority {priority}: {}",
-                std::io::Error::last_os_error()
-            ));
+            return Err(SchedError::Realtime {
+                priority,
+                source: std::io::Error::last_os_error(),
+            });
         }
         // Page faults in the loop would cost milliseconds; failure to lock is not fatal.
         // SAFETY: as above, no pointers.
@@ -55,9 +106,8 @@ pub fn try_realtime(priority: i32) -> Result<(), String> {
     }
     #[cfg(not(target_os = "linux"))]
     {
-        Err(format!(
-            "real-time priority {priority}: only supported on Linux"
-        ))
+        let _ = priority;
+        Err(SchedError::Unsupported("real-time priority"))
     }
 }
 
@@ -66,12 +116,17 @@ pub fn try_realtime(priority: i32) -> Result<(), String> {
 /// migrates and never shares its core's caches with a build.
 ///
 /// # Errors
-/// A message with the OS error if the mask is refused (e.g. no such CPU), or off Linux.
-pub fn pin_to_cpu(cpu: usize) -> Result<(), String> {
+/// [`SchedError::CpuOutOfRange`] for a CPU beyond the affinity mask, [`SchedError::Pin`] with
+/// the OS error if the mask is refused (e.g. no such CPU), [`SchedError::Unsupported`] off
+/// Linux.
+pub fn pin_to_cpu(cpu: usize) -> Result<(), SchedError> {
     #[cfg(target_os = "linux")]
     {
         if cpu >= libc::CPU_SETSIZE as usize {
-            return Err(format!("CPU {cpu}: beyond the affinity mask"));
+            return Err(SchedError::CpuOutOfRange {
+                cpu,
+                max: libc::CPU_SETSIZE as usize,
+            });
         }
         // SAFETY: cpu_set_t is plain data; CPU_ZERO/CPU_SET write within it (index checked
         // above); sched_setaffinity reads `size_of` bytes from a valid pointer.
@@ -82,13 +137,17 @@ pub fn pin_to_cpu(cpu: usize) -> Result<(), String> {
             libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set)
         };
         if rc != 0 {
-            return Err(format!("CPU {cpu}: {}", std::io::Error::last_os_error()));
+            return Err(SchedError::Pin {
+                cpu,
+                source: std::io::Error::last_os_error(),
+            });
         }
         Ok(())
     }
     #[cfg(not(target_os = "linux"))]
     {
-        Err(format!("CPU {cpu}: pinning is only supported on Linux"))
+        let _ = cpu;
+        Err(SchedError::Unsupported("pinning to a CPU"))
     }
 }
 

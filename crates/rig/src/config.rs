@@ -63,9 +63,9 @@
 //! for all four: the swing-up ends balancing upright); the runtime wraps the measured angle
 //! about it.
 
-use crate::RigError;
 use crate::emulator::PlantKind;
 use crate::runtime::Safety;
+use crate::{ConfigError, RigError};
 use serde::Deserialize;
 use std::time::Duration;
 
@@ -182,13 +182,10 @@ impl Loaded {
     }
 }
 
-fn cfg(msg: impl Into<String>) -> RigError {
-    RigError::Config(msg.into())
-}
-
-/// A TOML or serde error as a message: the line, and for an error inside the `[controller]`
-/// table the kind it was read as (so a key of another kind is named with the kind).
-fn parse_error(text: &str, e: &toml::de::Error) -> RigError {
+/// A TOML or serde error as a [`ConfigError::File`]: the line, and for an error inside the
+/// `[controller]` table the kind it was read as (so a key of another kind is named with the
+/// kind).
+fn parse_error(text: &str, e: &toml::de::Error) -> ConfigError {
     let line = e
         .span()
         .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
@@ -197,29 +194,30 @@ fn parse_error(text: &str, e: &toml::de::Error) -> RigError {
         && let Some(c) = table.get("controller")
         && let Err(ce) = c.clone().try_into::<ControllerSpec>()
     {
-        let at = line.map(|l| format!(", line {l}")).unwrap_or_default();
         let kind = c.get("kind").and_then(|k| k.as_str());
-        return match kind {
-            Some(k) if ControllerSpec::KINDS.contains(&k) => cfg(format!(
-                "controller file{at}: [controller] of kind '{k}': {}",
-                ce.message()
-            )),
-            _ => cfg(format!(
-                "controller file{at}: controller.kind: {}",
-                ce.message()
-            )),
+        let message = match kind {
+            Some(k) if ControllerSpec::KINDS.contains(&k) => {
+                format!("[controller] of kind '{k}': {}", ce.message())
+            }
+            _ => format!("controller.kind: {}", ce.message()),
         };
+        return ConfigError::File { line, message };
     }
-    cfg(format!("controller file: {e}"))
+    ConfigError::File {
+        line: None,
+        message: e.to_string(),
+    }
 }
 
 /// `|x| < limit` for a reference entry, or an error naming it.
 fn within(what: &str, x: f64, limit: f64, unit: &str, limit_key: &str) -> Result<(), RigError> {
     if !(x.is_finite() && x.abs() < limit) {
-        return Err(cfg(format!(
-            "{what} = {x}: must be inside ({}, {limit}) {unit} ({limit_key})",
-            -limit
-        )));
+        return Err(ConfigError::invalid(
+            what,
+            x,
+            format!("must be inside ({}, {limit}) {unit} ({limit_key})", -limit),
+        )
+        .into());
     }
     Ok(())
 }
@@ -230,7 +228,7 @@ fn within(what: &str, x: f64, limit: f64, unit: &str, limit_key: &str) -> Result
 /// reference of the wrong length.
 ///
 /// # Errors
-/// [`RigError::Config`] naming `controller.reference[i]`, its value and the limit's key.
+/// [`ConfigError::Invalid`] naming `controller.reference[i]`, its value and the limit's key.
 pub fn check_references(
     spec: &ControllerSpec,
     plant: PlantKind,
@@ -260,9 +258,12 @@ pub fn check_references(
                 return Ok(());
             }
             if let Some((i, x)) = r.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-                return Err(cfg(format!(
-                    "controller.reference[{i}] = {x}: must be finite"
-                )));
+                return Err(ConfigError::invalid(
+                    format!("controller.reference[{i}]"),
+                    x,
+                    "must be finite",
+                )
+                .into());
             }
             travel(r)?;
             if let Some(w) = safety.angle_window {
@@ -295,7 +296,7 @@ pub fn check_references(
 /// angle window, and giving `angle_window_deg` is an error.
 ///
 /// # Errors
-/// [`RigError::Config`] naming the key (`safety.…`), its value and its range.
+/// [`ConfigError::Invalid`] naming the key (`safety.…`), its value and its range.
 pub fn safety_for(
     plant: PlantKind,
     ts: f64,
@@ -312,9 +313,12 @@ pub fn safety_for(
     }
     if swing_up {
         if let Some(v) = s.angle_window_deg {
-            return Err(cfg(format!(
-                "safety.angle_window_deg = {v}: a swing-up-balance run has no angle window (the pendulum starts hanging); remove the key"
-            )));
+            return Err(ConfigError::invalid(
+                "safety.angle_window_deg",
+                v,
+                "must not be given: a swing-up-balance run has no angle window (the pendulum starts hanging); remove the key",
+            )
+            .into());
         }
         safety.angle_window = None;
     } else if let Some(v) = s.angle_window_deg {
@@ -331,10 +335,14 @@ pub fn safety_for(
     };
     if let Some(v) = s.connect_timeout_s {
         safety.connect_timeout = Duration::try_from_secs_f64(v).map_err(|_| {
-            cfg(format!(
-                "safety.connect_timeout_s = {v}: must be in (0, {}] s",
-                Safety::CONNECT_TIMEOUT_MAX.as_secs_f64()
-            ))
+            ConfigError::invalid(
+                "safety.connect_timeout_s",
+                v,
+                format!(
+                    "must be in (0, {}] s",
+                    Safety::CONNECT_TIMEOUT_MAX.as_secs_f64()
+                ),
+            )
         })?;
     }
     safety.validate_at(plant, ts)?;
@@ -349,16 +357,20 @@ pub fn safety_for(
 /// the table.
 ///
 /// # Errors
-/// [`RigError::Config`] naming the key, its value and what is wrong (TOML syntax errors carry
-/// the line; a key foreign to the controller kind names the kind).
+/// [`RigError::Config`]: [`ConfigError::Invalid`] naming the key, its value and what is wrong;
+/// [`ConfigError::File`] for TOML syntax errors (with the line) and a key foreign to the
+/// controller kind (naming the kind); [`ConfigError::Plant`] for an unknown plant.
 pub fn load(text: &str) -> Result<Loaded, RigError> {
     let file: ControllerFile = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
-    let plant = PlantKind::parse(&file.plant).map_err(|e| cfg(e.to_string()))?;
+    let plant = PlantKind::parse(&file.plant).map_err(ConfigError::from)?;
     let rate = file.rate_hz.unwrap_or(1000.0);
     if !(rate.is_finite() && (RATE_HZ_MIN..=RATE_HZ_MAX).contains(&rate)) {
-        return Err(cfg(format!(
-            "rate_hz = {rate}: must be in [{RATE_HZ_MIN}, {RATE_HZ_MAX}]"
-        )));
+        return Err(ConfigError::invalid(
+            "rate_hz",
+            rate,
+            format!("must be in [{RATE_HZ_MIN}, {RATE_HZ_MAX}]"),
+        )
+        .into());
     }
     let ts = 1.0 / rate;
     let spec = file.controller;
@@ -366,14 +378,17 @@ pub fn load(text: &str) -> Result<Loaded, RigError> {
     let differentiator_t = file.estimator.time_constant.unwrap_or(0.02);
     let (t_lo, t_hi) = time_constant_range(ts);
     if !(differentiator_t.is_finite() && (t_lo..=t_hi).contains(&differentiator_t)) {
-        return Err(cfg(format!(
-            "estimator.time_constant = {differentiator_t}{}: must be in [{t_lo}, {t_hi}] s (half the loop period 1/rate_hz, to {TIME_CONSTANT_MAX} s)",
-            if file.estimator.time_constant.is_none() {
-                " (the default)"
-            } else {
-                ""
-            }
-        )));
+        let default = if file.estimator.time_constant.is_none() {
+            " (the default)"
+        } else {
+            ""
+        };
+        return Err(ConfigError::invalid(
+            "estimator.time_constant",
+            format!("{differentiator_t}{default}"),
+            format!("must be in [{t_lo}, {t_hi}] s (half the loop period 1/rate_hz, to {TIME_CONSTANT_MAX} s)"),
+        )
+        .into());
     }
     check_references(&spec, plant, &safety)?;
     Ok(Loaded {

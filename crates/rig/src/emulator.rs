@@ -10,10 +10,13 @@
 //!    is zeroed and disabled until a fresh command arrives;
 //! 3. applies the held voltage through the amplifier (±[`EmulatorConfig::voltage_limit`]
 //!    saturation, optional 16-bit D/A quantisation over ±5 V) and optional Karnopp friction
-//!    on the drive ([`pendulab_sim::actuator::karnopp`], voltage-equivalent), and advances the
-//!    nonlinear plant (`pendulab_plants::CartPendulum` or `ArmPendulum`; unless it is held,
-//!    below) by classical RK4 steps of `ts` — as many as periods have elapsed on the wall clock, so plant time follows real
-//!    time even when the thread is woken late;
+//!    on the drive (voltage-equivalent), and advances the nonlinear plant
+//!    (`pendulab_plants::CartPendulum` or `ArmPendulum`; unless it is held, below) by
+//!    classical RK4 steps of `ts` — as many as periods have elapsed on the wall clock, so
+//!    plant time follows real time even when the thread is woken late. All of this is
+//!    [`RigPlant`]: sim's actuator and sensor chains (`pendulab_sim::rig::RigChains`, built
+//!    from the rig's numbers) around the plant, stepped by sim's RK4 — the one model of the
+//!    rig's imperfections the simulator uses too;
 //! 4. reads the encoders (the book rigs' resolutions, `pendulab_plants::RigSpec`; encoder 0
 //!    counts the drive from its start position, encoder 1 the pendulum from the **hanging
 //!    rest**, as a real incremental encoder powered up with the pendulum hanging does), with
@@ -50,13 +53,10 @@
 use crate::protocol::{
     CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags, status,
 };
-use pendulab_plants::{ArmPendulum, CartPendulum, wrap_angle as wrap};
-use pendulab_sim::actuator::karnopp;
+use pendulab_plants::wrap_angle as wrap;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, Normal};
 use std::collections::VecDeque;
-use std::f64::consts::PI;
 use std::io::ErrorKind;
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
@@ -64,8 +64,11 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::RigError;
 use crate::clock::sleep_until;
+use crate::{ConfigError, RigError};
+
+mod plant;
+pub use plant::{FRICTION_VELOCITY_BAND, RigPlant};
 
 /// Which rig is emulated (the workspace's rig enum, re-exported from `pendulab-plants`).
 pub use pendulab_plants::rig::PlantKind;
@@ -157,19 +160,21 @@ impl EmulatorConfig {
     /// Checks every number.
     ///
     /// # Errors
-    /// [`RigError::Config`] naming the setting.
+    /// [`ConfigError::Invalid`] naming the setting.
     pub fn validate(&self) -> Result<(), RigError> {
         let bad = |what: &str, v: f64, req: &str| {
-            Err(RigError::Config(format!("emulator {what} = {v}: {req}")))
+            Err(ConfigError::invalid(format!("emulator {what}"), v, req).into())
         };
         if !(self.ts.is_finite() && self.ts >= 1e-5 && self.ts <= 0.1) {
             return bad("period", self.ts, "must be in [10 µs, 100 ms]");
         }
         if self.initial_state.iter().any(|v| !v.is_finite()) {
-            return Err(RigError::Config(format!(
-                "emulator initial state {:?}: must be finite",
-                self.initial_state
-            )));
+            return Err(ConfigError::invalid(
+                "emulator initial state",
+                format!("{:?}", self.initial_state),
+                "must be finite",
+            )
+            .into());
         }
         if !(self.voltage_limit.is_finite() && self.voltage_limit > 0.0) {
             return bad("voltage limit", self.voltage_limit, "must be > 0");
@@ -207,7 +212,7 @@ impl EmulatorConfig {
             }
             // Representable (it is, within the bound; checked rather than assumed).
             Duration::try_from_secs_f64(d)
-                .map_err(|e| RigError::Config(format!("emulator duration = {d}: {e}")))?;
+                .map_err(|e| ConfigError::invalid("emulator duration", d, e))?;
         }
         Ok(())
     }
@@ -373,7 +378,7 @@ impl Emulator {
         if let Some(t) = self.thread.take() {
             match t.join() {
                 Ok(r) => r?,
-                Err(_) => return Err(RigError::Internal("the emulator thread panicked".into())),
+                Err(_) => return Err(RigError::ThreadPanicked("emulator")),
             }
         }
         Ok(self.handle().telemetry())
@@ -395,7 +400,7 @@ impl Emulator {
         if let Some(t) = self.thread.take() {
             match t.join() {
                 Ok(r) => r?,
-                Err(_) => return Err(RigError::Internal("the emulator thread panicked".into())),
+                Err(_) => return Err(RigError::ThreadPanicked("emulator")),
             }
         }
         Ok(self.handle().telemetry())
@@ -411,55 +416,16 @@ impl Drop for Emulator {
     }
 }
 
-/// The right-hand side of the emulated plant.
-enum Plant {
-    Cart(CartPendulum),
-    Arm(ArmPendulum),
-}
-
-impl Plant {
-    #[inline]
-    fn f(&self, x: &[f64; 4], v: f64) -> [f64; 4] {
-        match self {
-            Plant::Cart(p) => p.derivative_array(x, v),
-            Plant::Arm(p) => p.derivative_array(x, v),
-        }
-    }
-}
-
-/// One classical RK4 step (Kutta 1901) of `ẋ = f(x, v)` with `v` held.
-fn rk4(plant: &Plant, x: &mut [f64; 4], v: impl Fn(&[f64; 4]) -> f64, h: f64) {
-    let add = |a: &[f64; 4], k: &[f64; 4], s: f64| std::array::from_fn(|i| a[i] + s * k[i]);
-    let k1 = plant.f(x, v(x));
-    let x2 = add(x, &k1, h / 2.0);
-    let k2 = plant.f(&x2, v(&x2));
-    let x3 = add(x, &k2, h / 2.0);
-    let k3 = plant.f(&x3, v(&x3));
-    let x4 = add(x, &k3, h);
-    let k4 = plant.f(&x4, v(&x4));
-    for i in 0..4 {
-        x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    }
-}
-
 fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<(), RigError> {
     let realtime = cfg
         .realtime_priority
         .is_some_and(|p| crate::clock::try_realtime(p).is_ok());
-    let spec = cfg.plant.spec();
-    let plant = match cfg.plant {
-        PlantKind::Cart => Plant::Cart(CartPendulum::book()),
-        PlantKind::Arm => Plant::Arm(ArmPendulum::book()),
-    };
+    // The plant between the D/A converter and the encoders: sim's chains and integrator.
+    let mut rig = RigPlant::new(&cfg)?;
     let ts = cfg.ts;
     let period = Duration::from_secs_f64(ts);
-    let dac_step = spec.dac.step();
-    let steps = [spec.encoders[0].step, spec.encoders[1].step];
+    // Packet loss; the encoder noise has its own generator (in the sensor chain).
     let mut rng = ChaCha8Rng::seed_from_u64(cfg.seed);
-    let noise = Normal::new(0.0, cfg.encoder_noise_counts.max(0.0)).map_err(|e| {
-        RigError::Config(format!("encoder noise {}: {e}", cfg.encoder_noise_counts))
-    })?;
-    let mut x = cfg.initial_state;
     let hold = cfg.start == PlantStart::HeldUntilCommand;
     // The plant is held at the initial state (not integrated) while this is set.
     let mut holding = hold;
@@ -471,7 +437,7 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
     let mut last_fresh = Instant::now();
     let mut watchdog_active = false;
     let mut tel = Telemetry {
-        state: x,
+        state: cfg.initial_state,
         realtime,
         ..Default::default()
     };
@@ -553,7 +519,7 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
                             if cmd.flags & flags::STOP == 0 {
                                 tel.sessions += 1;
                                 if hold {
-                                    x = cfg.initial_state;
+                                    rig.set_state(cfg.initial_state);
                                     holding = true;
                                 }
                             }
@@ -602,19 +568,15 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
         }
 
         // 3. Amplifier and plant.
-        let mut v = match held {
+        let command = match held {
             Some(c) if c.flags & flags::ENABLE != 0 => c.volts(),
             _ => 0.0,
         };
         let mut st = 0u16;
-        if v.abs() > cfg.voltage_limit {
-            v = v.clamp(-cfg.voltage_limit, cfg.voltage_limit);
+        let (v, saturated) = rig.amplify(command);
+        if saturated {
             st |= status::SATURATED;
         }
-        if cfg.dac {
-            v = (v / dac_step).round() * dac_step;
-        }
-        let fr = cfg.friction_volts;
         if held.is_some_and(|c| c.flags & flags::ENABLE != 0) {
             st |= status::ENABLED;
         }
@@ -632,25 +594,12 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
         // While held the plant stays at the initial state; the clock and the frames go on.
         for _ in 0..n_steps {
             if !holding {
-                if fr > 0.0 {
-                    rk4(&plant, &mut x, |xs| karnopp(v, xs[2], fr, fr, 1e-4), ts);
-                } else {
-                    rk4(&plant, &mut x, |_| v, ts);
-                }
+                rig.step(v);
             }
             t += ts;
 
             // 4. Encoders and the sensor frame.
-            let mut counts = [0i32; 2];
-            let turns = f64::from(shared.pendulum_turns.load(Ordering::Relaxed));
-            let zero = [0.0, PI - 2.0 * PI * turns];
-            for j in 0..2 {
-                let mut c = (x[j] - zero[j]) / steps[j];
-                if cfg.encoder_noise_counts > 0.0 {
-                    c += noise.sample(&mut rng);
-                }
-                counts[j] = c.round().clamp(i32::MIN as f64, i32::MAX as f64) as i32;
-            }
+            let counts = rig.counts(shared.pendulum_turns.load(Ordering::Relaxed));
             seq = seq.wrapping_add(1);
             let frame = SensorFrame {
                 session,
@@ -694,6 +643,7 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
             tel.max_abs_pendulum = 0.0;
             tel.max_abs_drive = 0.0;
         }
+        let x = rig.state();
         tel.t = t;
         tel.state = x;
         tel.applied_volts = v;
@@ -711,40 +661,12 @@ fn emulate(cfg: EmulatorConfig, socket: UdpSocket, shared: &Shared) -> Result<()
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn wrap_maps_into_minus_pi_pi() {
         assert!((wrap(3.0 * PI) - PI).abs() < 1e-12);
         assert!((wrap(-0.5) + 0.5).abs() < 1e-15);
         assert!((wrap(2.0 * PI + 0.25) - 0.25).abs() < 1e-12);
-    }
-
-    #[test]
-    fn rk4_hanging_cart_pendulum_swings_at_its_closed_form_frequency() {
-        // The cart held (v = 0, at rest) and a small swing about the hanging rest: the period
-        // approaches 2π/ω with ω² = m_p g l_p / (J_p + m_p l_p²) (+ damping, negligible over one period for
-        // the book's μ_p): check the RK4 loop against the linear closed form to 1 %.
-        let p = CartPendulum::book();
-        let prm = p.params();
-        let plant = Plant::Cart(p);
-        let w2 = prm.m_p * prm.g * prm.l_p / p.inertia_about_pivot();
-        let mut x = [0.0, PI + 0.01, 0.0, 0.0];
-        let ts = 1e-3;
-        // Find the first return to maximum via the sign changes of θ̇ (half periods).
-        let mut crossings = Vec::new();
-        let mut prev = x[3];
-        for k in 0..5000 {
-            rk4(&plant, &mut x, |_| 0.0, ts);
-            if prev < 0.0 && x[3] >= 0.0 {
-                crossings.push(k as f64 * ts);
-            }
-            prev = x[3];
-        }
-        let period = crossings[1] - crossings[0];
-        let expected = 2.0 * PI / w2.sqrt();
-        assert!(
-            (period - expected).abs() / expected < 0.01,
-            "{period} vs {expected}"
-        );
     }
 }

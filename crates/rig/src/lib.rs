@@ -44,38 +44,146 @@ pub mod runtime;
 #[cfg(feature = "serial")]
 pub mod serial;
 
+pub use clock::SchedError;
 pub use emulator::{Emulator, EmulatorConfig, EmulatorHandle, PlantKind, Telemetry};
 pub use log::{Logger, Sample};
 pub use runtime::{RunConfig, RunReport, Safety, StopReason};
 
 /// What can go wrong before or around a run (stops during a run are [`StopReason`]s).
+///
+/// Each variant prints what failed once; an underlying error (the OS's, sim's) is its
+/// [`std::error::Error::source`], not repeated in the message.
 #[derive(Debug, thiserror::Error)]
 pub enum RigError {
-    /// A bad setting or controller file, naming the key.
-    #[error("{0}")]
-    Config(String),
+    /// A bad setting or controller file, naming the key ([`ConfigError`]).
+    #[error(transparent)]
+    Config(#[from] ConfigError),
     /// An operating-system error, saying what was being done.
-    #[error("{what}: {source}")]
+    #[error("{what}")]
     Io {
-        /// What was being done.
+        /// What was being done (`"binding the emulator to 127.0.0.1:5005"`).
         what: String,
         /// The OS error.
+        #[source]
         source: std::io::Error,
     },
-    /// No rig answered.
-    #[error("no rig: {0}")]
-    NoRig(String),
-    /// A thread died unexpectedly.
-    #[error("internal error: {0}")]
-    Internal(String),
+    /// `pendulab-sim` refused a number of a sensor or actuator chain built from the rig's
+    /// numbers (the emulator's chains, the runtime's velocity estimator).
+    #[error("{what}")]
+    Chain {
+        /// Which chain (`"the runtime's velocity estimator"`).
+        what: &'static str,
+        /// sim's error, naming the number.
+        #[source]
+        source: pendulab_sim::SimError,
+    },
+    /// No rig answered within the connect timeout.
+    #[error("no rig: no sensor frame from {rig} within {timeout:?}")]
+    NoAnswer {
+        /// The rig's address as configured.
+        rig: String,
+        /// How long the runtime waited (`Safety::connect_timeout`).
+        timeout: std::time::Duration,
+    },
+    /// The stop flag was raised while connecting, before the rig answered.
+    #[error("no rig: interrupted before {rig} answered")]
+    InterruptedConnecting {
+        /// The rig's address as configured.
+        rig: String,
+    },
+    /// A thread of this crate panicked.
+    #[error("internal error: the {0} thread panicked")]
+    ThreadPanicked(
+        /// Which thread (`"emulator"`, `"logger"`).
+        &'static str,
+    ),
 }
 
 impl RigError {
-    /// An [`RigError::Io`] with context.
-    pub fn io(what: impl Into<String>, source: std::io::Error) -> Self {
+    /// An [`RigError::Io`]: `what` was being done when the OS refused with `source`.
+    pub fn io(what: impl std::fmt::Display, source: std::io::Error) -> Self {
         RigError::Io {
-            what: what.into(),
+            what: what.to_string(),
             source,
+        }
+    }
+
+    /// A [`RigError::Chain`]: sim refused `what` with `source`.
+    pub fn chain(what: &'static str, source: pendulab_sim::SimError) -> Self {
+        RigError::Chain { what, source }
+    }
+}
+
+/// A bad setting: a controller file, a flag, an emulator or run setting. Every message names
+/// the key (as a controller file spells it, or the setting), its value and what it must be.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    /// A value outside its documented range.
+    #[error("{key} = {value}: {requirement}")]
+    Invalid {
+        /// The key as written (`safety.watchdog_periods`, `rate_hz`, `emulator period`).
+        key: String,
+        /// The value as read, with its unit where it has one.
+        value: String,
+        /// What it must be (`must be in [1, 500]`).
+        requirement: String,
+    },
+    /// The controller file is not TOML, or a table does not have the form of its type.
+    #[error("controller file{}: {message}", line.map(|l| format!(", line {l}")).unwrap_or_default())]
+    File {
+        /// The line of the error, if the TOML parser knows it.
+        line: Option<usize>,
+        /// The parser's or the table's complaint (for `[controller]`, with its kind).
+        message: String,
+    },
+    /// A plant name other than `cart` or `arm`.
+    #[error(transparent)]
+    Plant(#[from] pendulab_plants::rig::UnknownPlant),
+    /// The controller's `[controller]` table, refused by the factory
+    /// (`pendulab_control::spec::build`, called by the front ends).
+    #[error(transparent)]
+    Controller(#[from] pendulab_control::spec::SpecError),
+    /// The controller's dimensions do not fit the rig (`y = [q₀, q₁, q̇₀, q̇₁]`, one voltage).
+    #[error(
+        "the controller takes {ny} measurements and gives {nu} commands; the rig needs 4 and 1"
+    )]
+    ControllerShape {
+        /// Measurements the controller takes.
+        ny: usize,
+        /// Commands it gives.
+        nu: usize,
+    },
+    /// The controller was designed for another sample time than the loop's.
+    #[error("the controller was designed for ts = {controller} s, the loop runs at {run} s")]
+    SampleTime {
+        /// The controller's sample time \[s\].
+        controller: f64,
+        /// The loop period \[s\].
+        run: f64,
+    },
+    /// The serial port cannot be opened.
+    #[cfg(feature = "serial")]
+    #[error("serial port {path}")]
+    SerialPort {
+        /// The port's path.
+        path: String,
+        /// The driver's error.
+        #[source]
+        source: serialport::Error,
+    },
+}
+
+impl ConfigError {
+    /// A [`ConfigError::Invalid`] naming `key`, its `value` and the `requirement`.
+    pub fn invalid(
+        key: impl std::fmt::Display,
+        value: impl std::fmt::Display,
+        requirement: impl std::fmt::Display,
+    ) -> Self {
+        ConfigError::Invalid {
+            key: key.to_string(),
+            value: value.to_string(),
+            requirement: requirement.to_string(),
         }
     }
 }

@@ -155,7 +155,7 @@ impl Logger {
                     format!("writing the log {}", self.path.display()),
                     e,
                 )),
-                Err(_) => Err(RigError::Internal("the logger thread panicked".into())),
+                Err(_) => Err(RigError::ThreadPanicked("logger")),
             },
             None => Ok(0),
         }

@@ -22,12 +22,15 @@ impl SerialLink {
     /// Opens `path` (e.g. `/dev/ttyACM0`) at `baud` with a 1 ms read timeout.
     ///
     /// # Errors
-    /// [`RigError::Config`] naming the port if it cannot be opened.
+    /// [`crate::ConfigError::SerialPort`] naming the port if it cannot be opened.
     pub fn open(path: &str, baud: u32) -> Result<Self, RigError> {
         let port = serialport::new(path, baud)
             .timeout(Duration::from_millis(1))
             .open()
-            .map_err(|e| RigError::Config(format!("serial port {path}: {e}")))?;
+            .map_err(|source| crate::ConfigError::SerialPort {
+                path: path.to_string(),
+                source,
+            })?;
         Ok(Self {
             port,
             decoder: StreamDecoder::new(),

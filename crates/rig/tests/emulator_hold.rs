@@ -9,15 +9,14 @@
 //! are the scenario (a controller started a while after the emulator), not measurements.
 
 mod common;
-use common::load;
+use common::{TOLERANT_WATCHDOG, emulator, load, run_config, run_with_log, tmp, wrap};
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, EmulatorHandle, PlantKind, PlantStart};
 use pendulab_rig::protocol::{CommandFrame, SensorFrame, flags};
-use pendulab_rig::runtime::{RunConfig, RunReport, run};
-use pendulab_rig::{Logger, StopReason, Telemetry};
+use pendulab_rig::runtime::RunReport;
+use pendulab_rig::{StopReason, Telemetry};
 use std::f64::consts::PI;
 use std::net::{SocketAddr, UdpSocket};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// The controller file of the README's rig tour.
@@ -30,17 +29,6 @@ const COUNT: f64 = 2.0 * PI / 14_400.0;
 /// hanging rest, `14400 · (deg/360 − 1/2)` (−6800 at 10°).
 fn held_counts(deg: f64) -> i32 {
     (14_400.0 * (deg / 360.0 - 0.5)).round() as i32
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulab-rig-hold-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn wrap(a: f64) -> f64 {
-    // Independent of the crate's wrapping: atan2 of sine and cosine.
-    a.sin().atan2(a.cos())
 }
 
 /// The first row's `theta` of a log.
@@ -77,27 +65,15 @@ fn wait_for(h: &EmulatorHandle, what: &str, pred: impl Fn(&Telemetry) -> bool) -
 /// than the file's 20 ms; the watchdog is not under test here).
 fn run_lqr(addr: SocketAddr, duration: f64, log: &Path) -> RunReport {
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, addr);
+    let mut cfg = run_config(&l, addr, TOLERANT_WATCHDOG);
     cfg.duration = Some(duration);
-    cfg.safety = l.safety;
-    cfg.safety.watchdog_periods = 500;
-    let logger = Logger::create(log, PlantKind::Cart).unwrap();
-    let r = run(
-        &cfg,
-        l.controller.as_mut(),
-        &AtomicBool::new(false),
-        Some(logger),
-    )
-    .unwrap();
-    println!("{r}");
-    r
+    run_with_log(&cfg, l.controller.as_mut(), Some(log))
 }
 
 /// The book cart at `deg` from upright, its watchdog relaxed to 0.5 s where not under test.
 fn cart_at(deg: f64, start: PlantStart) -> EmulatorConfig {
-    let mut c = EmulatorConfig::new(PlantKind::Cart, [0.0, deg.to_radians(), 0.0, 0.0]);
+    let mut c = emulator(PlantKind::Cart, [0.0, deg.to_radians(), 0.0, 0.0]);
     c.start = start;
-    c.watchdog = Duration::from_millis(500);
     c
 }
 

@@ -6,69 +6,24 @@
 //! loaded 2-core machine.
 
 mod common;
-use common::load;
+use common::{
+    CART_LQR, TOLERANT_WATCHDOG, col, emulator, load, read_log, run_config, run_with_log, tmp, wrap,
+};
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::protocol::{COMMAND_LEN, CommandFrame, SENSOR_LEN, SensorFrame, flags};
-use pendulab_rig::runtime::{RunConfig, run};
-use pendulab_rig::{Logger, StopReason, Telemetry};
+use pendulab_rig::{StopReason, Telemetry};
 use std::f64::consts::PI;
 use std::net::UdpSocket;
-use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
-
-const CART_LQR: &str = "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 }\n";
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulab-rig-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn wrap(a: f64) -> f64 {
-    (a + PI).rem_euclid(2.0 * PI) - PI
-}
-
-/// Reads a log: header and rows of numbers.
-fn read_log(path: &PathBuf) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
-    (header, rows)
-}
-
-/// The rig defaults stop after 50 ms without a sensor frame; a 2-core machine shared with
-/// builds can deschedule the emulator's thread for longer than that (up to 0.1 s was seen,
-/// `docs/rig/lab-pc.md`), which would end a behavioural test for a reason it does not test.
-/// Tests that do not test the watchdog allow 0.5 s.
-fn tolerant(cfg: &mut RunConfig) {
-    cfg.safety.watchdog_periods = 500;
-}
-
-/// The emulator's watchdog, likewise relaxed where it is not under test.
-fn emulator(plant: PlantKind, x0: [f64; 4]) -> EmulatorConfig {
-    let mut c = EmulatorConfig::new(plant, x0);
-    c.watchdog = Duration::from_millis(500);
-    c
-}
-
-fn col(header: &[String], name: &str) -> usize {
-    header.iter().position(|h| h == name).unwrap()
-}
 
 /// Runs the controller file `toml` against `emu` for `duration` s (tolerant watchdog, no log),
 /// stops the emulator and checks that the run completed without a safety stop.
 fn run_to_completion(emu: Emulator, plant: PlantKind, toml: &str, duration: f64) -> Telemetry {
     let mut l = load(toml).unwrap();
-    let mut cfg = RunConfig::new(plant, emu.addr());
+    assert_eq!(l.plant, plant);
+    let mut cfg = run_config(&l, emu.addr(), TOLERANT_WATCHDOG);
     cfg.duration = Some(duration);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
-    println!("{r}");
+    let r = run_with_log(&cfg, l.controller.as_mut(), None);
     let tel = emu.stop().unwrap();
     assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
     tel
@@ -82,20 +37,10 @@ fn cart_lqr_balances_the_emulated_rig_for_10_s_from_10_degrees() {
     ))
     .unwrap();
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    let mut cfg = run_config(&l, emu.addr(), TOLERANT_WATCHDOG);
     cfg.duration = Some(10.0);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
     let path = tmp("cart_lqr.csv");
-    let log = Logger::create(&path, PlantKind::Cart).unwrap();
-    let r = run(
-        &cfg,
-        l.controller.as_mut(),
-        &AtomicBool::new(false),
-        Some(log),
-    )
-    .unwrap();
-    println!("{r}");
+    let r = run_with_log(&cfg, l.controller.as_mut(), Some(&path));
     let tel = emu.stop().unwrap();
     // Behaviour: the run completed (no safety stop, i.e. |θ| stayed inside the 30° window and
     // |z| inside 0.4 m for all 10 000 periods) and the true pendulum ends upright and still.
@@ -177,14 +122,11 @@ fn five_percent_packet_loss_is_survived_with_a_bounded_error() {
     let emu = Emulator::spawn(ec).unwrap();
     let h = emu.handle();
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    let mut cfg = run_config(&l, emu.addr(), TOLERANT_WATCHDOG);
     cfg.duration = Some(5.0);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
     std::thread::sleep(Duration::from_millis(1));
     h.reset_extrema();
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
-    println!("{r}");
+    let r = run_with_log(&cfg, l.controller.as_mut(), None);
     let tel = emu.stop().unwrap();
     assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
     // Loss really happened in both directions (5 % of ~5000 frames each way: the seeded draw
@@ -210,25 +152,15 @@ fn a_stalled_emulator_trips_the_watchdog_and_the_command_goes_to_zero() {
     .unwrap();
     let h = emu.handle();
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    let mut cfg = run_config(&l, emu.addr(), 25);
     cfg.duration = Some(10.0);
-    cfg.safety = l.safety;
-    cfg.safety.watchdog_periods = 25;
     let path = tmp("stall.csv");
-    let log = Logger::create(&path, PlantKind::Cart).unwrap();
     let staller = std::thread::spawn(move || {
         std::thread::sleep(Duration::from_millis(500));
         h.stall(Duration::from_millis(1500));
         h
     });
-    let r = run(
-        &cfg,
-        l.controller.as_mut(),
-        &AtomicBool::new(false),
-        Some(log),
-    )
-    .unwrap();
-    println!("{r}");
+    let r = run_with_log(&cfg, l.controller.as_mut(), Some(&path));
     let h = staller.join().unwrap();
     assert_eq!(r.reason, StopReason::Watchdog, "{}", r.detail);
     // The last rows: the final row commands 0 V, and it comes in the period exactly
@@ -398,19 +330,9 @@ fn the_runtime_rejects_and_counts_bad_sensor_frames_and_never_acts_on_them() {
         // Then silence: the runtime's watchdog ends the run.
     });
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, addr);
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
+    let cfg = run_config(&l, addr, TOLERANT_WATCHDOG);
     let path = tmp("bad_sensor.csv");
-    let log = Logger::create(&path, PlantKind::Cart).unwrap();
-    let r = run(
-        &cfg,
-        l.controller.as_mut(),
-        &AtomicBool::new(false),
-        Some(log),
-    )
-    .unwrap();
-    println!("{r}");
+    let r = run_with_log(&cfg, l.controller.as_mut(), Some(&path));
     fake.join().unwrap();
     assert_eq!(r.reason, StopReason::Watchdog, "{}", r.detail);
     let rj = r.stats.rejects;
@@ -484,18 +406,9 @@ fn a_safety_stop_logs_the_frames_of_its_period_then_the_stop_row() {
     ))
     .unwrap();
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
-    cfg.safety = l.safety;
-    tolerant(&mut cfg);
+    let cfg = run_config(&l, emu.addr(), TOLERANT_WATCHDOG);
     let path = tmp("window.csv");
-    let log = Logger::create(&path, PlantKind::Cart).unwrap();
-    let r = run(
-        &cfg,
-        l.controller.as_mut(),
-        &AtomicBool::new(false),
-        Some(log),
-    )
-    .unwrap();
+    let r = run_with_log(&cfg, l.controller.as_mut(), Some(&path));
     emu.stop().unwrap();
     assert_eq!(r.reason, StopReason::AngleWindow, "{}", r.detail);
     assert_eq!(r.samples, 1);

@@ -8,54 +8,23 @@
 //! run is short (≤ 2.5 s).
 
 mod common;
-use common::load;
+use common::{
+    CART_LQR, Log, TOLERANT_WATCHDOG, col, load, read_log, run_config, run_with_log, tmp, wrap,
+};
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use pendulab_rig::protocol::{CommandFrame, SensorFrame, flags, status};
-use pendulab_rig::runtime::{RunConfig, RunReport, run};
-use pendulab_rig::{Logger, RigError, StopReason};
+use pendulab_rig::runtime::RunReport;
+use pendulab_rig::{RigError, StopReason};
 use pendulab_sim::Controller;
 use std::f64::consts::PI;
 use std::net::{SocketAddr, UdpSocket};
-use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-const CART_LQR: &str = "plant = \"cart\"\n[controller]\nkind = \"state-feedback\"\nlqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 }\n";
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pendulab-rig-safety-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn wrap(a: f64) -> f64 {
-    // Independent of the crate's wrapping: atan2 of sine and cosine.
-    a.sin().atan2(a.cos())
-}
-
-/// A log: header and rows.
-type Log = (Vec<String>, Vec<Vec<f64>>);
-
-fn read_log(path: &PathBuf) -> Log {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
-    (header, rows)
-}
-
-fn col(header: &[String], name: &str) -> usize {
-    header.iter().position(|h| h == name).unwrap()
-}
-
 /// The emulated cart rig with its watchdog relaxed to 0.5 s (not under test here).
 fn emulator(x0: [f64; 4]) -> Emulator {
-    let mut c = EmulatorConfig::new(PlantKind::Cart, x0);
-    c.watchdog = Duration::from_millis(500);
-    Emulator::spawn(c).unwrap()
+    Emulator::spawn(common::emulator(PlantKind::Cart, x0)).unwrap()
 }
 
 /// A controller that counts its updates and records the largest |θ| it was given.
@@ -98,21 +67,17 @@ fn balance(
     let emu = emulator(x0);
     let h = emu.handle();
     let l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    let mut cfg = run_config(&l, emu.addr(), TOLERANT_WATCHDOG);
     cfg.duration = Some(duration);
-    cfg.safety = l.safety;
-    cfg.safety.watchdog_periods = 500;
     let path = tmp(log);
-    let logger = Logger::create(&path, PlantKind::Cart).unwrap();
     let calls = Arc::new(Mutex::new((0, 0.0)));
     let mut c = Counting {
         inner: l.controller,
         calls: Arc::clone(&calls),
     };
     let side = std::thread::spawn(move || during(h));
-    let r = run(&cfg, &mut c, &AtomicBool::new(false), Some(logger)).unwrap();
+    let r = run_with_log(&cfg, &mut c, Some(&path));
     side.join().unwrap();
-    println!("{r}");
     let tel = emu.stop().unwrap();
     let counted = *calls.lock().unwrap();
     (r, tel.state, tel.max_abs_pendulum, read_log(&path), counted)
@@ -203,10 +168,8 @@ fn a_short_rig_stall_is_bridged_by_holding_the_last_command() {
     let emu = emulator([0.0, 2f64.to_radians(), 0.0, 0.0]);
     let h = emu.handle();
     let l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    let mut cfg = run_config(&l, emu.addr(), TOLERANT_WATCHDOG);
     cfg.duration = Some(1.5);
-    cfg.safety = l.safety;
-    cfg.safety.watchdog_periods = 500;
     cfg.safety.stale_hold_periods = 100;
     let calls = Arc::new(Mutex::new((0, 0.0)));
     let mut c = Counting {
@@ -217,9 +180,8 @@ fn a_short_rig_stall_is_bridged_by_holding_the_last_command() {
         std::thread::sleep(Duration::from_millis(500));
         h.stall(Duration::from_millis(8));
     });
-    let r = run(&cfg, &mut c, &AtomicBool::new(false), None).unwrap();
+    let r = run_with_log(&cfg, &mut c, None);
     side.join().unwrap();
-    println!("{r}");
     let tel = emu.stop().unwrap();
     let s = r.stats;
     assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
@@ -300,11 +262,9 @@ fn a_stall_longer_than_the_watchdog_holds_then_sends_0_v_then_stops() {
     let frames = (1..=150).map(|s| frame(s, [0, -7200 + 80])).collect();
     let (addr, rig) = fake_rig(frames, Duration::from_millis(400));
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, addr);
-    cfg.safety = l.safety;
+    let cfg = run_config(&l, addr, l.safety.watchdog_periods);
     let (hold, watchdog) = (cfg.safety.stale_hold_periods, cfg.safety.watchdog_periods);
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
-    println!("{r}");
+    let r = run_with_log(&cfg, l.controller.as_mut(), None);
     let cmds = rig.join().unwrap();
     assert_eq!(r.reason, StopReason::Watchdog, "{}", r.detail);
     let s = r.stats;
@@ -345,19 +305,10 @@ fn a_stall_longer_than_the_watchdog_holds_then_sends_0_v_then_stops() {
 fn log_rows_before_the_rig_is_enabled_carry_0_v() {
     let emu = emulator([0.0, 1f64.to_radians(), 0.0, 0.0]);
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, emu.addr());
+    let mut cfg = run_config(&l, emu.addr(), TOLERANT_WATCHDOG);
     cfg.duration = Some(0.3);
-    cfg.safety = l.safety;
-    cfg.safety.watchdog_periods = 500;
     let path = tmp("enable.csv");
-    let log = Logger::create(&path, PlantKind::Cart).unwrap();
-    let r = run(
-        &cfg,
-        l.controller.as_mut(),
-        &AtomicBool::new(false),
-        Some(log),
-    )
-    .unwrap();
+    let r = run_with_log(&cfg, l.controller.as_mut(), Some(&path));
     emu.stop().unwrap();
     assert_eq!(r.reason, StopReason::Completed, "{}", r.detail);
     let (hd, rows) = read_log(&path);
@@ -382,19 +333,9 @@ fn one_wild_sequence_number_does_not_reject_the_good_frames_after_it() {
     );
     let (addr, rig) = fake_rig(frames, Duration::ZERO);
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, addr);
-    cfg.safety = l.safety;
-    cfg.safety.watchdog_periods = 100;
+    let cfg = run_config(&l, addr, 100);
     let path = tmp("wild.csv");
-    let log = Logger::create(&path, PlantKind::Cart).unwrap();
-    let r = run(
-        &cfg,
-        l.controller.as_mut(),
-        &AtomicBool::new(false),
-        Some(log),
-    )
-    .unwrap();
-    println!("{r}");
+    let r = run_with_log(&cfg, l.controller.as_mut(), Some(&path));
     rig.join().unwrap();
     assert_eq!(r.reason, StopReason::Watchdog, "{}", r.detail);
     assert_eq!(r.stats.rejects.jump, 1);
@@ -414,10 +355,8 @@ fn rig_time_going_backwards_is_counted_and_warned_about() {
     frames[39].time_us = frames[38].time_us - 5000;
     let (addr, rig) = fake_rig(frames, Duration::ZERO);
     let mut l = load(CART_LQR).unwrap();
-    let mut cfg = RunConfig::new(PlantKind::Cart, addr);
-    cfg.safety = l.safety;
-    cfg.safety.watchdog_periods = 100;
-    let r = run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None).unwrap();
+    let cfg = run_config(&l, addr, 100);
+    let r = run_with_log(&cfg, l.controller.as_mut(), None);
     rig.join().unwrap();
     // Backwards once (frame 40 after 39); frame 41 is later than 40 again.
     assert_eq!(r.stats.rig_time_backwards, 1);
@@ -434,7 +373,7 @@ fn emulator_durations_are_validated_and_honoured() {
         let mut c = EmulatorConfig::new(PlantKind::Cart, [0.0, PI, 0.0, 0.0]);
         c.duration = Some(bad);
         match Emulator::spawn(c) {
-            Err(RigError::Config(m)) => assert!(m.contains("duration"), "{m}"),
+            Err(RigError::Config(m)) => assert!(m.to_string().contains("duration"), "{m}"),
             Err(e) => panic!("{bad}: {e}"),
             Ok(_) => panic!("{bad} accepted"),
         }

@@ -15,7 +15,7 @@ use std::time::Duration;
 
 fn message(s: &Safety, plant: PlantKind) -> String {
     match s.validate(plant) {
-        Err(RigError::Config(m)) => m,
+        Err(RigError::Config(m)) => m.to_string(),
         other => panic!("{s:?} on the {plant:?} rig: expected a config error, got {other:?}"),
     }
 }
@@ -229,7 +229,7 @@ fn the_time_bounds_scale_with_the_loop_period() {
     })
     .validate_at(plant, 1e-4)
     {
-        Err(RigError::Config(m)) => m,
+        Err(RigError::Config(m)) => m.to_string(),
         other => panic!("{other:?}"),
     };
     assert!(m.contains("[1, 5000]"), "{m}");
@@ -243,13 +243,15 @@ fn run_refuses_unbounded_limits_before_touching_the_network() {
     cfg.safety = l.safety;
     cfg.safety.watchdog_periods = u32::MAX;
     match run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None) {
-        Err(RigError::Config(m)) => assert!(m.contains("safety.watchdog_periods"), "{m}"),
+        Err(RigError::Config(m)) => {
+            assert!(m.to_string().contains("safety.watchdog_periods"), "{m}")
+        }
         other => panic!("{other:?}"),
     }
     cfg.safety = l.safety;
     cfg.pendulum_centre = f64::NAN;
     match run(&cfg, l.controller.as_mut(), &AtomicBool::new(false), None) {
-        Err(RigError::Config(m)) => assert!(m.contains("pendulum centre"), "{m}"),
+        Err(RigError::Config(m)) => assert!(m.to_string().contains("pendulum centre"), "{m}"),
         other => panic!("{other:?}"),
     }
 }
