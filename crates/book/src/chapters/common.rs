@@ -183,10 +183,20 @@ pub(crate) fn arm_servo_model(id: &str, a1: f64, b1: f64) -> Result<(Mat, Mat), 
     })
     .ctx(id)?;
     let lin = plant.linearize(ArmEquilibrium::upright(0.0)).ctx(id)?;
+    arm_servo_augmentation(id, lin.a(), lin.b())
+}
+
+/// An arm pendulum model `(A, B)` (`4 × 4`, `4 × 1`; e.g. a frozen LPV model) augmented with
+/// the servo integrator `w = ∫(r − θ₁)` by the toolkit's
+/// [`integral_augmentation`](pendulab_lti::design::integral_augmentation):
+/// `Ã = [[A, 0], [−C, 0]]`, `B̃ = [B; 0]`, `C = [1, 0, 0, 0]`.
+///
+/// # Errors
+/// The model's construction errors (wrong shapes, non-finite entries).
+pub(crate) fn arm_servo_augmentation(id: &str, a: &Mat, b: &Mat) -> Result<(Mat, Mat), BookError> {
     let c = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
     let sys =
-        StateSpace::<Continuous>::continuous(lin.a().clone(), lin.b().clone(), c, Mat::zeros(1, 1))
-            .ctx(id)?;
+        StateSpace::<Continuous>::continuous(a.clone(), b.clone(), c, Mat::zeros(1, 1)).ctx(id)?;
     pendulab_lti::design::integral_augmentation(&sys).ctx(id)
 }
 

@@ -3,8 +3,8 @@
 
 use super::*;
 
-/// `([[A, 0], [0, 0]], [B; 0])`: the plant padded with the integrator state (its `−C` row is
-/// set by the caller where the matrix is the constant term).
+/// `([[A, 0], [0, 0]], [B; 0])`: the ρ-coefficient of the LPV model padded with the integrator
+/// state (the servo's `−C` row belongs to the constant term, [`arm_servo_augmentation`]).
 pub(super) fn augment(a: &Mat, b: &Mat) -> (Mat, Mat) {
     let mut at = Mat::zeros(5, 5);
     at.view_mut((0, 0), (4, 4)).copy_from(a);
@@ -33,8 +33,7 @@ pub(super) fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let lpv = ArmPendulum::book().lpv();
     let frozen = |th: f64| -> Result<f64, BookError> {
         let rho = 1.0 - th.to_radians().cos();
-        let (mut a, b) = augment(&lpv.a(rho), &lpv.b(rho));
-        a[(4, 0)] = -1.0;
+        let (a, b) = arm_servo_augmentation(id, &lpv.a(rho), &lpv.b(rho))?;
         Ok(max_re(&eigenvalues(&(&a - &b * &lq.gain)).ctx(id)?))
     };
     let grid: Vec<f64> = (0..=65).map(f64::from).collect();
@@ -164,8 +163,7 @@ pub(super) fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p2c15_ex7_adip_oc_gs_servo";
     let plant = ArmPendulum::book();
     let lpv = plant.lpv();
-    let (mut a0, b0) = augment(&lpv.a0, &lpv.b0);
-    a0[(4, 0)] = -1.0;
+    let (a0, b0) = arm_servo_augmentation(id, &lpv.a0, &lpv.b0)?;
     let (a1, b1) = augment(&lpv.a1, &lpv.b1);
     let rho_bar = 1.0 - 65f64.to_radians().cos();
     let (q, r) = servo_weights();
