@@ -179,8 +179,13 @@ impl RigPlant {
             Some(q) => self.y = [q[0].apply(x[0]), q[1].apply(x[1])],
             None => self.chains.sensor.measure(&x, &mut self.y),
         }
+        // A reading is `k·step`, so `y/step` is within a few ulps of the integer `k`: adding
+        // ½ away from zero and truncating (`as`) gives `k` without a second rounding call.
         // `as` saturates at the ends of i32 (and maps NaN to 0).
-        [0, 1].map(|j| (self.y[j] * self.inv_steps[j]).round() as i32)
+        [0, 1].map(|j| {
+            let k = self.y[j] * self.inv_steps[j];
+            (k + 0.5f64.copysign(k)) as i32
+        })
     }
 }
 
