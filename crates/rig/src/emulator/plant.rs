@@ -62,6 +62,9 @@ pub struct RigPlant {
     /// `1/step` of each encoder: a reading `k·step` back to its count `k` (exact: the
     /// product is within an ulp of the integer `k`, far below the rounding's ½).
     inv_steps: [f64; 2],
+    /// The encoders' zeros (`EncoderSpec::zero_offset`: the coordinate at count 0; the
+    /// pendulum's is the hanging rest π on the book rigs).
+    zeros: [f64; 2],
     ts: f64,
     x: [f64; 4],
     y: [f64; 2],
@@ -129,6 +132,7 @@ impl RigPlant {
             chains,
             exact,
             inv_steps: steps.map(|s| 1.0 / s),
+            zeros: spec.encoders.map(|e| e.zero_offset),
             ts: cfg.ts,
             x: cfg.initial_state,
             y: [0.0; 2],
@@ -167,14 +171,20 @@ impl RigPlant {
         }
     }
 
-    /// The encoders' counts of the current state: encoder 0 counts the drive from its zero,
-    /// encoder 1 the pendulum from the hanging rest (`θ − π`), shifted by `turns` whole turns
+    /// The encoders' counts of the current state, each from its `EncoderSpec::zero_offset`:
+    /// encoder 0 counts the drive from its zero, encoder 1 the pendulum from the hanging rest
+    /// (`θ − π` on the book rigs), shifted by `turns` whole turns
     /// (`EmulatorHandle::shift_pendulum_encoder`); noise (if any) is added before the
     /// encoder's rounding. Counts beyond `i32` saturate.
     #[inline(always)]
     pub fn counts(&mut self, turns: i32) -> [i32; 2] {
-        let zero = PI - 2.0 * PI * f64::from(turns);
-        let x = [self.x[0], self.x[1] - zero, self.x[2], self.x[3]];
+        let zero = self.zeros[1] - 2.0 * PI * f64::from(turns);
+        let x = [
+            self.x[0] - self.zeros[0],
+            self.x[1] - zero,
+            self.x[2],
+            self.x[3],
+        ];
         match &self.exact {
             Some(q) => self.y = [q[0].apply(x[0]), q[1].apply(x[1])],
             None => self.chains.sensor.measure(&x, &mut self.y),

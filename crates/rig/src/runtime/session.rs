@@ -9,7 +9,6 @@ use crate::log::{Logger, Sample};
 use crate::protocol::{RejectCounts, SensorFrame, SequenceGate, flags};
 use pendulab_plants::{wrap_about, wrap_angle};
 use pendulab_sim::{Controller, SensorChain};
-use std::f64::consts::PI;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -51,6 +50,8 @@ pub(super) struct Session<'a> {
     sensor: SensorChain,
     /// Encoder steps \[m or rad per count\].
     steps: [f64; 2],
+    /// Encoder zeros (`EncoderSpec::zero_offset`) \[m or rad\]: the coordinate at count 0.
+    zeros: [f64; 2],
     /// Send times and voltages of recent commands, by sequence number modulo [`RING`]. The
     /// connect phase's disabled commands are in it too: frames echoing them log the 0 V the
     /// rig applied.
@@ -117,7 +118,8 @@ impl<'a> Session<'a> {
         stop: &AtomicBool,
     ) -> Result<Self, RigError> {
         let spec = config.plant.spec();
-        let steps = [spec.encoders[0].step, spec.encoders[1].step];
+        let steps = spec.encoders.map(|e| e.step);
+        let zeros = spec.encoders.map(|e| e.zero_offset);
         let mut link = Link {
             transport: open_transport(config)?,
             session: new_session(),
@@ -166,6 +168,7 @@ impl<'a> Session<'a> {
             log,
             sensor,
             steps,
+            zeros,
             sent_at,
             frames,
             frame,
@@ -310,9 +313,9 @@ impl<'a> Session<'a> {
     /// periods on linearly interpolated positions, so its filter keeps real time), and the
     /// pendulum angle wrapped about the controller's equilibrium into `y`.
     fn estimate(&mut self) {
-        let (frame, steps) = (self.frame, self.steps);
-        let raw = frame.counts[1] as f64 * steps[1] + PI;
-        self.x_meas[0] = frame.counts[0] as f64 * steps[0];
+        let frame = self.frame;
+        let [raw0, raw] = self.raw_positions(&frame);
+        self.x_meas[0] = raw0;
         self.x_meas[1] = if self.measured {
             self.x_meas[1] + wrap_angle(raw - self.raw_prev)
         } else {
@@ -495,12 +498,13 @@ impl<'a> Session<'a> {
         alive
     }
 
-    /// A frame's positions as the log keeps them: `q₀` and the raw pendulum angle from the
-    /// hanging-rest count (`c₁ s₁ + π`, not wrapped).
+    /// A frame's positions as the log keeps them: `c s + zero_offset` of each encoder, so
+    /// `q₀` and the raw pendulum angle (`c₁ s₁ + π` on the book rigs, counted from the
+    /// hanging rest; not wrapped).
     fn raw_positions(&self, f: &SensorFrame) -> [f64; 2] {
         [
-            f.counts[0] as f64 * self.steps[0],
-            f.counts[1] as f64 * self.steps[1] + PI,
+            f.counts[0] as f64 * self.steps[0] + self.zeros[0],
+            f.counts[1] as f64 * self.steps[1] + self.zeros[1],
         ]
     }
 
