@@ -38,6 +38,33 @@ pub enum OneD {
 static ASARRAY: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 static FLOAT64: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 
+/// `numpy.asarray(obj, dtype=numpy.<dtype_name>)` (the dtype object cached in `dtype`).
+///
+/// # Errors
+/// `InvalidArgumentError` "`what` cannot be read as `as_what`: <NumPy's message>".
+fn asarray<'py>(
+    obj: &Bound<'py, PyAny>,
+    dtype: &PyOnceLock<Py<PyAny>>,
+    dtype_name: &str,
+    what: &str,
+    as_what: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let py = obj.py();
+    let asarray = ASARRAY.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
+        Ok(py.import("numpy")?.getattr("asarray")?.unbind())
+    })?;
+    let dtype = dtype.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
+        Ok(py.import("numpy")?.getattr(dtype_name)?.unbind())
+    })?;
+    asarray.bind(py).call1((obj, dtype.bind(py))).map_err(|e| {
+        new_err(
+            Kind::InvalidArgument,
+            format!("{what} cannot be read as {as_what}: {}", e.value(py)),
+            None,
+        )
+    })
+}
+
 /// `obj` as a `float64` NumPy array: itself if it already is one, else
 /// `numpy.asarray(obj, dtype=float64)`.
 ///
@@ -50,7 +77,6 @@ pub fn float_array<'py>(
     if let Ok(a) = obj.cast::<PyArrayDyn<f64>>() {
         return Ok(a.clone());
     }
-    let py = obj.py();
     if let Ok(a) = obj.cast::<PyUntypedArray>() {
         let kind = a.dtype().kind();
         if kind == b'c' {
@@ -64,22 +90,7 @@ pub fn float_array<'py>(
             ));
         }
     }
-    let asarray = ASARRAY.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
-        Ok(py.import("numpy")?.getattr("asarray")?.unbind())
-    })?;
-    let float64 = FLOAT64.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
-        Ok(py.import("numpy")?.getattr("float64")?.unbind())
-    })?;
-    let converted = asarray
-        .bind(py)
-        .call1((obj, float64.bind(py)))
-        .map_err(|e| {
-            new_err(
-                Kind::InvalidArgument,
-                format!("{what} cannot be read as a real array: {}", e.value(py)),
-                None,
-            )
-        })?;
+    let converted = asarray(obj, &FLOAT64, "float64", what, "a real array")?;
     converted.cast_into::<PyArrayDyn<f64>>().map_err(|e| {
         new_err(
             Kind::InvalidArgument,
@@ -264,23 +275,7 @@ static COMPLEX128: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
 /// `InvalidArgumentError` if NumPy cannot read `obj` as complex numbers; messages start with
 /// `what`.
 pub fn complex_vector(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Complex64>> {
-    let py = obj.py();
-    let asarray = ASARRAY.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
-        Ok(py.import("numpy")?.getattr("asarray")?.unbind())
-    })?;
-    let complex128 = COMPLEX128.get_or_try_init(py, || -> PyResult<Py<PyAny>> {
-        Ok(py.import("numpy")?.getattr("complex128")?.unbind())
-    })?;
-    let converted = asarray
-        .bind(py)
-        .call1((obj, complex128.bind(py)))
-        .map_err(|e| {
-            new_err(
-                Kind::InvalidArgument,
-                format!("{what} cannot be read as complex numbers: {}", e.value(py)),
-                None,
-            )
-        })?;
+    let converted = asarray(obj, &COMPLEX128, "complex128", what, "complex numbers")?;
     let array = converted
         .cast_into::<PyArrayDyn<Complex64>>()
         .map_err(|e| new_err(Kind::InvalidArgument, format!("{what}: {e}"), None))?;

@@ -121,6 +121,34 @@ fn riccati_data(
     Ok((a, b, q, r, s))
 }
 
+/// The signature shared by pendulab-lti's `care` and `dare`.
+type RiccatiSolver = fn(
+    &Mat,
+    &Mat,
+    &Mat,
+    &Mat,
+    Option<&Mat>,
+    &RiccatiOptions,
+) -> pendulab_lti::Result<RiccatiSolution>;
+
+/// Reads the data, runs `solver` without the GIL and wraps its solution.
+fn solve_riccati(
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    q: &Bound<'_, PyAny>,
+    r: Option<&Bound<'_, PyAny>>,
+    s: Option<&Bound<'_, PyAny>>,
+    e: Option<&Bound<'_, PyAny>>,
+    solver: RiccatiSolver,
+) -> PyResult<RiccatiResult> {
+    let py = a.py();
+    let (a, b, q, r, s) = riccati_data(a, b, q, r, s, e)?;
+    let sol = py
+        .detach(|| solver(&a, &b, &q, &r, s.as_ref(), &RiccatiOptions::default()))
+        .map_err(lti)?;
+    RiccatiResult::from_solution(py, &sol)
+}
+
 /// `care(A, B, Q, R=None, S=None, E=None)`: the stabilising solution of the continuous
 /// algebraic Riccati equation `AᵀX + XA − (XB + S)R⁻¹(BᵀX + Sᵀ) + Q = 0` (R = I when
 /// omitted), with `G = R⁻¹(BᵀX + Sᵀ)` and the eigenvalues `L` of `A − BG`.
@@ -140,14 +168,7 @@ pub fn care(
     S: Option<&Bound<'_, PyAny>>,
     E: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<RiccatiResult> {
-    let py = A.py();
-    let (a, b, q, r, s) = riccati_data(A, B, Q, R, S, E)?;
-    let sol = py
-        .detach(|| {
-            pendulab_lti::equations::care(&a, &b, &q, &r, s.as_ref(), &RiccatiOptions::default())
-        })
-        .map_err(lti)?;
-    RiccatiResult::from_solution(py, &sol)
+    solve_riccati(A, B, Q, R, S, E, pendulab_lti::equations::care)
 }
 
 /// `dare(A, B, Q, R, S=None, E=None)`: the stabilising solution of the discrete algebraic
@@ -166,12 +187,5 @@ pub fn dare(
     S: Option<&Bound<'_, PyAny>>,
     E: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<RiccatiResult> {
-    let py = A.py();
-    let (a, b, q, r, s) = riccati_data(A, B, Q, R, S, E)?;
-    let sol = py
-        .detach(|| {
-            pendulab_lti::equations::dare(&a, &b, &q, &r, s.as_ref(), &RiccatiOptions::default())
-        })
-        .map_err(lti)?;
-    RiccatiResult::from_solution(py, &sol)
+    solve_riccati(A, B, Q, R, S, E, pendulab_lti::equations::dare)
 }

@@ -17,7 +17,7 @@ macro_rules! result_class {
     (
         $name:ident, $pyname:literal, $doc:literal,
         unpack [$($u:ident),*],
-        array none,
+        array $arr:tt,
         { $( $f:ident as $fname:literal : $fdoc:literal ),* $(,)? }
     ) => {
         #[doc = $doc]
@@ -46,6 +46,31 @@ macro_rules! result_class {
 
             fn __getitem__(&self, py: Python<'_>, index: isize) -> PyResult<Py<PyAny>> {
                 Ok(self.unpacked(py)?.into_any().get_item(index)?.unbind())
+            }
+
+            /// The array this result stands for (`numpy.asarray(result)`); results that
+            /// stand for several values raise `TypeError` (unpack them instead).
+            #[pyo3(signature = (dtype = None, copy = None))]
+            fn __array__(
+                &self,
+                py: Python<'_>,
+                dtype: Option<Bound<'_, PyAny>>,
+                copy: Option<bool>,
+            ) -> PyResult<Py<PyAny>> {
+                let array: Option<&Py<PyAny>> = result_class!(@array self, $arr);
+                let Some(value) = array else {
+                    return Err(pyo3::exceptions::PyTypeError::new_err(concat!(
+                        $pyname,
+                        " holds several values: unpack it or use its attributes"
+                    )));
+                };
+                let value = value.bind(py);
+                let out = match (dtype, copy) {
+                    (None, Some(true)) => value.call_method0("copy")?,
+                    (None, _) => value.clone(),
+                    (Some(dt), _) => py.import("numpy")?.getattr("asarray")?.call1((value, dt))?,
+                };
+                Ok(out.unbind())
             }
 
             fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
@@ -63,70 +88,11 @@ macro_rules! result_class {
             }
         }
     };
-    (
-        $name:ident, $pyname:literal, $doc:literal,
-        unpack [$($u:ident),*],
-        array $arr:ident,
-        { $( $f:ident as $fname:literal : $fdoc:literal ),* $(,)? }
-    ) => {
-        #[doc = $doc]
-        #[pyclass(name = $pyname, module = "pendulab", frozen)]
-        pub struct $name {
-            $( #[doc = $fdoc] pub $f: Py<PyAny>, )*
-        }
-
-        #[pymethods]
-        impl $name {
-            $(
-                #[doc = $fdoc]
-                #[getter($fname)]
-                fn $f(&self, py: Python<'_>) -> Py<PyAny> {
-                    self.$f.clone_ref(py)
-                }
-            )*
-
-            fn __iter__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyIterator>> {
-                self.unpacked(py)?.into_any().try_iter()
-            }
-
-            fn __len__(&self) -> usize {
-                [$(stringify!($u)),*].len()
-            }
-
-            fn __getitem__(&self, py: Python<'_>, index: isize) -> PyResult<Py<PyAny>> {
-                Ok(self.unpacked(py)?.into_any().get_item(index)?.unbind())
-            }
-
-            fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-                let mut parts: Vec<String> = Vec::new();
-                $( parts.push(format!("{}={}", $fname, self.$f.bind(py).repr()?)); )*
-                Ok(format!("{}({})", $pyname, parts.join(", ")))
-            }
-
-        #[pyo3(signature = (dtype = None, copy = None))]
-        fn __array__(
-            &self,
-            py: Python<'_>,
-            dtype: Option<Bound<'_, PyAny>>,
-            copy: Option<bool>,
-        ) -> PyResult<Py<PyAny>> {
-            let value = self.$arr.bind(py);
-            let np = py.import("numpy")?;
-            let out = match (dtype, copy) {
-                (None, Some(true)) => value.call_method0("copy")?,
-                (None, _) => value.clone(),
-                (Some(dt), _) => np.getattr("asarray")?.call1((value, dt))?,
-            };
-            Ok(out.unbind())
-        }
-        }
-
-        impl $name {
-            /// The python-control tuple this result unpacks to.
-            fn unpacked<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
-                pyo3::types::PyTuple::new(py, [$(self.$u.clone_ref(py)),*])
-            }
-        }
+    (@array $self:ident, none) => {
+        None
+    };
+    (@array $self:ident, $field:ident) => {
+        Some(&$self.$field)
     };
 }
 pub(crate) use result_class;
