@@ -52,6 +52,8 @@ def test_results_unpack_and_carry_diagnostics():
     assert np.array_equal(K, res.K) and np.array_equal(S, res.S) and np.array_equal(E, res.E)
     assert res.residual < 1e-12
     assert (E.real < 0).all()
+    with pytest.raises(TypeError, match="holds several values"):
+        np.asarray(res)
     X, L, G = pl.care(A4, B4.reshape(4, 1), Q, np.eye(1))
     np.testing.assert_array_equal(G, K)
     np.testing.assert_array_equal(X, S)
