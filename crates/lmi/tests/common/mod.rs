@@ -1,50 +1,24 @@
-//! The arm-type pendulum of `docs/model.md` §2 (book table 3.7 parameters), linearised at θ1e = 0,
-//! and its integral-servo augmentation, built from the formulas in the tests themselves.
+//! The arm-type pendulum of `docs/model.md` §2 (book table 3.7 parameters; its linearisation from
+//! pendulab-testkit), its integral-servo augmentation and LPV form, built from the formulas in
+//! the tests themselves.
 #![allow(dead_code)]
 
 use pendulab_lti::Mat;
+use pendulab_testkit::arm::ArmParams;
 
-pub const A1: f64 = 6.20;
-pub const B1: f64 = 15.8;
-pub const L1: f64 = 0.227;
-pub const M2: f64 = 0.096;
-pub const LC2: f64 = 0.195;
-pub const J2: f64 = 9.06e-4;
-pub const MU2: f64 = 1.01e-4;
-pub const G: f64 = 9.81;
+/// The arm drive's pole a₁ (1/s) and gain b₁ (rad/(s² V)), book table 3.7.
+pub const A1: f64 = ArmParams::book().a1;
+pub const B1: f64 = ArmParams::book().b1;
 
-pub fn alphas() -> (f64, f64, f64) {
-    (J2 + M2 * LC2 * LC2, M2 * L1 * LC2, M2 * LC2 * G)
-}
-
-/// A, B of the arm pendulum with drive parameters a1, b1, at θ1e (state [θ1, θ2, θ̇1, θ̇2]).
+/// A, B of the arm pendulum with drive parameters a1, b1, at θ1e (state [θ1, θ2, θ̇1, θ̇2]):
+/// the closed form of `docs/model.md` §2 (pendulab-testkit) with the other parameters of table 3.7.
 pub fn arm(a1: f64, b1: f64, theta1e: f64) -> (Mat, Mat) {
-    let (al2, al3, al5) = alphas();
-    let c = theta1e.cos();
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0, //
-            0.0,
-            0.0,
-            0.0,
-            1.0, //
-            0.0,
-            0.0,
-            -a1,
-            0.0, //
-            0.0,
-            al5 / al2,
-            (MU2 + a1 * al3 * c) / al2,
-            -MU2 / al2,
-        ],
-    );
-    let b = Mat::from_column_slice(4, 1, &[0.0, 0.0, b1, -b1 * al3 * c / al2]);
-    (a, b)
+    ArmParams {
+        a1,
+        b1,
+        ..ArmParams::book()
+    }
+    .linearization(theta1e)
 }
 
 /// Servo augmentation with ∫(r − θ1): Ã = [[A, 0], [−C, 0]], B̃ = [B; 0], C = [1, 0, 0, 0].
@@ -59,7 +33,7 @@ pub fn augment(a: &Mat, b: &Mat) -> (Mat, Mat) {
 
 /// The LPV form ρ = 1 − cos θ1: A(ρ) = A0 + ρ A1, B(ρ) = B0 + ρ B1 (augmented, 5 states).
 pub fn lpv_servo() -> (Mat, Mat, Mat, Mat) {
-    let (al2, al3, _) = alphas();
+    let (al2, al3, _) = ArmParams::book().alphas();
     let (a0, b0) = arm(A1, B1, 0.0);
     let (at0, bt0) = augment(&a0, &b0);
     let mut at1 = Mat::zeros(5, 5);
