@@ -32,28 +32,26 @@ pub fn workloads() -> Vec<Workload> {
     ]
 }
 
-/// Arm-type pendulum at θ1e = 0 (book table 3.7, `docs/model.md` §2), augmented with ∫(r − θ1);
-/// returns (Ã0, Ã1, B̃0, B̃1) of the LPV form ρ = 1 − cos θ1.
+/// The book's arm-type pendulum (`pendulab_plants::ArmPendulum::book`, table 3.7) in its LPV
+/// form `ρ = 1 − cos θ1` (`docs/model.md` §2), augmented with ∫(r − θ1) (book eq. 6.40);
+/// returns (Ã0, Ã1, B̃0, B̃1).
 fn arm_servo() -> (Mat, Mat, Mat, Mat) {
-    let (a1, b1, l1, m2, l2, j2, mu2, g) =
-        (6.20, 15.8, 0.227, 0.096, 0.195, 9.06e-4, 1.01e-4, 9.81);
-    let (al2, al3, al5) = (j2 + m2 * l2 * l2, m2 * l1 * l2, m2 * l2 * g);
-    let mut a0 = Mat::zeros(5, 5);
-    a0[(0, 2)] = 1.0;
-    a0[(1, 3)] = 1.0;
-    a0[(2, 2)] = -a1;
-    a0[(3, 1)] = al5 / al2;
-    a0[(3, 2)] = (mu2 + a1 * al3) / al2;
-    a0[(3, 3)] = -mu2 / al2;
-    a0[(4, 0)] = -1.0;
-    let mut b0 = Mat::zeros(5, 1);
-    b0[(2, 0)] = b1;
-    b0[(3, 0)] = -b1 * al3 / al2;
-    let mut a_1 = Mat::zeros(5, 5);
-    a_1[(3, 2)] = -a1 * al3 / al2;
-    let mut b_1 = Mat::zeros(5, 1);
-    b_1[(3, 0)] = b1 * al3 / al2;
-    (a0, a_1, b0, b_1)
+    let lpv = pendulab_plants::ArmPendulum::book().lpv();
+    let augment = |a: &Mat, integrate: bool| {
+        let mut t = Mat::zeros(5, 5);
+        t.view_mut((0, 0), (4, 4)).copy_from(a);
+        if integrate {
+            t[(4, 0)] = -1.0;
+        }
+        t
+    };
+    let pad = |b: &Mat| b.clone().insert_row(4, 0.0);
+    (
+        augment(&lpv.a0, true),
+        augment(&lpv.a1, false),
+        pad(&lpv.b0),
+        pad(&lpv.b1),
+    )
 }
 
 /// On-CPU time of this process so far (all its threads), in seconds: the sum of the first
