@@ -1,6 +1,6 @@
 """Reference for book example p1c34_cdip_plot_pcont (pendulab-book tests/p1c3.rs).
 
-The nonlinear cart pendulum of SPEC.md §1.1 (table 3.5), hanging, under P control of the cart
+The nonlinear cart pendulum of docs/model.md §1 (table 3.5), hanging, under P control of the cart
 position u = k_P (0.2 - z), k_P = 10, integrated by SciPy's solve_ivp (DOP853, rtol 1e-11,
 atol 1e-13) in two variants:
   - "continuous": the controller acts continuously (the book's Simulink picture);

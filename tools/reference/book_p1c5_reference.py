@@ -2,7 +2,7 @@
 
 Tools: Python 3.11, NumPy 2.4.6, SciPy 1.17.1 (solve_continuous_are, place_poles,
 cont2discrete), python-control 0.10.2 (lqr cross-check), SymPy 1.14.0 (exact determinants).
-Plant data: SPEC.md section 1 (book tables 3.5 and 3.7).
+Plant data: docs/model.md §1–2 (book tables 3.5 and 3.7).
 
 Run: python3 tools/reference/book_p1c5_reference.py   (prints the numbers the tests
 crates/book/tests/{p1c5,p1c6,p1c8,toolbox}.rs quote).

@@ -1,6 +1,6 @@
 """Reference values for the book examples of part 2 ch. 2 (crates/book/tests/p2c2.rs).
 
-Independent of pendulab: the cart-pendulum model of SPEC.md §1.1 written out here, SciPy's
+Independent of pendulab: the cart-pendulum model of docs/model.md §1 written out here, SciPy's
 matrix exponential and discrete Riccati solver.
 
 - p2c244_ex3: Van Loan discretisation of the cost ∫(xᵀQx + uᵀRu)dt for a held input at

@@ -3,7 +3,7 @@
 Writes crates/plants/tests/fixtures/lagrange.json. For each model the script
 
 1. writes the positions of the bodies in the plane (x to the right, y up, angles from the
-   upward vertical, the book's conventions, SPEC.md section 1),
+   upward vertical, the book's conventions, docs/model.md §1–2),
 2. forms the Lagrangian L = T - V and Rayleigh's dissipation function D (viscous joint friction),
 3. derives the Euler-Lagrange equation d/dt dL/dq' - dL/dq + dD/dq' = 0 of every pendulum
    coordinate with sympy,

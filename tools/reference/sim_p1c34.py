@@ -1,10 +1,10 @@
 """Which simulation setting reproduces the book's printed digits of p1c34_cdip_plot_pcont.
 
-examples.md: cart P control v = k_P (0.2 - z), k_P = 10, pendulum hanging, 4 s; z peaks 0.237 m
+The book's p1c34 example (part 1 §3.4): cart P control v = k_P (0.2 - z), k_P = 10, pendulum hanging, 4 s; z peaks 0.237 m
 at 0.54 s and settles at 0.200 m; phi = theta - pi has extrema +0.394 rad at 0.30 s, -0.701 at
 0.79 s, +0.755 at 1.35 s.
 
-This script integrates the nonlinear cart pendulum of SPEC.md 1.1 (book table 3.5) with a
+This script integrates the nonlinear cart pendulum of docs/model.md §1 (book table 3.5) with a
 plain-Python classic RK4 (Kutta 1901; shares no code with pendulab) in four settings and prints
 z's first peak and phi's first three extrema on the 1 ms grid:
 
