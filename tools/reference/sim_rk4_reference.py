@@ -10,7 +10,7 @@ crate:
   - "pendulum": damped pendulum driven by u(t) = 0.5 sin(2t) (the input evaluated at the stage
     times), theta'' = -(g/l) sin(theta) - c theta' + u;
   - "van_der_pol": x'' = mu (1 - x^2) x' - x, mu = 2;
-  - "cart_pendulum_loop": the nonlinear cart-type pendulum of SPEC.md 1.1 (book table 3.5) in a
+  - "cart_pendulum_loop": the nonlinear cart-type pendulum of docs/model.md §1 (book table 3.5) in a
     sampled-data loop: every ts = 0.01 s the command v_k = sat(-K x_k, +-5 V) is computed from
     the true state and held (zero-order hold) while RK4 takes 4 substeps of 0.0025 s; the time
     of sample k is k*ts (no accumulation).
