@@ -80,8 +80,9 @@ impl Safety {
     /// measured runs of `docs/rig/lab-pc.md` it bridged all but 6 of 26 613 stale periods.
     pub const STALE_HOLD_DEFAULT_TIME: f64 = 0.02;
 
-    /// Defaults of a rig at its sample time (1 ms on both book rigs): the amplifier's range
-    /// (±5 V), travel 0.4 m (cart) or 3 rad (arm), window 30°, watchdog
+    /// Defaults of a rig at its sample time (1 ms on both book rigs), from its numbers
+    /// (`pendulab_plants::RigSpec`): the amplifier's range (±5 V), the travel limit (0.4 m on
+    /// the cart, 3 rad on the arm) and the angle window (30°), watchdog
     /// [`Self::WATCHDOG_DEFAULT_TIME`] (50 periods), stale hold [`Self::STALE_HOLD_DEFAULT_TIME`]
     /// (20 periods), 2 s to connect.
     pub fn default_for(plant: PlantKind) -> Self {
@@ -89,11 +90,8 @@ impl Safety {
         let periods = |t: f64| (t / spec.sample_time).round() as u32;
         Self {
             voltage_limit: spec.input_limit,
-            travel_limit: match plant {
-                PlantKind::Cart => 0.4,
-                PlantKind::Arm => 3.0,
-            },
-            angle_window: Some(30f64.to_radians()),
+            travel_limit: spec.travel_limit,
+            angle_window: Some(spec.angle_window_deg.to_radians()),
             watchdog_periods: periods(Self::WATCHDOG_DEFAULT_TIME),
             stale_hold_periods: periods(Self::STALE_HOLD_DEFAULT_TIME),
             connect_timeout: Duration::from_secs(2),
@@ -141,7 +139,8 @@ impl Safety {
                 v.to_string(),
                 format!(
                     "(0, {}] V (the {} rig's amplifier range)",
-                    spec.input_limit, plant.name()
+                    spec.input_limit,
+                    plant.name()
                 ),
             );
         }
