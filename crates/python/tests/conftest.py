@@ -6,7 +6,6 @@ problem's conditioning; ``EPS`` is the double-precision unit roundoff.
 """
 
 import numpy as np
-import pytest
 
 EPS = np.finfo(float).eps
 
@@ -39,8 +38,3 @@ def psd_weights(rng, n, m, cross):
     if not cross:
         return q, r, None
     return q, r, nn
-
-
-@pytest.fixture
-def rng():
-    return np.random.default_rng(20261206)
