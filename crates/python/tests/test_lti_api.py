@@ -74,6 +74,12 @@ def test_python_control_systems_and_tuples_are_accepted():
         np.testing.assert_array_equal(pl.poles(s), pl.poles(sys_pl))
     d = ct.c2d(sys_ct, 0.01)
     assert pl.StateSpace(d).dt == 0.01
+    # A SISO python-control transfer function: 2/(0.5 s + 1) has DC gain 2 and a pole at −2.
+    g_ct = ct.tf([2.0], [0.5, 1.0])
+    assert pl.dcgain(g_ct) == pytest.approx(2.0, rel=1e-15)
+    np.testing.assert_allclose(pl.poles(g_ct), [-2.0], rtol=1e-15)
+    with pytest.raises(pl.ShapeError, match="single-input single-output"):
+        pl.poles(ct.tf([[[1.0], [1.0]]], [[[1.0, 1.0], [1.0, 2.0]]]))
     K1, _, _ = pl.lqr(sys_ct, np.eye(4), 1.0)
     K2, _, _ = pl.lqr(A4, B4, np.eye(4), 1.0)
     np.testing.assert_array_equal(K1, K2)

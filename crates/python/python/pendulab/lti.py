@@ -14,7 +14,8 @@ observer gains for ``A - L C``. The book 「倒立振子で学ぶ制御工学」
 its gain is ``K_book = -K``.
 
 Systems are ``StateSpace`` / ``TransferFunction`` objects, python-control ``StateSpace``
-objects (anything with ``.A .B .C .D .dt``) or ``(A, B, C, D[, dt])`` tuples; ``dt = 0``
+objects (anything with ``.A .B .C .D .dt``) or SISO ``TransferFunction`` objects, or
+``(A, B, C, D[, dt])`` tuples; ``dt = 0``
 is continuous time, ``dt > 0`` discrete time with that sample time in seconds.
 
 Errors are ``pendulab.Error`` subclasses (see ``pendulab.errors``) carrying the Rust

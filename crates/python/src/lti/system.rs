@@ -1,7 +1,7 @@
 //! `pendulab.StateSpace` and `pendulab.TransferFunction`, and how every LTI function reads its
 //! system argument ([`system`]): a pendulab system, a python-control `StateSpace` (anything
-//! with `.A .B .C .D` and `.dt`), an `(A, B, C, D)` or `(A, B, C, D, dt)` tuple, or a
-//! pendulab `TransferFunction`.
+//! with `.A .B .C .D` and `.dt`) or SISO `TransferFunction` (`.num`, `.den`, `.dt`), an
+//! `(A, B, C, D)` or `(A, B, C, D, dt)` tuple, or a pendulab `TransferFunction`.
 //!
 //! Time domain: `dt = 0` or `None` is continuous time, `dt > 0` discrete time with that
 //! sample time in seconds (python-control's convention; its `dt = True`, "discrete with
@@ -149,10 +149,36 @@ pub fn system(obj: &Bound<'_, PyAny>) -> PyResult<Sys> {
             dt.as_ref(),
         );
     }
+    if obj.hasattr("num")? && obj.hasattr("den")? {
+        return siso_tf_like(obj)?.to_sys();
+    }
     Err(PyTypeError::new_err(format!(
-        "expected a system: pendulab.StateSpace or TransferFunction, a python-control StateSpace, or an (A, B, C, D[, dt]) tuple; got {}",
+        "expected a system: pendulab.StateSpace or TransferFunction, a python-control StateSpace or SISO TransferFunction, or an (A, B, C, D[, dt]) tuple; got {}",
         obj.get_type().name()?
     )))
+}
+
+/// A SISO python-control `TransferFunction` (`.num[0][0]`, `.den[0][0]` in descending powers,
+/// `.dt`) as a pendulab one.
+///
+/// # Errors
+/// `ShapeError` for a MIMO transfer function; the coefficients' errors.
+fn siso_tf_like(obj: &Bound<'_, PyAny>) -> PyResult<TransferFunction> {
+    let siso = |name: &str| -> PyResult<Bound<'_, PyAny>> {
+        let rows = obj.getattr(name)?;
+        if rows.len()? != 1 || rows.get_item(0)?.len()? != 1 {
+            return Err(crate::errors::new_err(
+                crate::errors::Kind::Shape,
+                format!(
+                    "transfer function {name}: only single-input single-output transfer functions are read"
+                ),
+                Some("NotSiso"),
+            ));
+        }
+        rows.get_item(0)?.get_item(0)
+    };
+    let dt = obj.getattr("dt").ok();
+    TransferFunction::py_new(&siso("num")?, &siso("den")?, dt.as_ref())
 }
 
 /// Whether `obj` is a system (as opposed to a matrix) for functions that take either, e.g.
@@ -164,6 +190,7 @@ pub fn is_system(obj: &Bound<'_, PyAny>) -> bool {
             .cast::<PyTuple>()
             .is_ok_and(|t| t.len() == 4 || t.len() == 5)
         || obj.hasattr("A").unwrap_or(false) && obj.hasattr("B").unwrap_or(false)
+        || obj.hasattr("num").unwrap_or(false) && obj.hasattr("den").unwrap_or(false)
 }
 
 /// A linear time-invariant system in state-space form,
