@@ -7,7 +7,7 @@
 //! | [`analysis`] | `poles`, `zeros`, `dcgain`, `damp`, `ctrb`, `obsv`, `gram` |
 //! | [`equations`] | `lyap`, `dlyap`, `care`, `dare` |
 //! | [`design`] | `lqr`, `dlqr`, `lqe`, `dlqe`, `place`, `acker`, `place_observer`, `lqi`, `lqr_sampled_data`, `reg`, `minimal_order_observer` |
-//! | [`response`] | `lsim`, `step`, `impulse`, `initial`, `freqresp`, `bode` |
+//! | [`response`] | `lsim`, `lsim_split`, `step`, `impulse`, `initial`, `freqresp`, `bode` |
 //!
 //! Every function converts its arguments ([`crate::convert`]), releases the GIL around the
 //! pendulab-lti call and returns NumPy arrays or a small result class ([`results`]) that
@@ -67,12 +67,14 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<design::MinimalObserverResult>()?;
 
     m.add_function(wrap_pyfunction!(response::lsim, m)?)?;
+    m.add_function(wrap_pyfunction!(response::lsim_split, m)?)?;
     m.add_function(wrap_pyfunction!(response::step, m)?)?;
     m.add_function(wrap_pyfunction!(response::impulse, m)?)?;
     m.add_function(wrap_pyfunction!(response::initial, m)?)?;
     m.add_function(wrap_pyfunction!(response::freqresp, m)?)?;
     m.add_function(wrap_pyfunction!(response::bode, m)?)?;
     m.add_class::<response::LsimResult>()?;
+    m.add_class::<response::LsimSplit>()?;
     m.add_class::<response::TimeResponse>()?;
     m.add_class::<response::FrequencyResponse>()?;
     m.add_class::<response::BodeResult>()?;

@@ -137,12 +137,65 @@ pub fn lsim(
         })
         .map_err(lti)?;
     drop(u);
-    let (t, x, u, y) = traj.into_parts();
-    Ok(LsimResult {
-        y: single_or_signals(py, y)?,
-        t: slice_to_numpy(py, &t).into_any().unbind(),
-        x: signals(py, x)?,
-        u: signals(py, u)?,
+    LsimResult::from_trajectory(py, traj)
+}
+
+impl LsimResult {
+    /// The arrays of a pendulab-lti trajectory (states and inputs without copying).
+    fn from_trajectory(py: Python<'_>, traj: Trajectory) -> PyResult<Self> {
+        let (t, x, u, y) = traj.into_parts();
+        Ok(LsimResult {
+            y: single_or_signals(py, y)?,
+            t: slice_to_numpy(py, &t).into_any().unbind(),
+            x: signals(py, x)?,
+            u: signals(py, u)?,
+        })
+    }
+}
+
+result_class!(
+    LsimSplit, "LsimSplit",
+    "A response and its zero-input and zero-state parts (book Part 1 §4, eq. 4.24: y = y_zi + y_zs); unpacks as `zero_input, zero_state, total`.",
+    unpack [zero_input, zero_state, total],
+    array none,
+    {
+        zero_input as "zero_input": "Response to X0 with U = 0 (LsimResult).",
+        zero_state as "zero_state": "Response to U from the zero state (LsimResult).",
+        total as "total": "Response to both, simulated as one run, not as the sum (LsimResult).",
+    }
+);
+
+/// `lsim_split(sys, U, T, X0, hold='foh')`: the response to `U` from `X0` and its zero-input
+/// and zero-state parts, each simulated on its own (pendulab-lti `lsim_split`), so that
+/// superposition can be checked. Arguments and errors as `lsim`.
+#[pyfunction]
+#[pyo3(signature = (sys, U, T, X0, hold = "foh"))]
+#[allow(non_snake_case)]
+pub fn lsim_split(
+    sys: &Bound<'_, PyAny>,
+    U: &Bound<'_, PyAny>,
+    T: &Bound<'_, PyAny>,
+    X0: &Bound<'_, PyAny>,
+    hold: &str,
+) -> PyResult<LsimSplit> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let t = times(Some(T))?;
+    let u = matrix(U, "U", OneD::Column)?;
+    let x0 = vector(X0, "X0")?;
+    let options = LsimOptions {
+        hold: self::hold(hold)?,
+    };
+    let split = py
+        .detach(|| with_sys!(&s, s => response::lsim_split(s, &u, &t, x0.as_slice(), &options)))
+        .map_err(lti)?;
+    let wrap = |traj| -> PyResult<Py<PyAny>> {
+        Ok(Py::new(py, LsimResult::from_trajectory(py, traj)?)?.into_any())
+    };
+    Ok(LsimSplit {
+        zero_input: wrap(split.zero_input)?,
+        zero_state: wrap(split.zero_state)?,
+        total: wrap(split.total)?,
     })
 }
 
