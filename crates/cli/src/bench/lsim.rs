@@ -18,6 +18,7 @@ use pendulab_lti::design::{integral_augmentation, place};
 use pendulab_lti::matrix_functions::expm;
 use pendulab_lti::response::{InputHold, LsimKernel, LsimOptions, lsim};
 use pendulab_lti::{Complex64, Mat, StateSpace};
+use pendulab_plants::{CartEquilibrium, CartPendulum};
 use serde_json::json;
 
 const SAMPLES: usize = 1_000_000;
@@ -25,39 +26,11 @@ const DT: f64 = 1e-3;
 const PERIOD: f64 = 200.0;
 const AMPLITUDE: f64 = 0.5;
 
-fn cart_pendulum() -> (Mat, Mat) {
-    let (ac, bc, mp, lp, jp, mup, g) = (6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81);
-    let j = jp + mp * lp * lp;
-    let a = Mat::from_row_slice(
-        4,
-        4,
-        &[
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            1.0,
-            0.0,
-            0.0,
-            -ac,
-            0.0,
-            0.0,
-            mp * g * lp / j,
-            ac * mp * lp / j,
-            -mup / j,
-        ],
-    );
-    let b = Mat::from_row_slice(4, 1, &[0.0, 0.0, bc, -bc * mp * lp / j]);
-    (a, b)
-}
-
 fn closed_loop() -> Result<StateSpace<pendulab_lti::Continuous>> {
-    let (a, b) = cart_pendulum();
+    // The library's own path to the model: the plant's linearisation at the upright rest.
+    let lin = CartPendulum::book().linearize(CartEquilibrium::upright())?;
     let c = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
-    let plant = StateSpace::continuous(a, b, c, Mat::zeros(1, 1))?;
+    let plant = StateSpace::continuous(lin.a().clone(), lin.b().clone(), c, Mat::zeros(1, 1))?;
     let (aa, ba) = integral_augmentation(&plant)?;
     let poles = [
         Complex64::new(-2.0, 0.0),
