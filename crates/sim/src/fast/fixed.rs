@@ -115,10 +115,7 @@ pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
 ) {
     let mut w = Rk4Scratch::<[f64; N]>::new(N);
     step_with(
-        |_, x, dx| {
-            let x: [f64; N] = std::array::from_fn(|i| x[i]);
-            dx.copy_from_slice(&plant.derivative_fixed(&x, u));
-        },
+        |_, x: &[f64; N], dx: &mut [f64; N]| *dx = plant.derivative_fixed(x, u),
         0.0,
         x,
         h,

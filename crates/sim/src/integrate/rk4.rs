@@ -43,44 +43,44 @@ impl<B: Buf> Rk4Scratch<B> {
     }
 }
 
-/// The classic RK4 step, written once for every state storage: `f(t, x, dx)` writes the
-/// derivative at `(t, x)` into `dx`; `x` is advanced from `t` to `t + h` in place. If
+/// The classic RK4 step, written once for every state storage `B`: `f(t, x, dx)` writes the
+/// derivative at `(t, x)` into `dx` (both of the storage type, so a fixed-size right-hand side
+/// sees arrays); `x` is advanced from `t` to `t + h` in place. If
 /// `k1_known`, `w.k1` already holds `f(t, x)` (e.g. from the previous step's end when the
 /// input did not change).
 ///
 /// The operations, in this order, are those every RK4 of the crate performs (so their results
 /// agree bit for bit): the stage states `x + (h/2)·k₁`, `x + (h/2)·k₂`, `x + h·k₃` with
 /// `h/2 = 0.5·h`, and the update `x + (h/6)·(((k₁ + 2k₂) + 2k₃) + k₄)`. With `B = [f64; N]`
-/// every slice length is a compile-time constant after inlining: the loops unroll and
-/// nothing is allocated.
+/// every length is a compile-time constant: the loops unroll and nothing is allocated.
 #[inline(always)]
 pub(crate) fn step_with<B: Buf>(
-    mut f: impl FnMut(f64, &[f64], &mut [f64]),
+    mut f: impl FnMut(f64, &B, &mut B),
     t: f64,
-    x: &mut [f64],
+    x: &mut B,
     h: f64,
     w: &mut Rk4Scratch<B>,
     k1_known: bool,
 ) {
     let half = 0.5 * h;
     if !k1_known {
-        f(t, x, w.k1.m());
+        f(t, x, &mut w.k1);
     }
-    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.iter()).zip(w.k1.s()) {
+    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.s()).zip(w.k1.s()) {
         *xt = xi + half * k;
     }
-    f(t + half, w.xt.s(), w.k2.m());
-    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.iter()).zip(w.k2.s()) {
+    f(t + half, &w.xt, &mut w.k2);
+    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.s()).zip(w.k2.s()) {
         *xt = xi + half * k;
     }
-    f(t + half, w.xt.s(), w.k3.m());
-    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.iter()).zip(w.k3.s()) {
+    f(t + half, &w.xt, &mut w.k3);
+    for ((xt, &xi), &k) in w.xt.m().iter_mut().zip(x.s()).zip(w.k3.s()) {
         *xt = xi + h * k;
     }
-    f(t + h, w.xt.s(), w.k4.m());
+    f(t + h, &w.xt, &mut w.k4);
     let sixth = h / 6.0;
     let (k1, k2, k3, k4) = (w.k1.s(), w.k2.s(), w.k3.s(), w.k4.s());
-    for (i, xi) in x.iter_mut().enumerate() {
+    for (i, xi) in x.m().iter_mut().enumerate() {
         *xi += sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
     }
 }
@@ -97,9 +97,9 @@ pub(crate) fn step_generic<S: Dynamics + ?Sized, B: Buf>(
     k1_known: bool,
 ) {
     step_with(
-        |t, x, dx| sys.derivative(t, x, u, dx),
+        |t, x: &B, dx: &mut B| sys.derivative(t, x.s(), u, dx.m()),
         t,
-        x.m(),
+        x,
         h,
         w,
         k1_known,
@@ -133,18 +133,24 @@ pub fn rk4_step<const N: usize, S: Dynamics + ?Sized>(
     step_generic(sys, t, x, u, h, &mut w, false);
 }
 
-/// Reusable scratch for [`rk4_step_slice`] (five state-sized vectors, allocated once).
+/// Reusable scratch for [`rk4_step_slice`] (six state-sized vectors, allocated once).
 #[derive(Debug, Clone)]
-pub struct Rk4Work(Rk4Scratch<Vec<f64>>);
+pub struct Rk4Work {
+    x: Vec<f64>,
+    w: Rk4Scratch<Vec<f64>>,
+}
 
 impl Rk4Work {
     /// Scratch for `nx` states.
     pub fn new(nx: usize) -> Self {
-        Self(Rk4Scratch::new(nx))
+        Self {
+            x: vec![0.0; nx],
+            w: Rk4Scratch::new(nx),
+        }
     }
     /// Number of states it serves.
     pub fn nx(&self) -> usize {
-        self.0.k1.len()
+        self.x.len()
     }
 }
 
@@ -162,12 +168,8 @@ pub fn rk4_step_slice<S: Dynamics + ?Sized>(
     work: &mut Rk4Work,
 ) {
     debug_assert_eq!(x.len(), work.nx());
-    step_with(
-        |t, x, dx| sys.derivative(t, x, u, dx),
-        t,
-        x,
-        h,
-        &mut work.0,
-        false,
-    );
+    // The state is stepped in the work's own vector (copies are exact).
+    work.x.copy_from_slice(x);
+    step_generic(sys, t, &mut work.x, u, h, &mut work.w, false);
+    x.copy_from_slice(&work.x);
 }
