@@ -1,8 +1,409 @@
-//! The `plants` facet of the extension module (see the crate docs).
+//! The `plants` facet of the extension module: the book's cart-type and arm-type pendulums
+//! (`pendulab-plants`) behind `pendulab.plants`.
+//!
+//! Parameters cross as dicts of the book's symbols (table 3.5: `a_c, b_c, m_p, l_p, L_p, J_p,
+//! mu_p, g`; table 3.7: `a1, b1, L1, m2, l2, L2, J2, mu2, g`); missing entries take the book's
+//! values, unknown names and invalid values (checked by the Rust `new`) raise
+//! `pendulab.InvalidArgumentError` naming the parameter. States are `[z, θ, ż, θ̇]` (cart) and
+//! `[θ₁, θ₂, θ̇₁, θ̇₂]` (arm), SI units, angles from the upward vertical; the input is the
+//! motor voltage (V).
 
+use std::collections::HashMap;
+
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
-/// Adds this facet's functions and classes to the module.
-pub fn register(_m: &Bound<'_, PyModule>) -> PyResult<()> {
+use pendulab_lti::{Continuous, StateSpace};
+use pendulab_plants::{
+    ArmEquilibrium, ArmLpv, ArmPendulum as ArmPlant, ArmPendulumParams, ArmPendulumState,
+    CartEquilibrium, CartPendulum as CartPlant, CartPendulumParams, CartPendulumState, Jacobian,
+    PlantError, Posture,
+};
+use pendulab_sim::SimError;
+
+use crate::convert::{matrix_to_numpy, slice_to_numpy, vector};
+use crate::errors::{Kind, from_error, new_err};
+
+/// Adds this facet's classes to the module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<CartPendulum>()?;
+    m.add_class::<ArmPendulum>()?;
     Ok(())
+}
+
+/// A [`PlantError`] as `pendulab.InvalidArgumentError` (bad parameter or operating point).
+pub fn plant_error(e: &PlantError) -> PyErr {
+    from_error(Kind::InvalidArgument, e)
+}
+
+/// A [`SimError`] as the `pendulab` exception of its kind: wrong lengths → `ShapeError`,
+/// NaN/±Inf inputs → `NotFiniteError`, a state that blows up or an integrator that gives up
+/// → `pendulab.Error`, other bad arguments → `InvalidArgumentError`.
+pub fn sim_error(e: &SimError) -> PyErr {
+    let kind = match e {
+        SimError::DimensionMismatch { .. } => Kind::Shape,
+        SimError::NonFiniteInitialState { .. } | SimError::NonFiniteCommand { .. } => {
+            Kind::NotFinite
+        }
+        SimError::NonFiniteState { .. }
+        | SimError::StepSizeUnderflow { .. }
+        | SimError::MaxStepsExceeded { .. } => Kind::Error,
+        _ => Kind::InvalidArgument,
+    };
+    from_error(kind, e)
+}
+
+/// Applies the entries of `values` onto `fields` (name → field), refusing unknown names.
+fn apply(
+    model: &str,
+    values: Option<&HashMap<String, f64>>,
+    fields: &mut [(&str, &mut f64)],
+) -> PyResult<()> {
+    for (k, v) in values.into_iter().flatten() {
+        match fields.iter_mut().find(|(n, _)| n == k) {
+            Some((_, f)) => **f = *v,
+            None => {
+                let known: Vec<&str> = fields.iter().map(|(n, _)| *n).collect();
+                return Err(new_err(
+                    Kind::InvalidArgument,
+                    format!(
+                        "{model}: unknown parameter {k:?} (known: {})",
+                        known.join(", ")
+                    ),
+                    None,
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The cart's parameters: the book's (table 3.5) with `values` applied (not yet validated).
+///
+/// # Errors
+/// `InvalidArgumentError` for a name that is not a parameter.
+pub fn cart_params(values: Option<&HashMap<String, f64>>) -> PyResult<CartPendulumParams> {
+    let mut p = CartPendulumParams::book();
+    apply(
+        "cart pendulum",
+        values,
+        &mut [
+            ("a_c", &mut p.a_c),
+            ("b_c", &mut p.b_c),
+            ("m_p", &mut p.m_p),
+            ("l_p", &mut p.l_p),
+            ("L_p", &mut p.L_p),
+            ("J_p", &mut p.J_p),
+            ("mu_p", &mut p.mu_p),
+            ("g", &mut p.g),
+        ],
+    )?;
+    Ok(p)
+}
+
+/// The arm's parameters: the book's (table 3.7) with `values` applied (not yet validated).
+///
+/// # Errors
+/// `InvalidArgumentError` for a name that is not a parameter.
+pub fn arm_params(values: Option<&HashMap<String, f64>>) -> PyResult<ArmPendulumParams> {
+    let mut p = ArmPendulumParams::book();
+    apply(
+        "arm pendulum",
+        values,
+        &mut [
+            ("a1", &mut p.a1),
+            ("b1", &mut p.b1),
+            ("L1", &mut p.L1),
+            ("m2", &mut p.m2),
+            ("l2", &mut p.l2),
+            ("L2", &mut p.L2),
+            ("J2", &mut p.J2),
+            ("mu2", &mut p.mu2),
+            ("g", &mut p.g),
+        ],
+    )?;
+    Ok(p)
+}
+
+/// `"upright"` or `"hanging"`.
+fn posture(s: &str) -> PyResult<Posture> {
+    match s {
+        "upright" => Ok(Posture::Upright),
+        "hanging" => Ok(Posture::Hanging),
+        _ => Err(new_err(
+            Kind::InvalidArgument,
+            format!("posture {s:?}: expected \"upright\" or \"hanging\""),
+            None,
+        )),
+    }
+}
+
+/// A state argument of four finite numbers.
+fn state4(x: &Bound<'_, PyAny>, what: &str) -> PyResult<[f64; 4]> {
+    let v = vector(x, what)?;
+    if v.len() != 4 {
+        return Err(new_err(
+            Kind::Shape,
+            format!("{what} must have 4 entries, got {}", v.len()),
+            None,
+        ));
+    }
+    Ok([v[0], v[1], v[2], v[3]])
+}
+
+/// A finite scalar input (V).
+fn voltage(u: f64) -> PyResult<f64> {
+    if u.is_finite() {
+        Ok(u)
+    } else {
+        Err(new_err(
+            Kind::NotFinite,
+            format!("u = {u} must be finite"),
+            None,
+        ))
+    }
+}
+
+/// `(A, B, C, D)` as float64 arrays.
+type Abcd<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+);
+
+/// `(A, B, C, D)` of a state-space model as float64 arrays.
+fn abcd<'py>(py: Python<'py>, sys: &StateSpace<Continuous>) -> Abcd<'py> {
+    (
+        matrix_to_numpy(py, sys.a()),
+        matrix_to_numpy(py, sys.b()),
+        matrix_to_numpy(py, sys.c()),
+        matrix_to_numpy(py, sys.d()),
+    )
+}
+
+/// `(A, B)` as float64 arrays.
+type Ab<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// `(A (4, 4), B (4, 1))` of a Jacobian.
+fn jacobian_arrays<'py>(py: Python<'py>, j: &Jacobian<4>) -> Ab<'py> {
+    (
+        matrix_to_numpy(py, &j.a_matrix()),
+        matrix_to_numpy(py, &j.b_matrix()),
+    )
+}
+
+/// The cart-type pendulum (book §3.1, table 3.5; `docs/model.md` §1).
+#[pyclass(module = "pendulab._native", frozen)]
+pub struct CartPendulum {
+    plant: CartPlant,
+}
+
+#[pymethods]
+impl CartPendulum {
+    /// The plant with the book's parameters, each overridable in `params`.
+    #[new]
+    #[pyo3(signature = (params = None))]
+    fn new(params: Option<HashMap<String, f64>>) -> PyResult<Self> {
+        let p = cart_params(params.as_ref())?;
+        Ok(Self {
+            plant: CartPlant::new(p).map_err(|e| plant_error(&e))?,
+        })
+    }
+
+    /// The parameters as a dict of the book's symbols (SI units).
+    #[getter]
+    fn params(&self) -> HashMap<&'static str, f64> {
+        let p = self.plant.params();
+        HashMap::from([
+            ("a_c", p.a_c),
+            ("b_c", p.b_c),
+            ("m_p", p.m_p),
+            ("l_p", p.l_p),
+            ("L_p", p.L_p),
+            ("J_p", p.J_p),
+            ("mu_p", p.mu_p),
+            ("g", p.g),
+        ])
+    }
+
+    /// `J = J_p + m_p l_p²` (kg m²), the pendulum's inertia about the pivot.
+    #[getter]
+    fn inertia_about_pivot(&self) -> f64 {
+        self.plant.inertia_about_pivot()
+    }
+
+    /// `ẋ = f(x, u)` at the state `x = [z, θ, ż, θ̇]` and the voltage `u` (V).
+    fn derivative<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let f = self.plant.derivative_array(&state4(x, "x")?, voltage(u)?);
+        Ok(slice_to_numpy(py, &f))
+    }
+
+    /// The analytic Jacobian `(A, B) = (∂f/∂x, ∂f/∂u)` at any point `(x, u)`.
+    fn jacobian<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: f64) -> PyResult<Ab<'py>> {
+        let j = self.plant.jacobian(&state4(x, "x")?, voltage(u)?);
+        Ok(jacobian_arrays(py, &j))
+    }
+
+    /// The linearisation `(A, B, C, D)` at the rest `posture` (`"upright"` or `"hanging"`)
+    /// with the cart at `z` (m), in deviation variables; `C = I` or, with `measured`, the
+    /// encoder rows `[z, θ]`.
+    #[pyo3(signature = (posture = "upright", z = 0.0, measured = false))]
+    fn linearize<'py>(
+        &self,
+        py: Python<'py>,
+        posture: &str,
+        z: f64,
+        measured: bool,
+    ) -> PyResult<Abcd<'py>> {
+        let eq = CartEquilibrium {
+            z,
+            posture: self::posture(posture)?,
+        };
+        let sys = if measured {
+            self.plant.linearize_measured(eq)
+        } else {
+            self.plant.linearize(eq)
+        }
+        .map_err(|e| plant_error(&e))?;
+        Ok(abcd(py, &sys))
+    }
+
+    /// The pendulum's energy `E = ½ J θ̇² + m_p g l_p (1 + cos θ)` (J) at `x`.
+    fn energy(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+        Ok(self
+            .plant
+            .energy(&CartPendulumState::from_array(state4(x, "x")?)))
+    }
+
+    /// The upright rest's energy `2 m_p g l_p` (J).
+    #[getter]
+    fn upright_energy(&self) -> f64 {
+        self.plant.upright_energy()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("CartPendulum({:?})", self.plant.params())
+    }
+}
+
+/// The arm-type pendulum (book §3.3, table 3.7; `docs/model.md` §2).
+#[pyclass(module = "pendulab._native", frozen)]
+pub struct ArmPendulum {
+    plant: ArmPlant,
+}
+
+#[pymethods]
+impl ArmPendulum {
+    /// The plant with the book's parameters, each overridable in `params`.
+    #[new]
+    #[pyo3(signature = (params = None))]
+    fn new(params: Option<HashMap<String, f64>>) -> PyResult<Self> {
+        let p = arm_params(params.as_ref())?;
+        Ok(Self {
+            plant: ArmPlant::new(p).map_err(|e| plant_error(&e))?,
+        })
+    }
+
+    /// The parameters as a dict of the book's symbols (SI units).
+    #[getter]
+    fn params(&self) -> HashMap<&'static str, f64> {
+        let p = self.plant.params();
+        HashMap::from([
+            ("a1", p.a1),
+            ("b1", p.b1),
+            ("L1", p.L1),
+            ("m2", p.m2),
+            ("l2", p.l2),
+            ("L2", p.L2),
+            ("J2", p.J2),
+            ("mu2", p.mu2),
+            ("g", p.g),
+        ])
+    }
+
+    /// `(α₂, α₃, α₅) = (J₂ + m₂ l₂², m₂ L₁ l₂, m₂ l₂ g)`.
+    #[getter]
+    fn alphas(&self) -> (f64, f64, f64) {
+        (
+            self.plant.alpha2(),
+            self.plant.alpha3(),
+            self.plant.alpha5(),
+        )
+    }
+
+    /// `ẋ = f(x, u)` at the state `x = [θ₁, θ₂, θ̇₁, θ̇₂]` and the voltage `u` (V).
+    fn derivative<'py>(
+        &self,
+        py: Python<'py>,
+        x: &Bound<'py, PyAny>,
+        u: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let f = self.plant.derivative_array(&state4(x, "x")?, voltage(u)?);
+        Ok(slice_to_numpy(py, &f))
+    }
+
+    /// The analytic Jacobian `(A, B) = (∂f/∂x, ∂f/∂u)` at any point `(x, u)`.
+    fn jacobian<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: f64) -> PyResult<Ab<'py>> {
+        let j = self.plant.jacobian(&state4(x, "x")?, voltage(u)?);
+        Ok(jacobian_arrays(py, &j))
+    }
+
+    /// The linearisation `(A, B, C, D)` with the arm at rest at `theta1` (rad) and the
+    /// pendulum at rest `posture`; `C = I` or, with `measured`, the encoder rows `[θ₁, θ₂]`.
+    #[pyo3(signature = (posture = "upright", theta1 = 0.0, measured = false))]
+    fn linearize<'py>(
+        &self,
+        py: Python<'py>,
+        posture: &str,
+        theta1: f64,
+        measured: bool,
+    ) -> PyResult<Abcd<'py>> {
+        let eq = ArmEquilibrium {
+            theta1,
+            posture: self::posture(posture)?,
+        };
+        let sys = if measured {
+            self.plant.linearize_measured(eq)
+        } else {
+            self.plant.linearize(eq)
+        }
+        .map_err(|e| plant_error(&e))?;
+        Ok(abcd(py, &sys))
+    }
+
+    /// The LPV form `(A₀, A₁, B₀, B₁)` of the upright model: `A(ρ) = A₀ + ρ A₁`,
+    /// `B(ρ) = B₀ + ρ B₁`, `ρ = 1 − cos θ₁` (book part 2 §1.5).
+    #[allow(clippy::type_complexity)]
+    fn lpv<'py>(&self, py: Python<'py>) -> Abcd<'py> {
+        let ArmLpv { a0, a1, b0, b1 } = self.plant.lpv();
+        (
+            matrix_to_numpy(py, &a0),
+            matrix_to_numpy(py, &a1),
+            matrix_to_numpy(py, &b0),
+            matrix_to_numpy(py, &b1),
+        )
+    }
+
+    /// The pendulum's energy `E₂ = ½ α₂ θ̇₂² + α₅ (1 + cos θ₂)` (J) at `x`.
+    fn energy(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+        Ok(self
+            .plant
+            .pendulum_energy(&ArmPendulumState::from_array(state4(x, "x")?)))
+    }
+
+    /// The upright rest's energy `2 α₅` (J).
+    #[getter]
+    fn upright_energy(&self) -> f64 {
+        self.plant.upright_energy()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("ArmPendulum({:?})", self.plant.params())
+    }
 }
