@@ -158,8 +158,19 @@ impl FixedDynamics<4> for FastCart {
     #[inline(always)]
     fn rk4_step_fixed_with<F: MulAdd>(&self, x: &mut [f64; 4], u: f64, h: f64) {
         if self.trig != Trig::Anchored {
-            return pendulab_sim::fast::rk4_fixed(self, x, u, h);
+            return self.plain_step(x, u, h);
         }
         anchored::step::<F>(&self.plant, x, u, h);
+    }
+}
+
+impl FastCart {
+    /// The provided step ([`pendulab_sim::fast::rk4_fixed`]) for [`Trig::Libm`] and
+    /// [`Trig::Polynomial`], kept out of line so that the loop around the anchored step
+    /// stays as compact as with a plant that has only that step.
+    #[cold]
+    #[inline(never)]
+    fn plain_step(&self, x: &mut [f64; 4], u: f64, h: f64) {
+        pendulab_sim::fast::rk4_fixed(self, x, u, h);
     }
 }
