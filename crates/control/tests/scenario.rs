@@ -27,15 +27,17 @@ fn book_gain() -> ControllerSpec {
 }
 
 /// The zero-input response of the exactly discretised (ZOH) closed loop `Φ − Γ K` of the
-/// cart's upright linearisation at `ts`, by `pendulab_lti::initial`.
-fn discrete_closed_loop(x0: &[f64], t: &[f64], ts: f64) -> Mat {
-    let lin = CartPendulum::book()
-        .linearize(CartEquilibrium::upright())
-        .unwrap();
+/// linear plant `lin` at `ts`, by `pendulab_lti::initial`.
+fn exact_closed_loop(
+    lin: &pendulab_lti::StateSpace<pendulab_lti::Continuous>,
+    k: &Mat,
+    x0: &[f64],
+    t: &[f64],
+    ts: f64,
+) -> Mat {
     let d = lin.c2d(ts, Discretization::Zoh).unwrap();
-    let k = -Mat::from_row_slice(1, 4, &K_BOOK);
     let cl = pendulab_lti::StateSpace::discrete(
-        d.a() - d.b() * &k,
+        d.a() - d.b() * k,
         d.b().clone(),
         Mat::identity(4, 4),
         Mat::zeros(4, 1),
@@ -43,6 +45,14 @@ fn discrete_closed_loop(x0: &[f64], t: &[f64], ts: f64) -> Mat {
     )
     .unwrap();
     initial(&cl, x0, t).unwrap().x().clone()
+}
+
+/// [`exact_closed_loop`] of the cart's upright linearisation under the book gain.
+fn discrete_closed_loop(x0: &[f64], t: &[f64], ts: f64) -> Mat {
+    let lin = CartPendulum::book()
+        .linearize(CartEquilibrium::upright())
+        .unwrap();
+    exact_closed_loop(&lin, &-Mat::from_row_slice(1, 4, &K_BOOK), x0, t, ts)
 }
 
 #[test]
@@ -381,25 +391,16 @@ fn arm_linear_plant_run_equals_the_exact_discrete_closed_loop() {
         .parameters()
         .linearize_upright(0.0)
         .unwrap();
-    let d = lin.c2d(ts, Discretization::Zoh).unwrap();
-    let cl = pendulab_lti::StateSpace::discrete(
-        d.a() - d.b() * &k,
-        d.b().clone(),
-        Mat::identity(4, 4),
-        Mat::zeros(4, 1),
-        ts,
-    )
-    .unwrap();
     let x0 = [0.1, 0.05, 0.0, 0.0];
     let mut scenario = ScenarioSpec::new(x0.to_vec(), 3.0);
     scenario.substeps = 10;
     let built = build(&spec, PlantKind::Arm, ts).unwrap();
-    let run = simulate_on(lin, &RigSpec::arm(), &spec, built, &scenario).unwrap();
-    let exact = initial(&cl, &x0, &run.t).unwrap();
+    let run = simulate_on(lin.clone(), &RigSpec::arm(), &spec, built, &scenario).unwrap();
+    let exact = exact_closed_loop(&lin, &k, &x0, &run.t, ts);
     let mut worst: f64 = 0.0;
-    for (k, xk) in run.x.iter().enumerate() {
+    for (j, xk) in run.x.iter().enumerate() {
         for i in 0..4 {
-            worst = worst.max((xk[i] - exact.x()[(k, i)]).abs());
+            worst = worst.max((xk[i] - exact[(j, i)]).abs());
         }
     }
     assert!(worst < 1e-9, "max |x_run − x_exact| = {worst:e}");
