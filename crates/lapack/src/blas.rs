@@ -470,6 +470,36 @@ fn begin_rank_update<T: Real>(
     !no_product
 }
 
+/// Adds the `α` term of a symmetric rank-k update to the `uplo` triangle of `C`, column by
+/// column. `trans = No`: `column(j, rows, C(rows, j))` adds column `j`'s share on the rows
+/// `rows` of the triangle. `trans = Yes`: `C(i, j) += α · dot(i, j)`. The kernels are those of
+/// `syrk` (one product) and `syr2k` (two products).
+fn add_rank_update<T: Real>(
+    uplo: Uplo,
+    trans: Trans,
+    n: usize,
+    alpha: T,
+    (c, ldc): (&mut [T], usize),
+    column: impl Fn(usize, std::ops::Range<usize>, &mut [T]),
+    dot: impl Fn(usize, usize) -> T,
+) {
+    for j in 0..n {
+        let rows = triangle_rows(uplo, j, n);
+        match trans {
+            Trans::No => column(
+                j,
+                rows.clone(),
+                &mut c[j * ldc + rows.start..j * ldc + rows.end],
+            ),
+            Trans::Yes => {
+                for i in rows {
+                    c[i + j * ldc] += alpha * dot(i, j);
+                }
+            }
+        }
+    }
+}
+
 /// `C ← α A Aᵀ + β C` (`trans = No`, `A` is `n × k`) or `C ← α Aᵀ A + β C` (`trans = Yes`,
 /// `A` is `k × n`), updating only the `uplo` triangle of `C` (xSYRK).
 pub(crate) fn syrk<T: Real>(
@@ -484,35 +514,30 @@ pub(crate) fn syrk<T: Real>(
     if !begin_rank_update(uplo, (n, k), (alpha, beta), (c, ldc)) {
         return;
     }
-    match trans {
-        Trans::No => {
-            // C(:, j) += α Σ_l A(:, l) A(j, l).
-            for j in 0..n {
-                let rows = triangle_rows(uplo, j, n);
-                let cj = &mut c[j * ldc + rows.start..j * ldc + rows.end];
-                for l in 0..k {
-                    let t = alpha * a[j + l * lda];
-                    if t != T::zero() {
-                        let al = &a[l * lda + rows.start..l * lda + rows.end];
-                        for (cij, &x) in cj.iter_mut().zip(al) {
-                            *cij += t * x;
-                        }
+    add_rank_update(
+        uplo,
+        trans,
+        n,
+        alpha,
+        (c, ldc),
+        // C(:, j) += α Σ_l A(:, l) A(j, l).
+        |j, rows, cj| {
+            for l in 0..k {
+                let t = alpha * a[j + l * lda];
+                if t != T::zero() {
+                    let al = &a[l * lda + rows.start..l * lda + rows.end];
+                    for (cij, &x) in cj.iter_mut().zip(al) {
+                        *cij += t * x;
                     }
                 }
             }
-        }
-        Trans::Yes => {
-            // C(i, j) += α A(:, i)ᵀ A(:, j).
-            for j in 0..n {
-                let aj = &a[j * lda..j * lda + k];
-                for i in triangle_rows(uplo, j, n) {
-                    let ai = &a[i * lda..i * lda + k];
-                    let s = ai.iter().zip(aj).fold(T::zero(), |s, (p, q)| s + *p * *q);
-                    c[i + j * ldc] += alpha * s;
-                }
-            }
-        }
-    }
+        },
+        // C(i, j) += α A(:, i)ᵀ A(:, j).
+        |i, j| {
+            let (ai, aj) = (&a[i * lda..i * lda + k], &a[j * lda..j * lda + k]);
+            ai.iter().zip(aj).fold(T::zero(), |s, (p, q)| s + *p * *q)
+        },
+    );
 }
 
 /// `C ← α (A Bᵀ + B Aᵀ) + β C` (`trans = No`, `A`, `B` are `n × k`) or
@@ -531,40 +556,35 @@ pub(crate) fn syr2k<T: Real>(
     if !begin_rank_update(uplo, (n, k), (alpha, beta), (c, ldc)) {
         return;
     }
-    match trans {
-        Trans::No => {
-            // C(:, j) += α Σ_l (A(:, l) B(j, l) + B(:, l) A(j, l)).
-            for j in 0..n {
-                let rows = triangle_rows(uplo, j, n);
-                let cj = &mut c[j * ldc + rows.start..j * ldc + rows.end];
-                for l in 0..k {
-                    let tb = alpha * b[j + l * ldb];
-                    let ta = alpha * a[j + l * lda];
-                    if tb != T::zero() || ta != T::zero() {
-                        let al = &a[l * lda + rows.start..l * lda + rows.end];
-                        let bl = &b[l * ldb + rows.start..l * ldb + rows.end];
-                        for ((cij, &x), &y) in cj.iter_mut().zip(al).zip(bl) {
-                            *cij += x * tb + y * ta;
-                        }
+    add_rank_update(
+        uplo,
+        trans,
+        n,
+        alpha,
+        (c, ldc),
+        // C(:, j) += α Σ_l (A(:, l) B(j, l) + B(:, l) A(j, l)).
+        |j, rows, cj| {
+            for l in 0..k {
+                let tb = alpha * b[j + l * ldb];
+                let ta = alpha * a[j + l * lda];
+                if tb != T::zero() || ta != T::zero() {
+                    let al = &a[l * lda + rows.start..l * lda + rows.end];
+                    let bl = &b[l * ldb + rows.start..l * ldb + rows.end];
+                    for ((cij, &x), &y) in cj.iter_mut().zip(al).zip(bl) {
+                        *cij += x * tb + y * ta;
                     }
                 }
             }
-        }
-        Trans::Yes => {
-            // C(i, j) += α (A(:, i)ᵀ B(:, j) + B(:, i)ᵀ A(:, j)).
-            for j in 0..n {
-                let aj = &a[j * lda..j * lda + k];
-                let bj = &b[j * ldb..j * ldb + k];
-                for i in triangle_rows(uplo, j, n) {
-                    let ai = &a[i * lda..i * lda + k];
-                    let bi = &b[i * ldb..i * ldb + k];
-                    let mut s = T::zero();
-                    for l in 0..k {
-                        s += ai[l] * bj[l] + bi[l] * aj[l];
-                    }
-                    c[i + j * ldc] += alpha * s;
-                }
+        },
+        // C(i, j) += α (A(:, i)ᵀ B(:, j) + B(:, i)ᵀ A(:, j)).
+        |i, j| {
+            let (ai, aj) = (&a[i * lda..i * lda + k], &a[j * lda..j * lda + k]);
+            let (bi, bj) = (&b[i * ldb..i * ldb + k], &b[j * ldb..j * ldb + k]);
+            let mut s = T::zero();
+            for l in 0..k {
+                s += ai[l] * bj[l] + bi[l] * aj[l];
             }
-        }
-    }
+            s
+        },
+    );
 }

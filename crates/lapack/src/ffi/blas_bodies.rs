@@ -8,7 +8,7 @@
 use super::args::{
     dim, flag, increment, leading, read, run_blas, slice, slice_mut, trans_flag, uplo_flag,
 };
-use crate::blas::{Trans, matrix_len, strided_len};
+use crate::blas::{Trans, Uplo, matrix_len, strided_len};
 use crate::{Real, blas};
 use core::ffi::{c_char, c_int};
 
@@ -119,6 +119,28 @@ pub(super) unsafe fn symv_impl<T: Real>(
     })
 }
 
+/// The leading arguments of xSYRK and xSYR2K, in their common order: `UPLO` (1), `TRANS` (2),
+/// `N` (3), `K` (4). Returns them decoded with the shape `(rows, columns)` of `A` (and `B`):
+/// `n × k` for `TRANS = 'N'`, `k × n` otherwise. `Err(i)`: argument `i` invalid.
+///
+/// # Safety
+/// The four pointers are valid for reads (the BLAS caller contract).
+unsafe fn rank_update_head(
+    uplo: *const c_char,
+    trans: *const c_char,
+    n: *const c_int,
+    k: *const c_int,
+) -> Result<(Uplo, Trans, (usize, usize), (usize, usize)), c_int> {
+    // SAFETY: forwarded caller contract.
+    unsafe {
+        let ul = uplo_flag(flag(uplo, 1)?, 1)?;
+        let t = trans_flag(flag(trans, 2)?, 2)?;
+        let (n, k) = (dim(n, 3)?, dim(k, 4)?);
+        let shape = if t == Trans::No { (n, k) } else { (k, n) };
+        Ok((ul, t, (n, k), shape))
+    }
+}
+
 /// # Safety
 /// See [`dsyrk_`](super::dsyrk_).
 #[allow(clippy::too_many_arguments)]
@@ -135,10 +157,7 @@ pub(super) unsafe fn syrk_impl<T: Real>(
     ldc: *const c_int,
 ) {
     run_blas(|| unsafe {
-        let ul = uplo_flag(flag(uplo, 1)?, 1)?;
-        let t = trans_flag(flag(trans, 2)?, 2)?;
-        let (n, k) = (dim(n, 3)?, dim(k, 4)?);
-        let (nrowa, ncola) = if t == Trans::No { (n, k) } else { (k, n) };
+        let (ul, t, (n, k), (nrowa, ncola)) = rank_update_head(uplo, trans, n, k)?;
         let lda = leading(lda, nrowa, 7)?;
         let ldc = leading(ldc, n, 10)?;
         let (alpha, beta) = (read(alpha, 5)?, read(beta, 8)?);
@@ -170,10 +189,7 @@ pub(super) unsafe fn syr2k_impl<T: Real>(
     ldc: *const c_int,
 ) {
     run_blas(|| unsafe {
-        let ul = uplo_flag(flag(uplo, 1)?, 1)?;
-        let t = trans_flag(flag(trans, 2)?, 2)?;
-        let (n, k) = (dim(n, 3)?, dim(k, 4)?);
-        let (nrow, ncol) = if t == Trans::No { (n, k) } else { (k, n) };
+        let (ul, t, (n, k), (nrow, ncol)) = rank_update_head(uplo, trans, n, k)?;
         let lda = leading(lda, nrow, 7)?;
         let ldb = leading(ldb, nrow, 9)?;
         let ldc = leading(ldc, n, 12)?;
