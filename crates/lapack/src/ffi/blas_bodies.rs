@@ -119,6 +119,9 @@ pub(super) unsafe fn symv_impl<T: Real>(
     })
 }
 
+/// `UPLO`, `TRANS`, `(N, K)` and the shape `(rows, columns)` of `A` of a rank-k update.
+type RankUpdateHead = (Uplo, Trans, (usize, usize), (usize, usize));
+
 /// The leading arguments of xSYRK and xSYR2K, in their common order: `UPLO` (1), `TRANS` (2),
 /// `N` (3), `K` (4). Returns them decoded with the shape `(rows, columns)` of `A` (and `B`):
 /// `n × k` for `TRANS = 'N'`, `k × n` otherwise. `Err(i)`: argument `i` invalid.
@@ -130,7 +133,7 @@ unsafe fn rank_update_head(
     trans: *const c_char,
     n: *const c_int,
     k: *const c_int,
-) -> Result<(Uplo, Trans, (usize, usize), (usize, usize)), c_int> {
+) -> Result<RankUpdateHead, c_int> {
     // SAFETY: forwarded caller contract.
     unsafe {
         let ul = uplo_flag(flag(uplo, 1)?, 1)?;
