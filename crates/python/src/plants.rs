@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 
-use numpy::{PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 use pendulab_lti::{Continuous, StateSpace};
@@ -28,7 +28,71 @@ use crate::errors::{Kind, from_error, new_err};
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<CartPendulum>()?;
     m.add_class::<ArmPendulum>()?;
+    m.add_function(wrap_pyfunction!(simulate_json, m)?)?;
     Ok(())
+}
+
+/// Parses one spec from its JSON text, naming the argument in the error.
+fn spec<T: serde::de::DeserializeOwned>(json: &str, what: &str) -> PyResult<T> {
+    serde_json::from_str(json)
+        .map_err(|e| new_err(Kind::InvalidArgument, format!("{what}: {e}"), Some("Spec")))
+}
+
+/// The one simulate path (`pendulab_control::scenario::simulate`) on specs given as JSON
+/// text: `plant` a `PlantSpec` (or just `"cart"` / `"arm"`: the book's rig), `controller` a
+/// `ControllerSpec`, `scenario` a `ScenarioSpec` (`docs/model.md` §6). Runs with the GIL
+/// released; returns a dict of float64 arrays (`t` (N,), `x` (N, 4), `u`, `command` (N,),
+/// `y` (N, 4), `reference` (N,)), `ts`, `switch_times` and `summary` (a dict).
+///
+/// Raises `pendulab.InvalidArgumentError` for a spec that does not parse or validate (the
+/// message names the key), `pendulab.Error` for a failed run.
+#[pyfunction]
+fn simulate_json<'py>(
+    py: Python<'py>,
+    plant: &str,
+    controller: &str,
+    scenario: &str,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    use pendulab_control::scenario::simulate;
+    use pendulab_plants::rig::PlantKind;
+    use pendulab_plants::spec::PlantSpec;
+    let plant: PlantSpec = if plant.trim_start().starts_with('{') {
+        spec(plant, "plant")?
+    } else {
+        PlantSpec::book(PlantKind::parse(plant).map_err(|e| from_error(Kind::InvalidArgument, &e))?)
+    };
+    let controller: pendulab_control::spec::ControllerSpec = spec(controller, "controller")?;
+    let scenario: pendulab_sim::scenario::ScenarioSpec = spec(scenario, "scenario")?;
+    let run = py
+        .detach(|| simulate(&plant, &controller, &scenario))
+        .map_err(|e| from_error(Kind::InvalidArgument, &e))?;
+    let rows = |v: &[Vec<f64>]| -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let w = v.first().map_or(0, Vec::len);
+        let flat: Vec<f64> = v.iter().flatten().copied().collect();
+        numpy::IntoPyArray::into_pyarray(flat, py).reshape([v.len(), w])
+    };
+    let d = pyo3::types::PyDict::new(py);
+    d.set_item("t", slice_to_numpy(py, &run.t))?;
+    d.set_item("x", rows(&run.x)?)?;
+    d.set_item("u", slice_to_numpy(py, &run.u))?;
+    d.set_item("command", slice_to_numpy(py, &run.command))?;
+    d.set_item("y", rows(&run.y)?)?;
+    d.set_item("reference", slice_to_numpy(py, &run.reference))?;
+    d.set_item("ts", run.ts)?;
+    d.set_item("switch_times", run.switch_times.clone())?;
+    let s = &run.summary;
+    let summary = pyo3::types::PyDict::new(py);
+    summary.set_item("settling_time", s.settling_time)?;
+    summary.set_item("overshoot_percent", s.overshoot_percent)?;
+    summary.set_item("peak_input", s.peak_input)?;
+    summary.set_item("peak_command", s.peak_command)?;
+    summary.set_item("time_in_saturation", s.time_in_saturation)?;
+    summary.set_item("max_angle_deviation", s.max_angle_deviation)?;
+    summary.set_item("left_angle_window", s.left_angle_window)?;
+    summary.set_item("left_travel", s.left_travel)?;
+    summary.set_item("final_state", s.final_state.clone())?;
+    d.set_item("summary", summary)?;
+    Ok(d)
 }
 
 /// A [`PlantError`] as `pendulab.InvalidArgumentError` (bad parameter or operating point).
