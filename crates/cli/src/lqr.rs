@@ -180,7 +180,7 @@ struct LqrJson {
     residual: f64,
 }
 
-fn rows_of(m: &Mat) -> Vec<Vec<f64>> {
+pub(crate) fn rows_of(m: &Mat) -> Vec<Vec<f64>> {
     (0..m.nrows())
         .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
         .collect()
@@ -281,7 +281,7 @@ pub fn run(args: &LqrArgs) -> Result<()> {
     Ok(())
 }
 
-fn fmt_row(row: &[f64]) -> String {
+pub(crate) fn fmt_row(row: &[f64]) -> String {
     row.iter()
         .map(|v| format!("{v:>16.10}"))
         .collect::<Vec<_>>()

@@ -69,9 +69,12 @@ macro_rules! eprintln {
 mod bench;
 mod book;
 mod identify;
+mod lab;
 mod lqr;
+mod model;
 mod report;
 mod rig;
+mod simulate;
 
 use clap::{Parser, Subcommand};
 
@@ -169,6 +172,12 @@ enum Command {
     Report(report::ReportArgs),
     /// Run the rig emulator or the real-time controller runtime.
     Rig(rig::RigArgs),
+    /// Create a lab directory for your own rig (lab.toml: the plant and its rig).
+    Lab(lab::LabArgs),
+    /// Print the linearised model of a lab's plant: A, B, C, D, poles, controllability.
+    Model(model::ModelArgs),
+    /// Simulate a controller file on a lab's plant with the rig's imperfections.
+    Simulate(simulate::SimulateArgs),
 }
 
 fn main() -> ExitCode {
@@ -180,6 +189,9 @@ fn main() -> ExitCode {
         Command::Lqr(args) => lqr::run(&args),
         Command::Report(args) => report::run(&args),
         Command::Rig(args) => rig::run(&args),
+        Command::Lab(args) => lab::run(&args),
+        Command::Model(args) => model::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
     };
     let result = result.and_then(|()| match finish_stdout() {
         Some(e) => Err(anyhow::Error::new(e).context("cannot write to standard output")),
