@@ -39,4 +39,34 @@ class ArmPendulum:
     def lpv(self) -> Tuple[_F, _F, _F, _F]: ...
     def energy(self, x: _State) -> float: ...
 
+class Trajectory:
+    t: _F
+    x: _F
+    u: _F
+    command: _F
+    y: _F
+    reference: _F
+    ts: float
+    switch_times: list[float]
+    summary: dict[str, object]
+    def to_pandas(self) -> object: ...
+
+def simulate(
+    plant: str | Mapping[str, object],
+    controller: Mapping[str, object],
+    x0: _State,
+    t_final: float,
+    imperfections: Optional[Mapping[str, object]] = ...,
+    **scenario: object,
+) -> Trajectory: ...
+def simulate_batch(
+    plant: str | Mapping[str, object],
+    controller: Mapping[str, object],
+    x0s: Sequence[_State],
+    t_final: float,
+    imperfections: Optional[Mapping[str, object]] = ...,
+    workers: Optional[int] = ...,
+    **scenario: object,
+) -> list[Trajectory]: ...
+
 __all__: list[str]
