@@ -5,6 +5,7 @@ use super::results::{obj, result_class};
 use super::system::{Sys, system, with_sys};
 use crate::convert::{OneD, complex_to_numpy, matrix, matrix_to_numpy, slice_to_numpy};
 use crate::errors::lti;
+use pendulab_lti::Mat;
 use pendulab_lti::analysis::{GramianKind, gramian};
 use pyo3::prelude::*;
 
@@ -76,31 +77,35 @@ pub fn damp(sys: &Bound<'_, PyAny>) -> PyResult<DampResult> {
     })
 }
 
+/// Reads `A` and the matrix `X` named `name` (a 1-D `X` read as `one_d`), runs pendulab-lti's
+/// `f(A, X)` without the GIL and returns its matrix as a NumPy array.
+fn with_a_and<'py>(
+    a: &Bound<'py, PyAny>,
+    x: &Bound<'py, PyAny>,
+    name: &str,
+    one_d: OneD,
+    f: fn(&Mat, &Mat) -> pendulab_lti::Result<Mat>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let py = a.py();
+    let a = matrix(a, "A", OneD::Row)?;
+    let x = matrix(x, name, one_d)?;
+    let m = py.detach(|| f(&a, &x)).map_err(lti)?;
+    Ok(matrix_to_numpy(py, &m).into_any())
+}
+
 /// `ctrb(A, B)`: the controllability matrix `[B, AB, …, Aⁿ⁻¹B]` (n × nm). For rank
 /// decisions prefer `StateSpace` analysis: the columns `AᵏB` lose information in rounding.
 #[pyfunction]
 #[pyo3(name = "ctrb")]
 pub fn ctrb_py<'py>(a: &Bound<'py, PyAny>, b: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-    let py = a.py();
-    let a = matrix(a, "A", OneD::Row)?;
-    let b = matrix(b, "B", OneD::Column)?;
-    let m = py
-        .detach(|| pendulab_lti::analysis::ctrb(&a, &b))
-        .map_err(lti)?;
-    Ok(matrix_to_numpy(py, &m).into_any())
+    with_a_and(a, b, "B", OneD::Column, pendulab_lti::analysis::ctrb)
 }
 
 /// `obsv(A, C)`: the observability matrix `[C; CA; …; CAⁿ⁻¹]` (np × n).
 #[pyfunction]
 #[pyo3(name = "obsv")]
 pub fn obsv_py<'py>(a: &Bound<'py, PyAny>, c: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-    let py = a.py();
-    let a = matrix(a, "A", OneD::Row)?;
-    let c = matrix(c, "C", OneD::Row)?;
-    let m = py
-        .detach(|| pendulab_lti::analysis::obsv(&a, &c))
-        .map_err(lti)?;
-    Ok(matrix_to_numpy(py, &m).into_any())
+    with_a_and(a, c, "C", OneD::Row, pendulab_lti::analysis::obsv)
 }
 
 result_class!(

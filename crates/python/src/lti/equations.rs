@@ -149,43 +149,44 @@ fn solve_riccati(
     RiccatiResult::from_solution(py, &sol)
 }
 
-/// `care(A, B, Q, R=None, S=None, E=None)`: the stabilising solution of the continuous
-/// algebraic Riccati equation `AᵀX + XA − (XB + S)R⁻¹(BᵀX + Sᵀ) + Q = 0` (R = I when
-/// omitted), with `G = R⁻¹(BᵀX + Sᵀ)` and the eigenvalues `L` of `A − BG`.
-///
-/// Solved by the doubling or Schur method with Newton refinement and a certificate that the
-/// closed loop is stable (pendulab-lti `care`); `Q` may be indefinite. Raises
-/// `pendulab.NotStabilizableError` when no stabilising solution exists,
-/// `pendulab.InvalidArgumentError` for a non-symmetric `Q`/`R` or `R` not positive definite.
-#[pyfunction]
-#[pyo3(signature = (A, B, Q, R = None, S = None, E = None))]
-#[allow(non_snake_case)]
-pub fn care(
-    A: &Bound<'_, PyAny>,
-    B: &Bound<'_, PyAny>,
-    Q: &Bound<'_, PyAny>,
-    R: Option<&Bound<'_, PyAny>>,
-    S: Option<&Bound<'_, PyAny>>,
-    E: Option<&Bound<'_, PyAny>>,
-) -> PyResult<RiccatiResult> {
-    solve_riccati(A, B, Q, R, S, E, pendulab_lti::equations::care)
+/// Defines a `#[pyfunction]` `$name(A, B, Q, R=None, S=None, E=None)` that solves its
+/// Riccati equation with pendulab-lti's `$solver` through [`solve_riccati`].
+macro_rules! riccati_pyfunction {
+    ($(#[$doc:meta])* $name:ident => $solver:path) => {
+        $(#[$doc])*
+        #[pyfunction]
+        #[pyo3(signature = (A, B, Q, R = None, S = None, E = None))]
+        #[allow(non_snake_case)]
+        pub fn $name(
+            A: &Bound<'_, PyAny>,
+            B: &Bound<'_, PyAny>,
+            Q: &Bound<'_, PyAny>,
+            R: Option<&Bound<'_, PyAny>>,
+            S: Option<&Bound<'_, PyAny>>,
+            E: Option<&Bound<'_, PyAny>>,
+        ) -> PyResult<RiccatiResult> {
+            solve_riccati(A, B, Q, R, S, E, $solver)
+        }
+    };
 }
 
-/// `dare(A, B, Q, R, S=None, E=None)`: the stabilising solution of the discrete algebraic
-/// Riccati equation `AᵀXA − X − (AᵀXB + S)(BᵀXB + R)⁻¹(BᵀXA + Sᵀ) + Q = 0`, with
-/// `G = (BᵀXB + R)⁻¹(BᵀXA + Sᵀ)` and the eigenvalues `L` of `A − BG`.
-///
-/// Raises as `care`; `R` may be singular if `BᵀXB + R` is invertible at the solution.
-#[pyfunction]
-#[pyo3(signature = (A, B, Q, R = None, S = None, E = None))]
-#[allow(non_snake_case)]
-pub fn dare(
-    A: &Bound<'_, PyAny>,
-    B: &Bound<'_, PyAny>,
-    Q: &Bound<'_, PyAny>,
-    R: Option<&Bound<'_, PyAny>>,
-    S: Option<&Bound<'_, PyAny>>,
-    E: Option<&Bound<'_, PyAny>>,
-) -> PyResult<RiccatiResult> {
-    solve_riccati(A, B, Q, R, S, E, pendulab_lti::equations::dare)
-}
+riccati_pyfunction!(
+    /// `care(A, B, Q, R=None, S=None, E=None)`: the stabilising solution of the continuous
+    /// algebraic Riccati equation `AᵀX + XA − (XB + S)R⁻¹(BᵀX + Sᵀ) + Q = 0` (R = I when
+    /// omitted), with `G = R⁻¹(BᵀX + Sᵀ)` and the eigenvalues `L` of `A − BG`.
+    ///
+    /// Solved by the doubling or Schur method with Newton refinement and a certificate that the
+    /// closed loop is stable (pendulab-lti `care`); `Q` may be indefinite. Raises
+    /// `pendulab.NotStabilizableError` when no stabilising solution exists,
+    /// `pendulab.InvalidArgumentError` for a non-symmetric `Q`/`R` or `R` not positive definite.
+    care => pendulab_lti::equations::care
+);
+
+riccati_pyfunction!(
+    /// `dare(A, B, Q, R, S=None, E=None)`: the stabilising solution of the discrete algebraic
+    /// Riccati equation `AᵀXA − X − (AᵀXB + S)(BᵀXB + R)⁻¹(BᵀXA + Sᵀ) + Q = 0`, with
+    /// `G = (BᵀXB + R)⁻¹(BᵀXA + Sᵀ)` and the eigenvalues `L` of `A − BG`.
+    ///
+    /// Raises as `care`; `R` may be singular if `BᵀXB + R` is invertible at the solution.
+    dare => pendulab_lti::equations::dare
+);
