@@ -29,13 +29,45 @@ mod svd_bodies;
 
 use blas_bodies::{gemm_impl, gemv_impl, symv_impl, syr2k_impl, syrk_impl};
 use lapack_bodies::{gesv_impl, potrf_impl, potrs_impl, syevr_impl};
-use svd_bodies::{gesdd_impl, gesvd_impl};
+use svd_bodies::{SvdArgs, gesdd_impl, gesvd_impl};
 
 /// `INFO` value reported when the shim itself failed internally (a caught panic). Positive,
 /// so callers treat it as a computational failure, and far outside LAPACK's own range.
 pub const INTERNAL_ERROR: c_int = c_int::MAX;
 
 // The exported symbols: one `d` (f64) and one `s` (f32) version of each routine.
+
+/// One SVD driver's `extern "C"` entry point (xGESDD, xGESVD): the job flags, the argument
+/// list the drivers share (`M` … `LWORK`, see `svd_bodies::SvdArgs`), the driver's own
+/// trailing arguments, then `INFO`; it forwards to the driver's generic body.
+macro_rules! svd_entry {
+    (@jobs $job:ident) => { $job };
+    (@jobs $($job:ident),+) => { ($($job),+) };
+    ($(#[$doc:meta])* $t:ty, $name:ident, $body:ident, ($($job:ident),+ $(,)?), ($($extra:ident: $et:ty),*)) => {
+        $(#[$doc])*
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            $($job: *const c_char,)+
+            m: *const c_int,
+            n: *const c_int,
+            a: *mut $t,
+            lda: *const c_int,
+            s: *mut $t,
+            u: *mut $t,
+            ldu: *const c_int,
+            vt: *mut $t,
+            ldvt: *const c_int,
+            work: *mut $t,
+            lwork: *const c_int,
+            $($extra: $et,)*
+            info: *mut c_int,
+        ) {
+            let args = SvdArgs { m, n, a, lda, s, u, ldu, vt, ldvt, work, lwork };
+            // SAFETY: forwarded caller contract.
+            unsafe { $body::<$t>(svd_entry!(@jobs $($job),+), args, info) }
+        }
+    };
+}
 
 macro_rules! symbols {
     ($t:ty, $p:literal,
@@ -257,77 +289,35 @@ macro_rules! symbols {
             }
         }
 
-        #[doc = concat!("LAPACK `", $p, "GESDD`: singular value decomposition `A = U Σ Vᵀ`, singular values descending.")]
-        ///
-        /// `JOBZ` `'A'` (full `U`, `Vᵀ`), `'S'` (the `min(m, n)` leading vectors), `'O'`
-        /// (leading vectors overwrite `A`: `U` if `m ≥ n`, else `Vᵀ`) or `'N'` (values only).
-        /// A workspace query (`LWORK = −1`) reports LAPACK's documented minimum in `WORK[0]`.
-        /// Matrices with both sides ≤ 32 are decomposed by one-sided Jacobi (no allocation;
-        /// small singular values of graded matrices to high relative accuracy), larger ones
-        /// by bidiagonal QR; `WORK` is not used beyond `WORK[0]`. `IWORK` is not used. `INFO = 1`: non-finite input or no convergence;
-        /// `INFO = −i`: argument `i` invalid.
-        ///
-        /// # Safety
-        /// Fortran contract for xGESDD (array sizes as documented there).
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $gesdd(
-            jobz: *const c_char,
-            m: *const c_int,
-            n: *const c_int,
-            a: *mut $t,
-            lda: *const c_int,
-            s: *mut $t,
-            u: *mut $t,
-            ldu: *const c_int,
-            vt: *mut $t,
-            ldvt: *const c_int,
-            work: *mut $t,
-            lwork: *const c_int,
-            iwork: *mut c_int,
-            info: *mut c_int,
-        ) {
-            // SAFETY: forwarded caller contract.
-            unsafe {
-                gesdd_impl::<$t>(
-                    jobz, m, n, a, lda, s, u, ldu, vt, ldvt, work, lwork, iwork, info,
-                )
-            }
-        }
+        svd_entry!(
+            #[doc = concat!("LAPACK `", $p, "GESDD`: singular value decomposition `A = U Σ Vᵀ`, singular values descending.")]
+            ///
+            /// `JOBZ` `'A'` (full `U`, `Vᵀ`), `'S'` (the `min(m, n)` leading vectors), `'O'`
+            /// (leading vectors overwrite `A`: `U` if `m ≥ n`, else `Vᵀ`) or `'N'` (values only).
+            /// A workspace query (`LWORK = −1`) reports LAPACK's documented minimum in `WORK[0]`.
+            /// Matrices with both sides ≤ 32 are decomposed by one-sided Jacobi (no allocation;
+            /// small singular values of graded matrices to high relative accuracy), larger ones
+            /// by bidiagonal QR; `WORK` is not used beyond `WORK[0]`. `IWORK` is not used. `INFO = 1`: non-finite input or no convergence;
+            /// `INFO = −i`: argument `i` invalid.
+            ///
+            /// # Safety
+            /// Fortran contract for xGESDD (array sizes as documented there).
+            $t, $gesdd, gesdd_impl, (jobz), (_iwork: *mut c_int)
+        );
 
-        #[doc = concat!("LAPACK `", $p, "GESVD`: singular value decomposition `A = U Σ Vᵀ`, singular values descending.")]
-        ///
-        /// `JOBU`/`JOBVT` `'A'`, `'S'`, `'O'` (overwrite `A`; not both) or `'N'`, as in
-        /// LAPACK. A workspace query (`LWORK = −1`) reports the documented minimum
-        /// `max(1, 3 min(m,n) + max(m,n), 5 min(m,n))`. The algorithm is chosen as for the
-        /// `GESDD` routine (one-sided Jacobi up to side 32). `INFO = 1`: non-finite input or no
-        /// convergence; `INFO = −i`: argument `i` invalid.
-        ///
-        /// # Safety
-        /// Fortran contract for xGESVD (array sizes as documented there).
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $gesvd(
-            jobu: *const c_char,
-            jobvt: *const c_char,
-            m: *const c_int,
-            n: *const c_int,
-            a: *mut $t,
-            lda: *const c_int,
-            s: *mut $t,
-            u: *mut $t,
-            ldu: *const c_int,
-            vt: *mut $t,
-            ldvt: *const c_int,
-            work: *mut $t,
-            lwork: *const c_int,
-            info: *mut c_int,
-        ) {
-            // SAFETY: forwarded caller contract.
-            unsafe {
-                gesvd_impl::<$t>(
-                    jobu, jobvt, m, n, a, lda, s, u, ldu, vt, ldvt, work, lwork, info,
-                )
-            }
-        }
+        svd_entry!(
+            #[doc = concat!("LAPACK `", $p, "GESVD`: singular value decomposition `A = U Σ Vᵀ`, singular values descending.")]
+            ///
+            /// `JOBU`/`JOBVT` `'A'`, `'S'`, `'O'` (overwrite `A`; not both) or `'N'`, as in
+            /// LAPACK. A workspace query (`LWORK = −1`) reports the documented minimum
+            /// `max(1, 3 min(m,n) + max(m,n), 5 min(m,n))`. The algorithm is chosen as for the
+            /// `GESDD` routine (one-sided Jacobi up to side 32). `INFO = 1`: non-finite input or no
+            /// convergence; `INFO = −i`: argument `i` invalid.
+            ///
+            /// # Safety
+            /// Fortran contract for xGESVD (array sizes as documented there).
+            $t, $gesvd, gesvd_impl, (jobu, jobvt), ()
+        );
 
         #[doc = concat!("LAPACK `", $p, "GESV`: solves `A X = B` by LU factorisation with partial pivoting.")]
         ///

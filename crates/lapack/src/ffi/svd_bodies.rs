@@ -33,6 +33,46 @@ fn job_flag(f: u8, position: c_int) -> Result<Job, c_int> {
     }
 }
 
+/// The arguments xGESDD and xGESVD share, in their common order after the job flags: `M`,
+/// `N`, `A`, `LDA`, `S`, `U`, `LDU`, `VT`, `LDVT`, `WORK`, `LWORK` (the raw Fortran pointers;
+/// their argument numbers differ between the routines and are checked by each body).
+pub(super) struct SvdArgs<T> {
+    pub(super) m: *const c_int,
+    pub(super) n: *const c_int,
+    pub(super) a: *mut T,
+    pub(super) lda: *const c_int,
+    pub(super) s: *mut T,
+    pub(super) u: *mut T,
+    pub(super) ldu: *const c_int,
+    pub(super) vt: *mut T,
+    pub(super) ldvt: *const c_int,
+    pub(super) work: *mut T,
+    pub(super) lwork: *const c_int,
+}
+
+/// Reads `LWORK` (argument `plwork`), checks it against the documented minimum `minwrk`
+/// (`Err(plwork)` if smaller and not the query `LWORK = −1`) and reports `minwrk` in
+/// `WORK[0]` (argument `pwork`). True for a workspace query, which computes nothing else.
+///
+/// # Safety
+/// `lwork` is valid for reads and `work` for one write (the xGESDD/xGESVD contracts).
+unsafe fn workspace_query<T: Real>(
+    (work, pwork): (*mut T, c_int),
+    (lwork, plwork): (*const c_int, c_int),
+    minwrk: usize,
+) -> Result<bool, c_int> {
+    // SAFETY: forwarded caller contract.
+    unsafe {
+        let lwork = read(lwork, plwork)?;
+        let query = lwork == -1;
+        if !query && (lwork as i64) < minwrk as i64 {
+            return Err(plwork);
+        }
+        report_size(slice_mut(work, 1, pwork)?, minwrk);
+        Ok(query)
+    }
+}
+
 /// Shared tail of the SVD drivers: computes the decomposition of the `m × n` array `a` and
 /// stores `s`, `U` and `Vᵀ` according to the jobs. Returns `INFO`.
 ///
@@ -155,23 +195,20 @@ unsafe fn svd_store<T: Real>(
 
 /// # Safety
 /// See [`dgesdd_`](super::dgesdd_).
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn gesdd_impl<T: Real>(
-    jobz: *const c_char,
-    m: *const c_int,
-    n: *const c_int,
-    a: *mut T,
-    lda: *const c_int,
-    s: *mut T,
-    u: *mut T,
-    ldu: *const c_int,
-    vt: *mut T,
-    ldvt: *const c_int,
-    work: *mut T,
-    lwork: *const c_int,
-    _iwork: *mut c_int,
-    info: *mut c_int,
-) {
+pub(super) unsafe fn gesdd_impl<T: Real>(jobz: *const c_char, args: SvdArgs<T>, info: *mut c_int) {
+    let SvdArgs {
+        m,
+        n,
+        a,
+        lda,
+        s,
+        u,
+        ldu,
+        vt,
+        ldvt,
+        work,
+        lwork,
+    } = args;
     unsafe {
         run_lapack(info, || {
             let job = job_flag(flag(jobz, 1)?, 1)?;
@@ -200,13 +237,7 @@ pub(super) unsafe fn gesdd_impl<T: Real>(
                 Job::All => 4 * mn * mn + 6 * mn + mx,
             }
             .max(1);
-            let lwork = read(lwork, 12)?;
-            let query = lwork == -1;
-            if !query && (lwork as i64) < minwrk as i64 {
-                return Err(12);
-            }
-            report_size(slice_mut(work, 1, 11)?, minwrk);
-            if query || m == 0 || n == 0 {
+            if workspace_query((work, 11), (lwork, 12), minwrk)? || m == 0 || n == 0 {
                 return Ok(0);
             }
             // 'O' overwrites A with U when m ≥ n and with Vᵀ otherwise; the other factor is
@@ -231,23 +262,24 @@ pub(super) unsafe fn gesdd_impl<T: Real>(
 
 /// # Safety
 /// See [`dgesvd_`](super::dgesvd_).
-#[allow(clippy::too_many_arguments)]
 pub(super) unsafe fn gesvd_impl<T: Real>(
-    jobu: *const c_char,
-    jobvt: *const c_char,
-    m: *const c_int,
-    n: *const c_int,
-    a: *mut T,
-    lda: *const c_int,
-    s: *mut T,
-    u: *mut T,
-    ldu: *const c_int,
-    vt: *mut T,
-    ldvt: *const c_int,
-    work: *mut T,
-    lwork: *const c_int,
+    (jobu, jobvt): (*const c_char, *const c_char),
+    args: SvdArgs<T>,
     info: *mut c_int,
 ) {
+    let SvdArgs {
+        m,
+        n,
+        a,
+        lda,
+        s,
+        u,
+        ldu,
+        vt,
+        ldvt,
+        work,
+        lwork,
+    } = args;
     unsafe {
         run_lapack(info, || {
             let ju = job_flag(flag(jobu, 1)?, 1)?;
@@ -271,13 +303,7 @@ pub(super) unsafe fn gesvd_impl<T: Real>(
             }
             // Documented minimum workspace of LAPACK 3.x dgesvd.
             let minwrk = (3 * mn + mx).max(5 * mn).max(1);
-            let lwork = read(lwork, 13)?;
-            let query = lwork == -1;
-            if !query && (lwork as i64) < minwrk as i64 {
-                return Err(13);
-            }
-            report_size(slice_mut(work, 1, 12)?, minwrk);
-            if query || m == 0 || n == 0 {
+            if workspace_query((work, 12), (lwork, 13), minwrk)? || m == 0 || n == 0 {
                 return Ok(0);
             }
             svd_store(
