@@ -453,36 +453,28 @@ fn scale_triangle<T: Real>(uplo: Uplo, n: usize, beta: T, c: &mut [T], ldc: usiz
     }
 }
 
-/// The start of the rank-k updates `syrk` and `syr2k`: nothing to do when `n = 0` or when
-/// the `α` term vanishes and `β = 1`; otherwise `C ← β C` on the `uplo` triangle. True if the
-/// `α` term (`α ≠ 0`, `k > 0`) remains to be added.
-fn begin_rank_update<T: Real>(
-    uplo: Uplo,
+/// A symmetric rank-k update `C ← α (…) + β C` on the `uplo` triangle of `C`, the loop that
+/// xSYRK and xSYR2K share. Nothing is done when `n = 0` or when the `α` term vanishes
+/// (`α = 0` or `k = 0`) and `β = 1`; otherwise `C ← β C` on the triangle, then, if `α ≠ 0` and
+/// `k > 0`, the `α` term through the routine's kernels: for `trans = No`,
+/// `column(j, rows, C(rows, j))` adds column `j`'s share on the triangle's rows `rows`; for
+/// `trans = Yes`, `C(i, j) += α · dot(i, j)`.
+fn rank_update<T: Real>(
+    (uplo, trans): (Uplo, Trans),
     (n, k): (usize, usize),
     (alpha, beta): (T, T),
-    (c, ldc): (&mut [T], usize),
-) -> bool {
-    let no_product = alpha == T::zero() || k == 0;
-    if n == 0 || (no_product && beta == T::one()) {
-        return false;
-    }
-    scale_triangle(uplo, n, beta, c, ldc);
-    !no_product
-}
-
-/// Adds the `α` term of a symmetric rank-k update to the `uplo` triangle of `C`, column by
-/// column. `trans = No`: `column(j, rows, C(rows, j))` adds column `j`'s share on the rows
-/// `rows` of the triangle. `trans = Yes`: `C(i, j) += α · dot(i, j)`. The kernels are those of
-/// `syrk` (one product) and `syr2k` (two products).
-fn add_rank_update<T: Real>(
-    uplo: Uplo,
-    trans: Trans,
-    n: usize,
-    alpha: T,
     (c, ldc): (&mut [T], usize),
     column: impl Fn(usize, std::ops::Range<usize>, &mut [T]),
     dot: impl Fn(usize, usize) -> T,
 ) {
+    let no_product = alpha == T::zero() || k == 0;
+    if n == 0 || (no_product && beta == T::one()) {
+        return;
+    }
+    scale_triangle(uplo, n, beta, c, ldc);
+    if no_product {
+        return;
+    }
     for j in 0..n {
         let rows = triangle_rows(uplo, j, n);
         match trans {
@@ -511,33 +503,24 @@ pub(crate) fn syrk<T: Real>(
     beta: T,
     (c, ldc): (&mut [T], usize),
 ) {
-    if !begin_rank_update(uplo, (n, k), (alpha, beta), (c, ldc)) {
-        return;
-    }
-    add_rank_update(
-        uplo,
-        trans,
-        n,
-        alpha,
-        (c, ldc),
-        // C(:, j) += α Σ_l A(:, l) A(j, l).
-        |j, rows, cj| {
-            for l in 0..k {
-                let t = alpha * a[j + l * lda];
-                if t != T::zero() {
-                    let al = &a[l * lda + rows.start..l * lda + rows.end];
-                    for (cij, &x) in cj.iter_mut().zip(al) {
-                        *cij += t * x;
-                    }
+    // C(:, j) += α Σ_l A(:, l) A(j, l).
+    let column = |j: usize, rows: std::ops::Range<usize>, cj: &mut [T]| {
+        for l in 0..k {
+            let t = alpha * a[j + l * lda];
+            if t != T::zero() {
+                let al = &a[l * lda + rows.start..l * lda + rows.end];
+                for (cij, &x) in cj.iter_mut().zip(al) {
+                    *cij += t * x;
                 }
             }
-        },
-        // C(i, j) += α A(:, i)ᵀ A(:, j).
-        |i, j| {
-            let (ai, aj) = (&a[i * lda..i * lda + k], &a[j * lda..j * lda + k]);
-            ai.iter().zip(aj).fold(T::zero(), |s, (p, q)| s + *p * *q)
-        },
-    );
+        }
+    };
+    // C(i, j) += α A(:, i)ᵀ A(:, j).
+    let dot = |i: usize, j: usize| {
+        let (ai, aj) = (&a[i * lda..i * lda + k], &a[j * lda..j * lda + k]);
+        ai.iter().zip(aj).fold(T::zero(), |s, (p, q)| s + *p * *q)
+    };
+    rank_update((uplo, trans), (n, k), (alpha, beta), (c, ldc), column, dot);
 }
 
 /// `C ← α (A Bᵀ + B Aᵀ) + β C` (`trans = No`, `A`, `B` are `n × k`) or
@@ -553,38 +536,29 @@ pub(crate) fn syr2k<T: Real>(
     beta: T,
     (c, ldc): (&mut [T], usize),
 ) {
-    if !begin_rank_update(uplo, (n, k), (alpha, beta), (c, ldc)) {
-        return;
-    }
-    add_rank_update(
-        uplo,
-        trans,
-        n,
-        alpha,
-        (c, ldc),
-        // C(:, j) += α Σ_l (A(:, l) B(j, l) + B(:, l) A(j, l)).
-        |j, rows, cj| {
-            for l in 0..k {
-                let tb = alpha * b[j + l * ldb];
-                let ta = alpha * a[j + l * lda];
-                if tb != T::zero() || ta != T::zero() {
-                    let al = &a[l * lda + rows.start..l * lda + rows.end];
-                    let bl = &b[l * ldb + rows.start..l * ldb + rows.end];
-                    for ((cij, &x), &y) in cj.iter_mut().zip(al).zip(bl) {
-                        *cij += x * tb + y * ta;
-                    }
+    // C(:, j) += α Σ_l (A(:, l) B(j, l) + B(:, l) A(j, l)).
+    let column = |j: usize, rows: std::ops::Range<usize>, cj: &mut [T]| {
+        for l in 0..k {
+            let tb = alpha * b[j + l * ldb];
+            let ta = alpha * a[j + l * lda];
+            if tb != T::zero() || ta != T::zero() {
+                let al = &a[l * lda + rows.start..l * lda + rows.end];
+                let bl = &b[l * ldb + rows.start..l * ldb + rows.end];
+                for ((cij, &x), &y) in cj.iter_mut().zip(al).zip(bl) {
+                    *cij += x * tb + y * ta;
                 }
             }
-        },
-        // C(i, j) += α (A(:, i)ᵀ B(:, j) + B(:, i)ᵀ A(:, j)).
-        |i, j| {
-            let (ai, aj) = (&a[i * lda..i * lda + k], &a[j * lda..j * lda + k]);
-            let (bi, bj) = (&b[i * ldb..i * ldb + k], &b[j * ldb..j * ldb + k]);
-            let mut s = T::zero();
-            for l in 0..k {
-                s += ai[l] * bj[l] + bi[l] * aj[l];
-            }
-            s
-        },
-    );
+        }
+    };
+    // C(i, j) += α (A(:, i)ᵀ B(:, j) + B(:, i)ᵀ A(:, j)).
+    let dot = |i: usize, j: usize| {
+        let (ai, aj) = (&a[i * lda..i * lda + k], &a[j * lda..j * lda + k]);
+        let (bi, bj) = (&b[i * ldb..i * ldb + k], &b[j * ldb..j * ldb + k]);
+        let mut s = T::zero();
+        for l in 0..k {
+            s += ai[l] * bj[l] + bi[l] * aj[l];
+        }
+        s
+    };
+    rank_update((uplo, trans), (n, k), (alpha, beta), (c, ldc), column, dot);
 }

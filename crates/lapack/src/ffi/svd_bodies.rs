@@ -196,32 +196,19 @@ unsafe fn svd_store<T: Real>(
 /// # Safety
 /// See [`dgesdd_`](super::dgesdd_).
 pub(super) unsafe fn gesdd_impl<T: Real>(jobz: *const c_char, args: SvdArgs<T>, info: *mut c_int) {
-    let SvdArgs {
-        m,
-        n,
-        a,
-        lda,
-        s,
-        u,
-        ldu,
-        vt,
-        ldvt,
-        work,
-        lwork,
-    } = args;
     unsafe {
         run_lapack(info, || {
             let job = job_flag(flag(jobz, 1)?, 1)?;
-            let (m, n) = (dim(m, 2)?, dim(n, 3)?);
+            let (m, n) = (dim(args.m, 2)?, dim(args.n, 3)?);
             let (mn, mx) = (m.min(n), m.max(n));
-            let lda = leading(lda, m, 5)?;
-            let ldu_v = read(ldu, 8)?;
+            let lda = leading(args.lda, m, 5)?;
+            let ldu_v = read(args.ldu, 8)?;
             let needs_ldu_m =
                 matches!(job, Job::All | Job::Some) || (job == Job::Overwrite && m < n);
             if ldu_v < 1 || (needs_ldu_m && (ldu_v as usize) < m) {
                 return Err(8);
             }
-            let ldvt_v = read(ldvt, 10)?;
+            let ldvt_v = read(args.ldvt, 10)?;
             let bad_ldvt = ldvt_v < 1
                 || (job == Job::All && (ldvt_v as usize) < n)
                 || (job == Job::Some && (ldvt_v as usize) < mn)
@@ -237,7 +224,7 @@ pub(super) unsafe fn gesdd_impl<T: Real>(jobz: *const c_char, args: SvdArgs<T>, 
                 Job::All => 4 * mn * mn + 6 * mn + mx,
             }
             .max(1);
-            if workspace_query((work, 11), (lwork, 12), minwrk)? || m == 0 || n == 0 {
+            if workspace_query((args.work, 11), (args.lwork, 12), minwrk)? || m == 0 || n == 0 {
                 return Ok(0);
             }
             // 'O' overwrites A with U when m ≥ n and with Vᵀ otherwise; the other factor is
@@ -250,10 +237,10 @@ pub(super) unsafe fn gesdd_impl<T: Real>(jobz: *const c_char, args: SvdArgs<T>, 
             svd_store(
                 (jobu, jobvt),
                 (m, n),
-                (a, lda),
-                s,
-                (u, ldu_v as usize),
-                (vt, ldvt_v as usize),
+                (args.a, lda),
+                args.s,
+                (args.u, ldu_v as usize),
+                (args.vt, ldvt_v as usize),
                 [4, 6, 7, 9],
             )
         })
@@ -267,19 +254,6 @@ pub(super) unsafe fn gesvd_impl<T: Real>(
     args: SvdArgs<T>,
     info: *mut c_int,
 ) {
-    let SvdArgs {
-        m,
-        n,
-        a,
-        lda,
-        s,
-        u,
-        ldu,
-        vt,
-        ldvt,
-        work,
-        lwork,
-    } = args;
     unsafe {
         run_lapack(info, || {
             let ju = job_flag(flag(jobu, 1)?, 1)?;
@@ -287,14 +261,14 @@ pub(super) unsafe fn gesvd_impl<T: Real>(
             if ju == Job::Overwrite && jv == Job::Overwrite {
                 return Err(2);
             }
-            let (m, n) = (dim(m, 3)?, dim(n, 4)?);
+            let (m, n) = (dim(args.m, 3)?, dim(args.n, 4)?);
             let (mn, mx) = (m.min(n), m.max(n));
-            let lda = leading(lda, m, 6)?;
-            let ldu_v = read(ldu, 9)?;
+            let lda = leading(args.lda, m, 6)?;
+            let ldu_v = read(args.ldu, 9)?;
             if ldu_v < 1 || (matches!(ju, Job::All | Job::Some) && (ldu_v as usize) < m) {
                 return Err(9);
             }
-            let ldvt_v = read(ldvt, 11)?;
+            let ldvt_v = read(args.ldvt, 11)?;
             let bad_ldvt = ldvt_v < 1
                 || (jv == Job::All && (ldvt_v as usize) < n)
                 || (jv == Job::Some && (ldvt_v as usize) < mn);
@@ -303,16 +277,16 @@ pub(super) unsafe fn gesvd_impl<T: Real>(
             }
             // Documented minimum workspace of LAPACK 3.x dgesvd.
             let minwrk = (3 * mn + mx).max(5 * mn).max(1);
-            if workspace_query((work, 12), (lwork, 13), minwrk)? || m == 0 || n == 0 {
+            if workspace_query((args.work, 12), (args.lwork, 13), minwrk)? || m == 0 || n == 0 {
                 return Ok(0);
             }
             svd_store(
                 (ju, jv),
                 (m, n),
-                (a, lda),
-                s,
-                (u, ldu_v as usize),
-                (vt, ldvt_v as usize),
+                (args.a, lda),
+                args.s,
+                (args.u, ldu_v as usize),
+                (args.vt, ldvt_v as usize),
                 [5, 7, 8, 10],
             )
         })
