@@ -79,13 +79,41 @@ struct PoleSlot {
     beyond: Option<u32>,
 }
 
-/// What one step of one cart-pole produced.
+/// What one step of one environment produced (`T`: f32 for the cart-pole, f64 for the rigs).
 #[derive(Debug, Clone, Copy, Default)]
-struct PoleOut {
-    obs: [f32; 4],
-    reward: f32,
+struct Out<T> {
+    obs: [T; 4],
+    reward: T,
     terminated: bool,
     truncated: bool,
+}
+
+type PoleOut = Out<f32>;
+type RigOut = Out<f64>;
+
+/// `(obs (n, 4), reward (n,), terminated (n,), truncated (n,))` as NumPy arrays.
+type StepArrays<'py, T> = (
+    Bound<'py, PyArray2<T>>,
+    Bound<'py, PyArray1<T>>,
+    Bound<'py, PyArray1<bool>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
+/// The steps' results as NumPy arrays.
+fn step_arrays<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    out: &[Out<T>],
+) -> PyResult<StepArrays<'py, T>> {
+    let obs: Vec<T> = out.iter().flat_map(|o| o.obs).collect();
+    let reward: Vec<T> = out.iter().map(|o| o.reward).collect();
+    let term: Vec<bool> = out.iter().map(|o| o.terminated).collect();
+    let trunc: Vec<bool> = out.iter().map(|o| o.truncated).collect();
+    Ok((
+        matrix(py, obs, out.len())?,
+        reward.into_pyarray(py),
+        term.into_pyarray(py),
+        trunc.into_pyarray(py),
+    ))
 }
 
 /// `n` classic cart-poles (Gymnasium's `CartPole-v1` dynamics) stepped together.
@@ -279,18 +307,12 @@ impl ClassicCartPoleCore {
     /// Raises `ValueError` for a wrong number of actions, an action other than 0 or 1, or a
     /// `fresh` array of the wrong shape (nothing is stepped then).
     #[pyo3(signature = (actions, fresh = None))]
-    #[allow(clippy::type_complexity)]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
         actions: PyReadonlyArray1<'py, i64>,
         fresh: Option<PyReadonlyArray2<'py, f64>>,
-    ) -> PyResult<(
-        Bound<'py, PyArray2<f32>>,
-        Bound<'py, PyArray1<f32>>,
-        Bound<'py, PyArray1<bool>>,
-        Bound<'py, PyArray1<bool>>,
-    )> {
+    ) -> PyResult<StepArrays<'py, f32>> {
         let n = self.slots.len();
         let acts = actions.as_slice()?;
         if acts.len() != n {
@@ -352,16 +374,7 @@ impl ClassicCartPoleCore {
             });
         });
         self.slots = slots;
-        let obs: Vec<f32> = out.iter().flat_map(|o| o.obs).collect();
-        let reward: Vec<f32> = out.iter().map(|o| o.reward).collect();
-        let term: Vec<bool> = out.iter().map(|o| o.terminated).collect();
-        let trunc: Vec<bool> = out.iter().map(|o| o.truncated).collect();
-        Ok((
-            matrix(py, obs, n)?,
-            reward.into_pyarray(py),
-            term.into_pyarray(py),
-            trunc.into_pyarray(py),
-        ))
+        step_arrays(py, &out)
     }
 }
 
@@ -405,15 +418,6 @@ impl RigEnv for Env<ArmPendulum, 4> {
 struct RigSlot<E> {
     env: E,
     prev_done: bool,
-}
-
-/// What one step of one rig produced.
-#[derive(Debug, Clone, Copy, Default)]
-struct RigOut {
-    obs: [f64; 4],
-    reward: f64,
-    terminated: bool,
-    truncated: bool,
 }
 
 /// The rig's environments, by plant.
@@ -731,17 +735,11 @@ impl RigCore {
     ///
     /// Raises `ValueError` for a wrong number of actions or a NaN action (nothing is stepped
     /// then), or if a plant's state stops being finite.
-    #[allow(clippy::type_complexity)]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
         actions: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(
-        Bound<'py, PyArray2<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<bool>>,
-        Bound<'py, PyArray1<bool>>,
-    )> {
+    ) -> PyResult<StepArrays<'py, f64>> {
         let n = self.num_envs();
         let acts = actions.as_slice()?;
         if acts.len() != n {
@@ -767,15 +765,6 @@ impl RigCore {
         });
         self.envs = envs;
         result.map_err(|e| sim_error(&e))?;
-        let obs: Vec<f64> = out.iter().flat_map(|o| o.obs).collect();
-        let reward: Vec<f64> = out.iter().map(|o| o.reward).collect();
-        let term: Vec<bool> = out.iter().map(|o| o.terminated).collect();
-        let trunc: Vec<bool> = out.iter().map(|o| o.truncated).collect();
-        Ok((
-            matrix(py, obs, n)?,
-            reward.into_pyarray(py),
-            term.into_pyarray(py),
-            trunc.into_pyarray(py),
-        ))
+        step_arrays(py, &out)
     }
 }
