@@ -12,13 +12,17 @@
 //! `pendulab_control::scenario::simulate` runs it; `run.csv` gets one row per sample:
 //! `t` \[s\], the plant state named as in the rig log (`z, theta, dz, dtheta` or
 //! `theta1, theta2, dtheta1, dtheta2`, SI units and rad), `v` the voltage applied to the plant
-//! and `u_ctrl` the controller's command \[V\]. Nothing is written unless the run succeeded.
+//! and `u_ctrl` the controller's command \[V\]; `run.svg` draws the drive position, the
+//! pendulum angle and both voltages over time (`pendulab_plot::TimeResponse`). Nothing is
+//! written unless the run and its figure succeeded.
 
 use crate::lab;
 use crate::model::state_names;
 use anyhow::{Context, Result, bail};
 use pendulab_control::scenario::{Run, SETTLING_FRACTION, simulate};
+use pendulab_lti::{Mat, Trajectory};
 use pendulab_plants::rig::PlantKind;
+use pendulab_plot::{Channel, SignalPanel, TimeResponse};
 use pendulab_sim::scenario::{Imperfections, ScenarioSpec};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -66,6 +70,7 @@ struct SummaryJson {
     plant: &'static str,
     controller: String,
     csv: PathBuf,
+    figure: PathBuf,
     samples: usize,
     ts: f64,
     /// Settling time of `q₀` \[s\] within [`SETTLING_FRACTION`] of its largest deviation.
@@ -93,6 +98,37 @@ fn csv(kind: PlantKind, run: &Run) -> String {
         let _ = writeln!(s, ",{},{}", run.u[k], run.command[k]);
     }
     s
+}
+
+/// The run's figure as SVG text: `q₀` (m, or degrees for the arm), the pendulum angle in
+/// degrees, and the applied voltage `v` with the command `u_ctrl`.
+fn figure(kind: PlantKind, run: &Run) -> Result<String> {
+    let n = run.t.len();
+    let x = Mat::from_fn(n, 4, |k, i| run.x[k][i]);
+    let u = Mat::from_fn(n, 2, |k, i| if i == 0 { run.u[k] } else { run.command[k] });
+    let traj =
+        Trajectory::new(run.t.clone(), x, u, Mat::zeros(n, 0)).context("the run's trajectory")?;
+    let deg = 180.0 / std::f64::consts::PI;
+    let drive = match kind {
+        PlantKind::Cart => SignalPanel::new(Channel::State(0), "z [m]"),
+        PlantKind::Arm => SignalPanel::new(Channel::State(0), "θ₁ [deg]").scaled(deg),
+    };
+    let angle = match kind {
+        PlantKind::Cart => "θ [deg]",
+        PlantKind::Arm => "θ₂ [deg]",
+    };
+    TimeResponse::new()
+        .run("simulation", &traj)
+        .panel(drive)
+        .panel(SignalPanel::new(Channel::State(1), angle).scaled(deg))
+        .panel(
+            SignalPanel::new(Channel::Input(0), "voltage [V]")
+                .named("v")
+                .with(Channel::Input(1), "u_ctrl"),
+        )
+        .figure()
+        .and_then(|f| f.to_svg())
+        .context("drawing the run")
 }
 
 fn read(path: &Path, what: &str) -> Result<String> {
@@ -139,14 +175,18 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         .unwrap_or_else(|| args.lab.join("runs").join(&stem));
     std::fs::create_dir_all(&out_dir)
         .with_context(|| format!("cannot create {}", out_dir.display()))?;
+    let svg = figure(kind, &run)?;
     let csv_path = out_dir.join("run.csv");
+    let svg_path = out_dir.join("run.svg");
     lab::write_whole(&csv_path, csv(kind, &run).as_bytes())?;
+    lab::write_whole(&svg_path, svg.as_bytes())?;
 
     let s = &run.summary;
     let out = SummaryJson {
         plant: kind.name(),
         controller: loaded.spec.kind().to_string(),
         csv: csv_path,
+        figure: svg_path,
         samples: run.t.len(),
         ts: run.ts,
         settling_time: s.settling_time,

@@ -189,6 +189,13 @@ fn simulate_the_rig_lqr_balances_and_writes_the_run() {
     assert!((rows[samples - 1][0] - 5.0).abs() < 1e-9);
     // The CSV's last θ is the summary's final state.
     assert_eq!(rows[samples - 1][2], theta_final);
+    let svg = std::fs::read_to_string(dir.join("run1").join("run.svg")).unwrap();
+    assert!(
+        svg.starts_with("<svg") || svg.starts_with("<?xml"),
+        "{}",
+        &svg[..40]
+    );
+    assert!(svg.contains("θ [deg]") && svg.contains("u_ctrl"));
 
     // A scenario file: 2 s from 3°, ideal loop.
     let scen = dir.file(
@@ -317,4 +324,5 @@ fn bad_simulate_inputs_fail_without_writing() {
         &["initial_state[1]"],
     );
     assert!(!dir.join("out").join("run.csv").exists());
+    assert!(!dir.join("out").join("run.svg").exists());
 }
