@@ -50,56 +50,26 @@ fn invalid_lapack_arguments_come_back_as_negative_info() {
     let (mut m, mut w, mut z) = (0 as c_int, vec![0.0; n], vec![0.0; n * n]);
     let mut isuppz = vec![0 as c_int; 2 * n];
     let (mut work, mut iwork) = (vec![0.0; 10], vec![0 as c_int; 40]);
-    unsafe {
-        dsyevr_(
-            &c(b'V'),
-            &c(b'A'),
-            &c(b'U'),
-            &(n as c_int),
-            a.as_mut_ptr(),
-            &(n as c_int),
-            &0.0,
-            &0.0,
-            &0,
-            &0,
-            &-1.0,
-            &mut m,
-            w.as_mut_ptr(),
-            z.as_mut_ptr(),
-            &(n as c_int),
-            isuppz.as_mut_ptr(),
-            work.as_mut_ptr(),
-            &10,
-            iwork.as_mut_ptr(),
-            &40,
-            &mut info,
+    info = unsafe {
+        common::syevr(
+            dsyevr_,
+            (c(b'V'), c(b'A'), c(b'U')),
+            (n as c_int, &mut a, n as c_int),
+            (0.0, 0.0, 0, 0, -1.0),
+            (&mut m, &mut w, &mut z, n as c_int, &mut isuppz),
+            (&mut work, 10, &mut iwork, 40),
         )
     };
     assert_eq!(info, -18);
     // ... and JOBZ = 'V' with LDZ < N is argument 15.
-    unsafe {
-        dsyevr_(
-            &c(b'V'),
-            &c(b'A'),
-            &c(b'U'),
-            &(n as c_int),
-            a.as_mut_ptr(),
-            &(n as c_int),
-            &0.0,
-            &0.0,
-            &0,
-            &0,
-            &-1.0,
-            &mut m,
-            w.as_mut_ptr(),
-            z.as_mut_ptr(),
-            &1,
-            isuppz.as_mut_ptr(),
-            work.as_mut_ptr(),
-            &-1,
-            iwork.as_mut_ptr(),
-            &-1,
-            &mut info,
+    info = unsafe {
+        common::syevr(
+            dsyevr_,
+            (c(b'V'), c(b'A'), c(b'U')),
+            (n as c_int, &mut a, n as c_int),
+            (0.0, 0.0, 0, 0, -1.0),
+            (&mut m, &mut w, &mut z, 1, &mut isuppz),
+            (&mut work, -1, &mut iwork, -1),
         )
     };
     assert_eq!(
@@ -279,30 +249,14 @@ fn non_finite_input_is_reported_through_info() {
     let (mut m, mut w, mut z) = (0 as c_int, vec![0.0; n], vec![0.0; 1]);
     let mut isuppz = vec![0 as c_int; 2 * n];
     let (mut work, mut iwork) = (vec![0.0; 26 * n], vec![0 as c_int; 10 * n]);
-    let mut info: c_int = 0;
-    unsafe {
-        dsyevr_(
-            &c(b'N'),
-            &c(b'A'),
-            &c(b'L'),
-            &(n as c_int),
-            a.as_mut_ptr(),
-            &(n as c_int),
-            &0.0,
-            &0.0,
-            &0,
-            &0,
-            &-1.0,
-            &mut m,
-            w.as_mut_ptr(),
-            z.as_mut_ptr(),
-            &1,
-            isuppz.as_mut_ptr(),
-            work.as_mut_ptr(),
-            &(26 * n as c_int),
-            iwork.as_mut_ptr(),
-            &(10 * n as c_int),
-            &mut info,
+    let mut info = unsafe {
+        common::syevr(
+            dsyevr_,
+            (c(b'N'), c(b'A'), c(b'L')),
+            (n as c_int, &mut a, n as c_int),
+            (0.0, 0.0, 0, 0, -1.0),
+            (&mut m, &mut w, &mut z, 1, &mut isuppz),
+            (&mut work, 26 * n as c_int, &mut iwork, 10 * n as c_int),
         )
     };
     assert!(info > 0, "info = {info}");

@@ -15,6 +15,8 @@ use core::ffi::{c_char, c_int};
 use pendulab_lapack::ffi::*;
 use serde_json::Value;
 
+mod common;
+
 const TOL: f64 = 1e-12;
 const PAD: usize = 2;
 const SENTINEL: f64 = 7777.0;
@@ -425,29 +427,14 @@ fn call_dsyevr(
         } else {
             (work.len() as c_int, iwork.len() as c_int)
         };
-        unsafe {
-            dsyevr_(
-                &(b'V' as c_char),
-                &ch(&c["range"]),
-                &ch(&c["uplo"]),
-                &ni,
-                a.as_mut_ptr(),
-                &lda_i,
-                &vl,
-                &vu,
-                &il,
-                &iu,
-                &-1.0,
-                &mut m,
-                w.as_mut_ptr(),
-                z.as_mut_ptr(),
-                &ldz,
-                isuppz.as_mut_ptr(),
-                work.as_mut_ptr(),
-                &lwork,
-                iwork.as_mut_ptr(),
-                &liwork,
-                &mut info,
+        info = unsafe {
+            common::syevr(
+                dsyevr_,
+                (b'V' as c_char, ch(&c["range"]), ch(&c["uplo"])),
+                (ni, a, lda_i),
+                (vl, vu, il, iu, -1.0),
+                (&mut m, &mut w, &mut z, ldz, &mut isuppz),
+                (&mut work, lwork, &mut iwork, liwork),
             )
         };
         assert_eq!(info, 0, "dsyevr pass {pass}");
@@ -711,31 +698,15 @@ fn single_precision_symbols_agree_with_the_double_reference() {
     let mut isuppz = vec![0 as c_int; 2 * n];
     let mut work = vec![0f32; 26 * n];
     let mut iwork = vec![0 as c_int; 10 * n];
-    let mut info: c_int = -77;
     let (lw, liw) = (work.len() as c_int, iwork.len() as c_int);
-    unsafe {
-        ssyevr_(
-            &(b'N' as c_char),
-            &(b'A' as c_char),
-            &ch(&c["uplo"]),
-            &ni,
-            a.as_mut_ptr(),
-            &lda_i,
-            &0.0,
-            &0.0,
-            &0,
-            &0,
-            &-1.0,
-            &mut m,
-            w.as_mut_ptr(),
-            z.as_mut_ptr(),
-            &1,
-            isuppz.as_mut_ptr(),
-            work.as_mut_ptr(),
-            &lw,
-            iwork.as_mut_ptr(),
-            &liw,
-            &mut info,
+    let info = unsafe {
+        common::syevr(
+            ssyevr_,
+            (b'N' as c_char, b'A' as c_char, ch(&c["uplo"])),
+            (ni, &mut a, lda_i),
+            (0.0, 0.0, 0, 0, -1.0),
+            (&mut m, &mut w, &mut z, 1, &mut isuppz),
+            (&mut work, lw, &mut iwork, liw),
         )
     };
     assert_eq!(info, 0);

@@ -174,35 +174,20 @@ fn check_against_gram(a: &[f64], (m, n): (usize, usize), s: &[f64], what: &str) 
         }
     }
     let ki = k as c_int;
-    let (mut found, mut info): (c_int, c_int) = (0, -77);
+    let mut found: c_int = 0;
     let mut lambda = vec![0.0; k];
     let mut z = [0.0];
     let mut isuppz = vec![0 as c_int; 2 * k];
     let mut work = vec![0.0; 26 * k];
     let mut iwork = vec![0 as c_int; 10 * k];
-    unsafe {
-        dsyevr_(
-            &(b'N' as c_char),
-            &(b'A' as c_char),
-            &(b'L' as c_char),
-            &ki,
-            g.as_mut_ptr(),
-            &ki,
-            &0.0,
-            &0.0,
-            &0,
-            &0,
-            &-1.0,
-            &mut found,
-            lambda.as_mut_ptr(),
-            z.as_mut_ptr(),
-            &1,
-            isuppz.as_mut_ptr(),
-            work.as_mut_ptr(),
-            &(26 * ki),
-            iwork.as_mut_ptr(),
-            &(10 * ki),
-            &mut info,
+    let info = unsafe {
+        common::syevr(
+            dsyevr_,
+            (b'N' as c_char, b'A' as c_char, b'L' as c_char),
+            (ki, &mut g, ki),
+            (0.0, 0.0, 0, 0, -1.0),
+            (&mut found, &mut lambda, &mut z, 1, &mut isuppz),
+            (&mut work, 26 * ki, &mut iwork, 10 * ki),
         )
     };
     assert_eq!((info, found), (0, ki));

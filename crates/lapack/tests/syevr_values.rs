@@ -48,29 +48,14 @@ fn call(
         } else {
             (work.len() as c_int, iwork.len() as c_int)
         };
-        unsafe {
-            dsyevr_(
-                &(jobz as c_char),
-                &(range as c_char),
-                &(uplo as c_char),
-                &(n as c_int),
-                a.as_mut_ptr(),
-                &(lda as c_int),
-                &vl,
-                &vu,
-                &il,
-                &iu,
-                &-1.0,
-                &mut m,
-                w.as_mut_ptr(),
-                z.as_mut_ptr(),
-                &ldz,
-                isuppz.as_mut_ptr(),
-                work.as_mut_ptr(),
-                &lwork,
-                iwork.as_mut_ptr(),
-                &liwork,
-                &mut info,
+        info = unsafe {
+            common::syevr(
+                dsyevr_,
+                (jobz as c_char, range as c_char, uplo as c_char),
+                (n as c_int, a, lda as c_int),
+                (vl, vu, il, iu, -1.0),
+                (&mut m, &mut w, &mut z, ldz, &mut isuppz),
+                (&mut work, lwork, &mut iwork, liwork),
             )
         };
         if info != 0 {

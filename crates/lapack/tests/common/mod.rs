@@ -16,3 +16,66 @@ pub fn lcg_entries(len: usize, seed: u64) -> Vec<f64> {
         })
         .collect()
 }
+
+use core::ffi::{c_char, c_int};
+
+/// The Fortran signature of xSYEVR (`dsyevr_`, `ssyevr_`), in LAPACK's argument order.
+pub type SyevrFn<T> = unsafe extern "C" fn(
+    *const c_char,
+    *const c_char,
+    *const c_char,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *const T,
+    *const T,
+    *const c_int,
+    *const c_int,
+    *const T,
+    *mut c_int,
+    *mut T,
+    *mut T,
+    *const c_int,
+    *mut c_int,
+    *mut T,
+    *const c_int,
+    *mut c_int,
+    *const c_int,
+    *mut c_int,
+);
+
+/// Calls xSYEVR `f` with its arguments grouped as LAPACK documents them and returns `INFO`:
+/// the flags (`JOBZ`, `RANGE`, `UPLO`), the matrix (`N`, `A`, `LDA`), the selection and
+/// tolerance (`VL`, `VU`, `IL`, `IU`, `ABSTOL`), the outputs (`M`, `W`, `Z`, `LDZ`,
+/// `ISUPPZ`) and the workspaces (`WORK`, `LWORK`, `IWORK`, `LIWORK`). The integers are passed
+/// as given, so a test can pass invalid ones and see the routine's `INFO = −i`.
+///
+/// # Safety
+/// The dimensions and workspace lengths passed fit the slices, unless the routine rejects
+/// them (an argument error or a workspace query) before touching the arrays.
+#[allow(clippy::type_complexity)]
+pub unsafe fn syevr<T: Copy>(
+    f: SyevrFn<T>,
+    (jobz, range, uplo): (c_char, c_char, c_char),
+    (n, a, lda): (c_int, &mut [T], c_int),
+    (vl, vu, il, iu, abstol): (T, T, c_int, c_int, T),
+    (m, w, z, ldz, isuppz): (&mut c_int, &mut [T], &mut [T], c_int, &mut [c_int]),
+    (work, lwork, iwork, liwork): (&mut [T], c_int, &mut [c_int], c_int),
+) -> c_int {
+    let mut info: c_int = -77;
+    let (a, w, z, isuppz) = (
+        a.as_mut_ptr(),
+        w.as_mut_ptr(),
+        z.as_mut_ptr(),
+        isuppz.as_mut_ptr(),
+    );
+    let (work, iwork) = (work.as_mut_ptr(), iwork.as_mut_ptr());
+    // SAFETY: forwarded caller contract.
+    unsafe {
+        f(
+            &jobz, &range, &uplo, &n, a, &lda, &vl, &vu, &il, &iu, &abstol, m, w, z, &ldz, isuppz,
+            work, &lwork, iwork, &liwork, &mut info,
+        )
+    };
+    info
+}
