@@ -23,6 +23,17 @@ pub mod system;
 
 use pyo3::prelude::*;
 
+/// Runs the pendulab-lti computation `f` with the GIL released (other Python threads run
+/// meanwhile) and turns its error into the matching `pendulab` exception
+/// ([`crate::errors::lti`]).
+pub fn nogil<T, F>(py: Python<'_>, f: F) -> PyResult<T>
+where
+    F: pyo3::marker::Ungil + FnOnce() -> pendulab_lti::Result<T>,
+    T: Send,
+{
+    py.detach(f).map_err(crate::errors::lti)
+}
+
 /// Adds each listed `#[pyfunction]` (first list) and `#[pyclass]` (second list) to `$m`.
 macro_rules! add_all {
     ($m:ident; [$($f:path),* $(,)?]; [$($c:ty),* $(,)?]) => {{

@@ -1,10 +1,10 @@
 //! Analysis: `poles`, `zeros`, `dcgain`, `damp`, `ctrb`, `obsv`, `gram` (pendulab-lti's
 //! `analysis` module).
 
+use super::nogil;
 use super::results::{obj, result_class};
 use super::system::{Sys, system, with_sys};
 use crate::convert::{OneD, complex_to_numpy, matrix, matrix_to_numpy, slice_to_numpy};
-use crate::errors::lti;
 use pendulab_lti::Mat;
 use pendulab_lti::analysis::{GramianKind, gramian};
 use pyo3::prelude::*;
@@ -15,7 +15,7 @@ use pyo3::prelude::*;
 pub fn poles<'py>(sys: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
     let py = sys.py();
     let s = system(sys)?;
-    let p = py.detach(|| with_sys!(&s, s => s.poles())).map_err(lti)?;
+    let p = nogil(py, || with_sys!(&s, s => s.poles()))?;
     Ok(complex_to_numpy(py, &p).into_any())
 }
 
@@ -25,7 +25,7 @@ pub fn poles<'py>(sys: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
 pub fn zeros<'py>(sys: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
     let py = sys.py();
     let s = system(sys)?;
-    let z = py.detach(|| with_sys!(&s, s => s.zeros())).map_err(lti)?;
+    let z = nogil(py, || with_sys!(&s, s => s.zeros()))?;
     Ok(complex_to_numpy(py, &z).into_any())
 }
 
@@ -38,7 +38,7 @@ pub fn zeros<'py>(sys: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
 pub fn dcgain(sys: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
     let py = sys.py();
     let s = system(sys)?;
-    let g = py.detach(|| with_sys!(&s, s => s.dc_gain())).map_err(lti)?;
+    let g = nogil(py, || with_sys!(&s, s => s.dc_gain()))?;
     if g.nrows() == 1 && g.ncols() == 1 {
         obj(py, g[(0, 0)])
     } else {
@@ -49,12 +49,13 @@ pub fn dcgain(sys: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
 result_class!(
     DampResult, "DampResult",
     "Natural frequencies, damping ratios and poles (MATLAB/python-control `damp`); unpacks as `wn, zeta, poles`.",
-    unpack [wn, zeta, poles],
     array none,
-    {
+    unpack {
         wn as "wn": "Natural frequencies ωₙ = |s| in rad/s (discrete poles mapped by s = ln(z)/dt).",
         zeta as "zeta": "Damping ratios ζ = −Re s/|s| (−1 for a pole at the origin, negative when unstable).",
         poles as "poles": "The poles (s or z), complex.",
+    }
+    also {
         time_constants as "time_constants": "Time constants τ = −1/Re s in seconds (inf for Re s = 0).",
     }
 );
@@ -64,7 +65,7 @@ result_class!(
 pub fn damp(sys: &Bound<'_, PyAny>) -> PyResult<DampResult> {
     let py = sys.py();
     let s = system(sys)?;
-    let d = py.detach(|| with_sys!(&s, s => s.damp())).map_err(lti)?;
+    let d = nogil(py, || with_sys!(&s, s => s.damp()))?;
     let wn: Vec<f64> = d.iter().map(|x| x.natural_frequency).collect();
     let zeta: Vec<f64> = d.iter().map(|x| x.damping_ratio).collect();
     let tau: Vec<f64> = d.iter().map(|x| x.time_constant).collect();
@@ -89,7 +90,7 @@ fn with_a_and<'py>(
     let py = a.py();
     let a = matrix(a, "A", OneD::Row)?;
     let x = matrix(x, name, one_d)?;
-    let m = py.detach(|| f(&a, &x)).map_err(lti)?;
+    let m = nogil(py, || f(&a, &x))?;
     Ok(matrix_to_numpy(py, &m).into_any())
 }
 
@@ -111,10 +112,11 @@ pub fn obsv_py<'py>(a: &Bound<'py, PyAny>, c: &Bound<'py, PyAny>) -> PyResult<Bo
 result_class!(
     MatrixEquationResult, "MatrixEquationResult",
     "The solution X of a linear matrix equation with its relative residual ‖res‖_F / Σ‖terms‖_F; behaves as the array X (`numpy.asarray(result)`).",
-    unpack [x],
     array x,
-    {
+    unpack {
         x as "X": "The solution X.",
+    }
+    also {
         residual as "residual": "Relative residual of the equation at X.",
     }
 );
@@ -153,11 +155,9 @@ pub fn gram(sys: &Bound<'_, PyAny>, r#type: &str) -> PyResult<MatrixEquationResu
         }
     };
     let s = system(sys)?;
-    let w = py
-        .detach(|| match &s {
-            Sys::Continuous(s) => gramian(s, kind),
-            Sys::Discrete(s) => gramian(s, kind),
-        })
-        .map_err(lti)?;
+    let w = nogil(py, || match &s {
+        Sys::Continuous(s) => gramian(s, kind),
+        Sys::Discrete(s) => gramian(s, kind),
+    })?;
     MatrixEquationResult::from_solution(py, &w)
 }

@@ -5,6 +5,7 @@
 //! for `A − LC`, as in python-control and MATLAB. The textbook 「倒立振子で学ぶ制御工学」
 //! writes `u = +K x`: its gain is `K_book = −K` (Part 1 §5; pendulab-lti's `StateFeedback`).
 
+use super::nogil;
 use super::results::{obj, result_class};
 use super::system::{StateSpace, Sys, is_system, system, with_sys};
 use crate::convert::{OneD, complex_to_numpy, complex_vector, matrix, matrix_to_numpy};
@@ -18,12 +19,13 @@ use pyo3::types::PyTuple;
 result_class!(
     LqrResult, "LqrResult",
     "An LQ-optimal state feedback u = −K x; unpacks as python-control's `K, S, E`.",
-    unpack [k, s, e],
     array none,
-    {
+    unpack {
         k as "K": "The gain K (m × n), control law u = −K x (the book's gain is −K).",
         s as "S": "The stabilising Riccati solution (n × n); the optimal cost from x₀ is x₀ᵀ S x₀.",
         e as "E": "Closed-loop poles, the eigenvalues of A − B K (complex).",
+    }
+    also {
         residual as "residual": "Relative residual of the Riccati equation at S.",
     }
 );
@@ -120,9 +122,10 @@ pub fn lqr(
     N: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<LqrResult> {
     let (sys, q, r, n) = lq_problem(args, N, false, "lqr")?;
-    let l = py
-        .detach(|| with_sys!(&sys, s => design::lqr(s, &q, &r, n.as_ref())))
-        .map_err(lti)?;
+    let l = nogil(
+        py,
+        || with_sys!(&sys, s => design::lqr(s, &q, &r, n.as_ref())),
+    )?;
     LqrResult::new(py, &l)
 }
 
@@ -147,21 +150,20 @@ pub fn dlqr(
             None,
         ));
     };
-    let l = py
-        .detach(|| design::lqr(&s, &q, &r, n.as_ref()))
-        .map_err(lti)?;
+    let l = nogil(py, || design::lqr(&s, &q, &r, n.as_ref()))?;
     LqrResult::new(py, &l)
 }
 
 result_class!(
     LqeResult, "LqeResult",
     "A steady-state Kalman (LQE) estimator gain; unpacks as python-control's `L, P, E`.",
-    unpack [l, p, e],
     array none,
-    {
+    unpack {
         l as "L": "The estimator gain L (n × p): x̂' = A x̂ + B u + L (y − C x̂ − D u).",
         p as "P": "Steady-state error covariance (discrete: one-step-ahead prediction covariance).",
         e as "E": "Estimator poles, the eigenvalues of A − L C (complex).",
+    }
+    also {
         residual as "residual": "Relative residual of the dual Riccati equation.",
     }
 );
@@ -222,9 +224,10 @@ fn lqe_common(
             None,
         ));
     }
-    let k: Kalman = py
-        .detach(|| with_sys!(&sys, s => design::lqe(s, &g, &qn, &rn, nn.as_ref())))
-        .map_err(lti)?;
+    let k: Kalman = nogil(
+        py,
+        || with_sys!(&sys, s => design::lqe(s, &g, &qn, &rn, nn.as_ref())),
+    )?;
     Ok(LqeResult {
         l: matrix_to_numpy(py, &k.gain).into_any().unbind(),
         p: matrix_to_numpy(py, &k.covariance).into_any().unbind(),
@@ -256,10 +259,11 @@ pub fn dlqe(py: Python<'_>, args: &Bound<'_, PyTuple>) -> PyResult<LqeResult> {
 result_class!(
     PlaceResult, "PlaceResult",
     "A pole-placement gain with its accuracy; behaves as the gain array (`numpy.asarray(result)`), as python-control's `place` returns it.",
-    unpack [k],
     array k,
-    {
+    unpack {
         k as "K": "The gain: K (m × n, closed loop A − BK) from place/acker, L (n × p, observer A − LC) from place_observer.",
+    }
+    also {
         poles as "poles": "The achieved poles, eigenvalues of the closed loop (complex).",
         requested_poles as "requested_poles": "The requested poles, sorted (complex).",
         max_relative_error as "max_relative_error": "max |λ_achieved − λ_requested| / max(1, |λ_requested|).",
@@ -296,7 +300,7 @@ fn placement(
     let one_d = if a.nrows() == 1 { OneD::Row } else { b_one_d };
     let b = matrix(b, b_name, one_d)?;
     let p = complex_vector(p, "poles")?;
-    let r = py.detach(|| f(&a, &b, &p)).map_err(lti)?;
+    let r = nogil(py, || f(&a, &b, &p))?;
     PlaceResult::new(py, &r)
 }
 
@@ -347,12 +351,13 @@ pub fn place_observer_py(
 result_class!(
     LqiResult, "LqiResult",
     "An LQ integral servo u = −K₁ x − K₂ w, w = ∫(r − y) dt; unpacks as MATLAB's `lqi` triple `K, S, E` with K = [K₁, K₂].",
-    unpack [k, s, e],
     array none,
-    {
+    unpack {
         k as "K": "The augmented gain [K₁, K₂] (m × (n + p)).",
         s as "S": "Riccati solution of the augmented problem.",
         e as "E": "Closed-loop poles of the augmented system (complex).",
+    }
+    also {
         state_gain as "state_gain": "K₁ (m × n); the book's gain is −K₁.",
         integral_gain as "integral_gain": "K₂ (m × p); the book's gain is −K₂.",
         residual as "residual": "Relative residual of the Riccati equation.",
@@ -376,9 +381,7 @@ pub fn lqi(
     let s = system(sys)?;
     let q = matrix(Q, "Q", OneD::Row)?;
     let r = matrix(R, "R", OneD::Row)?;
-    let servo = py
-        .detach(|| with_sys!(&s, s => design::lq_servo(s, &q, &r)))
-        .map_err(lti)?;
+    let servo = nogil(py, || with_sys!(&s, s => design::lq_servo(s, &q, &r)))?;
     Ok(LqiResult {
         k: matrix_to_numpy(py, &servo.lqr.gain).into_any().unbind(),
         s: matrix_to_numpy(py, &servo.lqr.riccati).into_any().unbind(),
@@ -396,12 +399,13 @@ pub fn lqi(
 result_class!(
     SampledDataLqrResult, "SampledDataLqrResult",
     "A sampled-data LQR (MATLAB `lqrd`); unpacks as `K, S, E` of the discrete design.",
-    unpack [k, s, e],
     array none,
-    {
+    unpack {
         k as "K": "The discrete gain K_d: u(t) = −K_d x(k Ts) held over each interval.",
         s as "S": "Riccati solution of the discrete design.",
         e as "E": "Closed-loop poles (z plane, complex).",
+    }
+    also {
         system as "system": "The ZOH discretisation of the plant at Ts (pendulab.StateSpace).",
         qd as "Qd": "Van Loan's discretised state weight.",
         rd as "Rd": "Discretised input weight.",
@@ -438,9 +442,7 @@ pub fn lqr_sampled_data(
         Some(n) if !n.is_none() => Some(matrix(n, "N", OneD::Column)?),
         _ => None,
     };
-    let d = py
-        .detach(|| design::lqr_sampled_data(&s, &q, &r, n.as_ref(), Ts))
-        .map_err(lti)?;
+    let d = nogil(py, || design::lqr_sampled_data(&s, &q, &r, n.as_ref(), Ts))?;
     Ok(SampledDataLqrResult {
         k: matrix_to_numpy(py, &d.lqr.gain).into_any().unbind(),
         s: matrix_to_numpy(py, &d.lqr.riccati).into_any().unbind(),
@@ -483,11 +485,12 @@ pub fn reg(
 result_class!(
     MinimalObserverResult, "MinimalObserverResult",
     "A minimal-order (Gopinath) observer (book Part 1 §7); unpacks as `system, L`.",
-    unpack [system, l],
     array none,
-    {
+    unpack {
         system as "system": "The observer: inputs [u; y], state ζ (n − p), output x̂ (n) (pendulab.StateSpace).",
         l as "L": "The gain L ((n − p) × p) placing eig(A₂₂ − L A₁₂).",
+    }
+    also {
         t as "T": "The transformation T = [C; R] (x̄ = T x).",
         poles as "poles": "The achieved error poles (complex).",
         max_relative_error as "max_relative_error": "Relative error of the achieved poles.",
@@ -509,9 +512,7 @@ pub fn minimal_order_observer(
     let poles = complex_vector(p, "poles")?;
     let (obs_sys, gain, t, placement) = match &s {
         Sys::Continuous(s) => {
-            let o = py
-                .detach(|| design::minimal_order_observer(s, &poles))
-                .map_err(lti)?;
+            let o = nogil(py, || design::minimal_order_observer(s, &poles))?;
             (
                 Sys::Continuous(o.system),
                 o.gain,
@@ -520,9 +521,7 @@ pub fn minimal_order_observer(
             )
         }
         Sys::Discrete(s) => {
-            let o = py
-                .detach(|| design::minimal_order_observer(s, &poles))
-                .map_err(lti)?;
+            let o = nogil(py, || design::minimal_order_observer(s, &poles))?;
             (
                 Sys::Discrete(o.system),
                 o.gain,

@@ -2,9 +2,10 @@
 //! Every solution carries its relative residual.
 
 use super::analysis::MatrixEquationResult;
+use super::nogil;
 use super::results::{obj, result_class};
 use crate::convert::{OneD, complex_to_numpy, matrix, matrix_to_numpy};
-use crate::errors::{Kind, lti, new_err};
+use crate::errors::{Kind, new_err};
 use pendulab_lti::Mat;
 use pendulab_lti::equations::{RiccatiOptions, RiccatiSolution};
 use pyo3::prelude::*;
@@ -27,13 +28,12 @@ pub fn lyap(
     let a = matrix(A, "A", OneD::Row)?;
     let q = matrix(Q, "Q", OneD::Row)?;
     let sol = match C {
-        None => py.detach(|| pendulab_lti::equations::lyap(&a, &q)),
+        None => nogil(py, || pendulab_lti::equations::lyap(&a, &q))?,
         Some(c) => {
             let c = -matrix(c, "C", OneD::Row)?;
-            py.detach(|| pendulab_lti::equations::sylvester(&a, &q, &c))
+            nogil(py, || pendulab_lti::equations::sylvester(&a, &q, &c))?
         }
-    }
-    .map_err(lti)?;
+    };
     MatrixEquationResult::from_solution(py, &sol)
 }
 
@@ -48,21 +48,20 @@ pub fn dlyap(A: &Bound<'_, PyAny>, Q: &Bound<'_, PyAny>) -> PyResult<MatrixEquat
     let py = A.py();
     let a = matrix(A, "A", OneD::Row)?;
     let q = matrix(Q, "Q", OneD::Row)?;
-    let sol = py
-        .detach(|| pendulab_lti::equations::dlyap(&a, &q))
-        .map_err(lti)?;
+    let sol = nogil(py, || pendulab_lti::equations::dlyap(&a, &q))?;
     MatrixEquationResult::from_solution(py, &sol)
 }
 
 result_class!(
     RiccatiResult, "RiccatiResult",
     "The stabilising solution of an algebraic Riccati equation; unpacks as python-control's `X, L, G` (solution, closed-loop eigenvalues, gain).",
-    unpack [x, poles, gain],
     array none,
-    {
+    unpack {
         x as "X": "The stabilising solution X (symmetric).",
         poles as "L": "Eigenvalues of A − B G (closed-loop poles), complex.",
         gain as "G": "The gain G (control law u = −G x): R⁻¹(BᵀX + Sᵀ) for the CARE, (BᵀXB + R)⁻¹(BᵀXA + Sᵀ) for the DARE.",
+    }
+    also {
         residual as "residual": "Relative residual of the equation at X.",
         method as "method": "The algorithm that produced X: 'Schur' or 'Doubling'.",
         refinement_steps as "refinement_steps": "Newton refinement steps applied.",
@@ -143,9 +142,9 @@ fn solve_riccati(
 ) -> PyResult<RiccatiResult> {
     let py = a.py();
     let (a, b, q, r, s) = riccati_data(a, b, q, r, s, e)?;
-    let sol = py
-        .detach(|| solver(&a, &b, &q, &r, s.as_ref(), &RiccatiOptions::default()))
-        .map_err(lti)?;
+    let sol = nogil(py, || {
+        solver(&a, &b, &q, &r, s.as_ref(), &RiccatiOptions::default())
+    })?;
     RiccatiResult::from_solution(py, &sol)
 }
 

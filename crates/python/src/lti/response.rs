@@ -7,6 +7,7 @@
 //! Frequency responses follow python-control: `(p, m, len(omega))`, squeezed to
 //! `(len(omega),)` for SISO systems.
 
+use super::nogil;
 use super::results::{obj, result_class};
 use super::system::{system, with_sys};
 use crate::convert::{
@@ -23,12 +24,13 @@ use pyo3::types::{PyFloat, PyInt};
 result_class!(
     LsimResult, "LsimResult",
     "A simulated response; unpacks as MATLAB's and control.matlab's `yout, T, xout`.",
-    unpack [y, t, x],
     array none,
-    {
+    unpack {
         y as "y": "Outputs, one row per sample (len × p; len for one output).",
         t as "t": "Sample times in seconds (len).",
         x as "x": "States, one row per sample (len × n).",
+    }
+    also {
         u as "u": "Inputs, one row per sample (len × m).",
     }
 );
@@ -36,11 +38,12 @@ result_class!(
 result_class!(
     TimeResponse, "TimeResponse",
     "Responses per input channel (step, impulse, initial); unpacks as control.matlab's `yout, T`.",
-    unpack [y, t],
     array none,
-    {
+    unpack {
         y as "y": "Outputs (len × p × m; len for a SISO system; len × p for initial).",
         t as "t": "Sample times in seconds (len).",
+    }
+    also {
         x as "x": "States (len × n × m; len × n for initial).",
     }
 );
@@ -131,11 +134,10 @@ pub fn lsim(
     let options = LsimOptions {
         hold: self::hold(hold)?,
     };
-    let traj = py
-        .detach(|| {
-            with_sys!(&s, s => response::lsim(s, &u, &t, x0.as_ref().map(|v| v.as_slice()), &options))
-        })
-        .map_err(lti)?;
+    let traj = nogil(
+        py,
+        || with_sys!(&s, s => response::lsim(s, &u, &t, x0.as_ref().map(|v| v.as_slice()), &options)),
+    )?;
     drop(u);
     LsimResult::from_trajectory(py, traj)
 }
@@ -156,13 +158,13 @@ impl LsimResult {
 result_class!(
     LsimSplit, "LsimSplit",
     "A response and its zero-input and zero-state parts (book Part 1 §4, eq. 4.24: y = y_zi + y_zs); unpacks as `zero_input, zero_state, total`.",
-    unpack [zero_input, zero_state, total],
     array none,
-    {
+    unpack {
         zero_input as "zero_input": "Response to X0 with U = 0 (LsimResult).",
         zero_state as "zero_state": "Response to U from the zero state (LsimResult).",
         total as "total": "Response to both, simulated as one run, not as the sum (LsimResult).",
     }
+    also {}
 );
 
 /// `lsim_split(sys, U, T, X0, hold='foh')`: the response to `U` from `X0` and its zero-input
@@ -186,9 +188,10 @@ pub fn lsim_split(
     let options = LsimOptions {
         hold: self::hold(hold)?,
     };
-    let split = py
-        .detach(|| with_sys!(&s, s => response::lsim_split(s, &u, &t, x0.as_slice(), &options)))
-        .map_err(lti)?;
+    let split = nogil(
+        py,
+        || with_sys!(&s, s => response::lsim_split(s, &u, &t, x0.as_slice(), &options)),
+    )?;
     let wrap = |traj| -> PyResult<Py<PyAny>> {
         Ok(Py::new(py, LsimResult::from_trajectory(py, traj)?)?.into_any())
     };
@@ -227,11 +230,10 @@ fn channel_response(
     let py = sys.py();
     let s = system(sys)?;
     let t = times(t)?;
-    let runs = py
-        .detach(|| {
-            with_sys!(&s, s => if impulse { response::impulse(s, &t) } else { response::step(s, &t) })
-        })
-        .map_err(lti)?;
+    let runs = nogil(
+        py,
+        || with_sys!(&s, s => if impulse { response::impulse(s, &t) } else { response::step(s, &t) }),
+    )?;
     let (nx, ny) = with_sys!(&s, s => (s.nx(), s.ny()));
     Ok(TimeResponse {
         y: per_channel(py, &runs, t.len(), ny, true, Trajectory::y),
@@ -283,9 +285,10 @@ pub fn initial(
             ));
         }
     };
-    let traj = py
-        .detach(|| with_sys!(&s, s => response::initial(s, x0.as_slice(), &t)))
-        .map_err(lti)?;
+    let traj = nogil(
+        py,
+        || with_sys!(&s, s => response::initial(s, x0.as_slice(), &t)),
+    )?;
     let (t, x, _u, y) = traj.into_parts();
     Ok(TimeResponse {
         y: single_or_signals(py, y)?,
@@ -297,24 +300,24 @@ pub fn initial(
 result_class!(
     FrequencyResponse, "FrequencyResponse",
     "Complex frequency response samples; unpacks as `response, omega`.",
-    unpack [response, omega],
     array none,
-    {
+    unpack {
         response as "response": "G(jω) (continuous) or G(e^{jω dt}) (discrete), complex, shape (p, m, len(omega)); (len(omega),) for SISO.",
         omega as "omega": "Frequencies in rad/s.",
     }
+    also {}
 );
 
 result_class!(
     BodeResult, "BodeResult",
     "Bode data; unpacks as `mag_db, phase_deg, omega` (magnitude in dB and unwrapped phase in degrees, unlike python-control's absolute magnitude and radians).",
-    unpack [mag_db, phase_deg, omega],
     array none,
-    {
+    unpack {
         mag_db as "mag_db": "20 log₁₀|G| in dB, shape (p, m, len(omega)); (len(omega),) for SISO.",
         phase_deg as "phase_deg": "∠G in degrees, unwrapped along omega (first value in (−180°, 180°]).",
         omega as "omega": "Frequencies in rad/s.",
     }
+    also {}
 );
 
 /// The frequencies: `omega` if given, else pendulab-lti's automatic grid (one decade beyond
@@ -344,9 +347,10 @@ pub fn freqresp(
     let py = sys.py();
     let s = system(sys)?;
     let w = with_sys!(&s, s => frequencies(s, omega))?;
-    let f = py
-        .detach(|| with_sys!(&s, s => pendulab_lti::frequency_response::freqresp(s, &w)))
-        .map_err(lti)?;
+    let f = nogil(
+        py,
+        || with_sys!(&s, s => pendulab_lti::frequency_response::freqresp(s, &w)),
+    )?;
     let (ny, nu) = with_sys!(&s, s => (s.ny(), s.nu()));
     let response = if ny == 1 && nu == 1 {
         let v: Vec<_> = f.response.iter().map(|g| g[(0, 0)]).collect();
@@ -371,17 +375,15 @@ pub fn bode(sys: &Bound<'_, PyAny>, omega: Option<&Bound<'_, PyAny>>) -> PyResul
     let s = system(sys)?;
     let w = with_sys!(&s, s => frequencies(s, omega))?;
     let (ny, nu) = with_sys!(&s, s => (s.ny(), s.nu()));
-    let channels = py
-        .detach(|| {
-            let mut out = Vec::with_capacity(ny * nu);
-            for i in 0..ny {
-                for j in 0..nu {
-                    out.push(with_sys!(&s, s => pendulab_lti::frequency_response::bode_channel(s, &w, i, j))?);
-                }
+    let channels = nogil(py, || {
+        let mut out = Vec::with_capacity(ny * nu);
+        for i in 0..ny {
+            for j in 0..nu {
+                out.push(with_sys!(&s, s => pendulab_lti::frequency_response::bode_channel(s, &w, i, j))?);
             }
-            Ok::<_, pendulab_lti::LtiError>(out)
-        })
-        .map_err(lti)?;
+        }
+        Ok::<_, pendulab_lti::LtiError>(out)
+    })?;
     let pack = |pick: fn(&pendulab_lti::frequency_response::Bode) -> &Vec<f64>| -> Py<PyAny> {
         if ny == 1 && nu == 1 {
             slice_to_numpy(py, pick(&channels[0])).into_any().unbind()

@@ -11,13 +11,26 @@ pub fn obj<'py, T: pyo3::IntoPyObjectExt<'py>>(py: Python<'py>, value: T) -> PyR
     Ok(value.into_bound_py_any(py)?.unbind())
 }
 
-/// Declares a result class: `result_class!(Rust name, "PythonName", "doc", unpack [fields…],
-/// array field-or-none, { field as "attr": "doc", … })`. Every field holds a Python object.
+/// Declares a result class: `result_class!(Rust name, "PythonName", "doc", array
+/// field-or-none, unpack { field as "attr": "doc", … } also { field as "attr": "doc", … })`.
+/// The `unpack` fields, in order, are python-control's tuple; the `also` fields are further
+/// attributes. Every field holds a Python object.
 macro_rules! result_class {
     (
         $name:ident, $pyname:literal, $doc:literal,
-        unpack [$($u:ident),*],
         array $arr:tt,
+        unpack { $( $u:ident as $uname:literal : $udoc:literal ),* $(,)? }
+        also { $( $a:ident as $aname:literal : $adoc:literal ),* $(,)? }
+    ) => {
+        result_class!(
+            @class $name, $pyname, $doc, [$($u),*], $arr,
+            { $($u as $uname: $udoc,)* $($a as $aname: $adoc,)* }
+        );
+    };
+    (
+        @class $name:ident, $pyname:literal, $doc:literal,
+        [$($u:ident),*],
+        $arr:tt,
         { $( $f:ident as $fname:literal : $fdoc:literal ),* $(,)? }
     ) => {
         #[doc = $doc]

@@ -7,6 +7,7 @@
 //! sample time in seconds (python-control's convention; its `dt = True`, "discrete with
 //! unspecified sample time", is refused: every discrete computation here needs the number).
 
+use super::nogil;
 use crate::convert::{OneD, complex_to_numpy, matrix, matrix_to_numpy, slice_to_numpy, vector};
 use crate::errors::lti;
 use nalgebra::DMatrix;
@@ -301,13 +302,13 @@ impl StateSpace {
     /// Poles: the eigenvalues of A (complex array), see `pendulab.poles`.
     fn poles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let sys = &self.sys;
-        let p = py.detach(|| with_sys!(sys, s => s.poles())).map_err(lti)?;
+        let p = nogil(py, || with_sys!(sys, s => s.poles()))?;
         Ok(complex_to_numpy(py, &p).into_any())
     }
     /// Invariant zeros (complex array), see `pendulab.zeros`.
     fn zeros<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let sys = &self.sys;
-        let z = py.detach(|| with_sys!(sys, s => s.zeros())).map_err(lti)?;
+        let z = nogil(py, || with_sys!(sys, s => s.zeros()))?;
         Ok(complex_to_numpy(py, &z).into_any())
     }
     /// DC gain, see `pendulab.dcgain`.
@@ -531,7 +532,7 @@ pub fn c2d(
         let TfSys::Continuous(t) = &t.get().tf else {
             return Err(not_continuous());
         };
-        let d = py.detach(|| t.c2d(Ts, m)).map_err(lti)?;
+        let d = nogil(py, || t.c2d(Ts, m))?;
         return Ok(Py::new(
             py,
             TransferFunction {
@@ -543,7 +544,7 @@ pub fn c2d(
     let Sys::Continuous(s) = system(sys)? else {
         return Err(not_continuous());
     };
-    let d = py.detach(|| s.c2d(Ts, m)).map_err(lti)?;
+    let d = nogil(py, || s.c2d(Ts, m))?;
     StateSpace::wrap(py, Sys::Discrete(d))
 }
 
@@ -581,7 +582,7 @@ pub fn d2c(
         let TfSys::Discrete(t) = &t.get().tf else {
             return Err(not_discrete());
         };
-        let c = py.detach(|| t.d2c(m)).map_err(lti)?;
+        let c = nogil(py, || t.d2c(m))?;
         return Ok(Py::new(
             py,
             TransferFunction {
@@ -593,6 +594,6 @@ pub fn d2c(
     let Sys::Discrete(s) = system(sys)? else {
         return Err(not_discrete());
     };
-    let c = py.detach(|| s.d2c(m)).map_err(lti)?;
+    let c = nogil(py, || s.d2c(m))?;
     StateSpace::wrap(py, Sys::Continuous(c))
 }
