@@ -153,21 +153,23 @@ fn model_of_the_arm_at_an_arm_angle() {
     );
 }
 
+/// `pendulab simulate --lab lab --controller controller extra…`.
+fn simulate(lab: &str, controller: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["simulate", "--lab", lab, "--controller", controller];
+    args.extend_from_slice(extra);
+    pendulab(&args)
+}
+
 #[test]
 fn simulate_the_rig_lqr_balances_and_writes_the_run() {
     let dir = Dir::new("simulate");
     let lab = init(&dir, "rig", "cart");
     let out = dir.path("run1");
-    let v = json(&pendulab(&[
-        "simulate",
-        "--lab",
+    let v = json(&simulate(
         &lab,
-        "--controller",
         &example("cart_lqr.toml"),
-        "--out",
-        &out,
-        "--json",
-    ]));
+        &["--out", &out, "--json"],
+    ));
     // Default scenario: 5° for 5 s at the controller file's 1 kHz.
     let theta_final = v["final_state"][1].as_f64().unwrap();
     assert!(theta_final.abs() < 1e-2, "final θ = {theta_final}");
@@ -202,16 +204,11 @@ fn simulate_the_rig_lqr_balances_and_writes_the_run() {
         "short.toml",
         "initial_state = [0.0, 0.05235987755982988, 0.0, 0.0]\nduration = 2.0\n",
     );
-    let v = json(&pendulab(&[
-        "simulate",
-        "--lab",
+    let v = json(&simulate(
         &lab,
-        "--controller",
         &example("cart_lqr.toml"),
-        "--scenario",
-        &scen,
-        "--json",
-    ]));
+        &["--scenario", &scen, "--json"],
+    ));
     assert_eq!(v["samples"], 2001);
     assert_eq!(v["time_in_saturation"], 0.0);
     // Default output: LAB/runs/<controller stem>/run.csv.
@@ -288,10 +285,9 @@ fn bad_simulate_inputs_fail_without_writing() {
     let lab = init(&dir, "rig", "cart");
     let out = dir.path("out");
     let run = |controller: &str, extra: &[&str]| {
-        let mut args = vec!["simulate", "--lab", &lab, "--controller", controller];
-        args.extend_from_slice(&["--out", &out]);
+        let mut args = vec!["--out", out.as_str()];
         args.extend_from_slice(extra);
-        pendulab(&args)
+        simulate(&lab, controller, &args)
     };
 
     // A controller file for the other plant.
