@@ -84,41 +84,30 @@ fn invalid_lapack_arguments_come_back_as_negative_info() {
     let mut work = vec![0.0; 200];
     let mut iwork = vec![0 as c_int; 24];
     unsafe {
-        dgesdd_(
-            &c(b'S'),
-            &5,
-            &3,
-            a.as_mut_ptr(),
-            &5,
-            s.as_mut_ptr(),
-            u.as_mut_ptr(),
-            &5,
-            vt.as_mut_ptr(),
-            &2,
-            work.as_mut_ptr(),
-            &200,
-            iwork.as_mut_ptr(),
-            &mut info,
+        info = common::gesdd(
+            dgesdd_,
+            c(b'S'),
+            (
+                (5, 3, &mut a, 5),
+                &mut s,
+                (&mut u, 5, &mut vt, 2),
+                (&mut work, 200),
+            ),
+            &mut iwork,
         )
     };
     assert_eq!(info, -10);
     // dgesvd with both jobs 'O' is argument 2.
     unsafe {
-        dgesvd_(
-            &c(b'O'),
-            &c(b'O'),
-            &5,
-            &3,
-            a.as_mut_ptr(),
-            &5,
-            s.as_mut_ptr(),
-            u.as_mut_ptr(),
-            &5,
-            vt.as_mut_ptr(),
-            &3,
-            work.as_mut_ptr(),
-            &200,
-            &mut info,
+        info = common::gesvd(
+            dgesvd_,
+            (c(b'O'), c(b'O')),
+            (
+                (5, 3, &mut a, 5),
+                &mut s,
+                (&mut u, 5, &mut vt, 3),
+                (&mut work, 200),
+            ),
         )
     };
     assert_eq!(info, -2);
@@ -219,20 +208,23 @@ fn zero_dimensions_touch_nothing() {
     let mut work = [0.0; 1];
     let mut iwork = [0 as c_int; 1];
     unsafe {
+        // A, U and VT are one buffer: nothing may be touched.
+        let a = a.as_mut_ptr();
+        let (s, work, iwork) = (s.as_mut_ptr(), work.as_mut_ptr(), iwork.as_mut_ptr());
         dgesdd_(
             &c(b'N'),
             &0,
             &3,
-            a.as_mut_ptr(),
+            a,
             &1,
-            s.as_mut_ptr(),
-            a.as_mut_ptr(),
+            s,
+            a,
             &1,
-            a.as_mut_ptr(),
+            a,
             &1,
-            work.as_mut_ptr(),
+            work,
             &-1,
-            iwork.as_mut_ptr(),
+            iwork,
             &mut info,
         )
     };
@@ -305,20 +297,24 @@ fn overwrite_and_values_only_svd_jobs() {
         let mut s_ref = vec![0.0; mn];
         let mut dummy = vec![0.0; 1];
         unsafe {
+            // U and VT are one unused buffer.
+            let (mi, ni, d) = (m as c_int, n as c_int, dummy.as_mut_ptr());
+            let (a, s) = (a.as_mut_ptr(), s_ref.as_mut_ptr());
+            let (w, iw) = (work.as_mut_ptr(), iwork.as_mut_ptr());
             dgesdd_(
                 &c(b'N'),
-                &(m as c_int),
-                &(n as c_int),
-                a.as_mut_ptr(),
-                &(m as c_int),
-                s_ref.as_mut_ptr(),
-                dummy.as_mut_ptr(),
+                &mi,
+                &ni,
+                a,
+                &mi,
+                s,
+                d,
                 &1,
-                dummy.as_mut_ptr(),
+                d,
                 &1,
-                work.as_mut_ptr(),
+                w,
                 &1000,
-                iwork.as_mut_ptr(),
+                iw,
                 &mut info,
             )
         };
@@ -330,21 +326,16 @@ fn overwrite_and_values_only_svd_jobs() {
         let mut u = vec![0.0; m * m];
         let mut vt = vec![0.0; n * n];
         unsafe {
-            dgesdd_(
-                &c(b'O'),
-                &(m as c_int),
-                &(n as c_int),
-                a.as_mut_ptr(),
-                &(m as c_int),
-                s.as_mut_ptr(),
-                u.as_mut_ptr(),
-                &(m as c_int),
-                vt.as_mut_ptr(),
-                &(n as c_int),
-                work.as_mut_ptr(),
-                &1000,
-                iwork.as_mut_ptr(),
-                &mut info,
+            info = common::gesdd(
+                dgesdd_,
+                c(b'O'),
+                (
+                    (m as c_int, n as c_int, &mut a, m as c_int),
+                    &mut s,
+                    (&mut u, m as c_int, &mut vt, n as c_int),
+                    (&mut work, 1000),
+                ),
+                &mut iwork,
             )
         };
         assert_eq!(info, 0);
@@ -365,21 +356,15 @@ fn overwrite_and_values_only_svd_jobs() {
         let mut s = vec![0.0; mn];
         let mut vt = vec![0.0; mn * n];
         unsafe {
-            dgesvd_(
-                &c(b'O'),
-                &c(b'S'),
-                &(m as c_int),
-                &(n as c_int),
-                a.as_mut_ptr(),
-                &(m as c_int),
-                s.as_mut_ptr(),
-                dummy.as_mut_ptr(),
-                &1,
-                vt.as_mut_ptr(),
-                &(mn as c_int),
-                work.as_mut_ptr(),
-                &1000,
-                &mut info,
+            info = common::gesvd(
+                dgesvd_,
+                (c(b'O'), c(b'S')),
+                (
+                    (m as c_int, n as c_int, &mut a, m as c_int),
+                    &mut s,
+                    (&mut dummy, 1, &mut vt, mn as c_int),
+                    (&mut work, 1000),
+                ),
             )
         };
         assert_eq!(info, 0);

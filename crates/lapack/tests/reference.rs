@@ -514,41 +514,30 @@ fn call_svd(c: &Value, divide_and_conquer: bool) -> (Vec<f64>, Vec<Vec<f64>>, Ve
     );
     for pass in 0..2 {
         let lwork = if pass == 0 { -1 } else { work.len() as c_int };
-        let mut info: c_int = -77;
+        let info: c_int;
         unsafe {
             if divide_and_conquer {
-                dgesdd_(
-                    &job,
-                    &mi,
-                    &ni,
-                    a.as_mut_ptr(),
-                    &lda_i,
-                    s.as_mut_ptr(),
-                    u.as_mut_ptr(),
-                    &ldu_i,
-                    vt.as_mut_ptr(),
-                    &ldvt_i,
-                    work.as_mut_ptr(),
-                    &lwork,
-                    iwork.as_mut_ptr(),
-                    &mut info,
+                info = common::gesdd(
+                    dgesdd_,
+                    job,
+                    (
+                        (mi, ni, &mut a, lda_i),
+                        &mut s,
+                        (&mut u, ldu_i, &mut vt, ldvt_i),
+                        (&mut work, lwork),
+                    ),
+                    &mut iwork,
                 )
             } else {
-                dgesvd_(
-                    &job,
-                    &job,
-                    &mi,
-                    &ni,
-                    a.as_mut_ptr(),
-                    &lda_i,
-                    s.as_mut_ptr(),
-                    u.as_mut_ptr(),
-                    &ldu_i,
-                    vt.as_mut_ptr(),
-                    &ldvt_i,
-                    work.as_mut_ptr(),
-                    &lwork,
-                    &mut info,
+                info = common::gesvd(
+                    dgesvd_,
+                    (job, job),
+                    (
+                        (mi, ni, &mut a, lda_i),
+                        &mut s,
+                        (&mut u, ldu_i, &mut vt, ldvt_i),
+                        (&mut work, lwork),
+                    ),
                 )
             }
         };

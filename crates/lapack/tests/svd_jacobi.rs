@@ -49,38 +49,27 @@ fn svd(a: &[f64], (m, n): (usize, usize), job: u8, qr: bool) -> Out {
         let j = job as core::ffi::c_char;
         unsafe {
             if qr {
-                dgesvd_(
-                    &j,
-                    &j,
-                    &mi,
-                    &ni,
-                    a.as_mut_ptr(),
-                    &mi,
-                    s.as_mut_ptr(),
-                    u.as_mut_ptr(),
-                    &mi,
-                    vt.as_mut_ptr(),
-                    &vr,
-                    work.as_mut_ptr(),
-                    &lwork,
-                    &mut info,
+                info = common::gesvd(
+                    dgesvd_,
+                    (j, j),
+                    (
+                        (mi, ni, &mut a, mi),
+                        &mut s,
+                        (&mut u, mi, &mut vt, vr),
+                        (&mut work, lwork),
+                    ),
                 )
             } else {
-                dgesdd_(
-                    &j,
-                    &mi,
-                    &ni,
-                    a.as_mut_ptr(),
-                    &mi,
-                    s.as_mut_ptr(),
-                    u.as_mut_ptr(),
-                    &mi,
-                    vt.as_mut_ptr(),
-                    &vr,
-                    work.as_mut_ptr(),
-                    &lwork,
-                    iwork.as_mut_ptr(),
-                    &mut info,
+                info = common::gesdd(
+                    dgesdd_,
+                    j,
+                    (
+                        (mi, ni, &mut a, mi),
+                        &mut s,
+                        (&mut u, mi, &mut vt, vr),
+                        (&mut work, lwork),
+                    ),
+                    &mut iwork,
                 )
             }
         };
@@ -403,23 +392,18 @@ fn single_precision_path_scales_too() {
         let mut vt = vec![0f32; n * n];
         let mut work = vec![0f32; 1000];
         let mut iwork = vec![0 as c_int; 8 * n];
-        let mut info: c_int = -77;
+        let info: c_int;
         unsafe {
-            sgesdd_(
-                &(b'S' as c_char),
-                &(m as c_int),
-                &(n as c_int),
-                a32.as_mut_ptr(),
-                &(m as c_int),
-                s.as_mut_ptr(),
-                u.as_mut_ptr(),
-                &(m as c_int),
-                vt.as_mut_ptr(),
-                &(n as c_int),
-                work.as_mut_ptr(),
-                &1000,
-                iwork.as_mut_ptr(),
-                &mut info,
+            info = common::gesdd(
+                sgesdd_,
+                b'S' as c_char,
+                (
+                    (m as c_int, n as c_int, &mut a32, m as c_int),
+                    &mut s,
+                    (&mut u, m as c_int, &mut vt, n as c_int),
+                    (&mut work, 1000),
+                ),
+                &mut iwork,
             )
         };
         assert_eq!(info, 0);

@@ -79,3 +79,116 @@ pub unsafe fn syevr<T: Copy>(
     };
     info
 }
+
+/// The Fortran signature of xGESDD (`dgesdd_`, `sgesdd_`), in LAPACK's argument order.
+pub type GesddFn<T> = unsafe extern "C" fn(
+    *const c_char,
+    *const c_int,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *mut T,
+    *mut T,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *mut c_int,
+    *mut c_int,
+);
+
+/// The Fortran signature of xGESVD (`dgesvd_`, `sgesvd_`), in LAPACK's argument order.
+pub type GesvdFn<T> = unsafe extern "C" fn(
+    *const c_char,
+    *const c_char,
+    *const c_int,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *mut T,
+    *mut T,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *mut c_int,
+);
+
+/// The arguments xGESDD and xGESVD share, grouped as LAPACK documents them: the matrix
+/// (`M`, `N`, `A`, `LDA`), `S`, the factors (`U`, `LDU`, `VT`, `LDVT`) and the workspace
+/// (`WORK`, `LWORK`). The integers are passed as given.
+pub type SvdArgs<'a, T> = (
+    (c_int, c_int, &'a mut [T], c_int),
+    &'a mut [T],
+    (&'a mut [T], c_int, &'a mut [T], c_int),
+    (&'a mut [T], c_int),
+);
+
+/// Calls xGESDD `f` with job `jobz`, the shared SVD arguments and `IWORK`; returns `INFO`.
+///
+/// # Safety
+/// As for [`syevr`]: the dimensions and lengths passed fit the slices, unless the routine
+/// rejects them before touching the arrays.
+pub unsafe fn gesdd<T: Copy>(
+    f: GesddFn<T>,
+    jobz: c_char,
+    ((m, n, a, lda), s, (u, ldu, vt, ldvt), (work, lwork)): SvdArgs<'_, T>,
+    iwork: &mut [c_int],
+) -> c_int {
+    let mut info: c_int = -77;
+    let (a, s, u, vt, work) = (
+        a.as_mut_ptr(),
+        s.as_mut_ptr(),
+        u.as_mut_ptr(),
+        vt.as_mut_ptr(),
+        work.as_mut_ptr(),
+    );
+    // SAFETY: forwarded caller contract.
+    unsafe {
+        f(
+            &jobz,
+            &m,
+            &n,
+            a,
+            &lda,
+            s,
+            u,
+            &ldu,
+            vt,
+            &ldvt,
+            work,
+            &lwork,
+            iwork.as_mut_ptr(),
+            &mut info,
+        )
+    };
+    info
+}
+
+/// Calls xGESVD `f` with jobs `(jobu, jobvt)` and the shared SVD arguments; returns `INFO`.
+///
+/// # Safety
+/// As for [`gesdd`].
+pub unsafe fn gesvd<T: Copy>(
+    f: GesvdFn<T>,
+    (jobu, jobvt): (c_char, c_char),
+    ((m, n, a, lda), s, (u, ldu, vt, ldvt), (work, lwork)): SvdArgs<'_, T>,
+) -> c_int {
+    let mut info: c_int = -77;
+    let (a, s, u, vt, work) = (
+        a.as_mut_ptr(),
+        s.as_mut_ptr(),
+        u.as_mut_ptr(),
+        vt.as_mut_ptr(),
+        work.as_mut_ptr(),
+    );
+    // SAFETY: forwarded caller contract.
+    unsafe {
+        f(
+            &jobu, &jobvt, &m, &n, a, &lda, s, u, &ldu, vt, &ldvt, work, &lwork, &mut info,
+        )
+    };
+    info
+}
