@@ -22,7 +22,7 @@
 use super::CartPendulum;
 use pendulab_sim::Dynamics;
 pub use pendulab_sim::fast::Trig;
-use pendulab_sim::fast::{FixedDynamics, MulAdd};
+use pendulab_sim::fast::{FixedDynamics, FixedStep, MulAdd, StepVisitor};
 
 mod anchored;
 mod lanes;
@@ -161,6 +161,39 @@ impl FixedDynamics<4> for FastCart {
             return self.plain_step(x, u, h);
         }
         anchored::step::<F>(&self.plant, x, u, h);
+    }
+
+    /// The step chosen once for a whole run: with [`Trig::Anchored`] a stepper that takes
+    /// only the anchored step, otherwise one that takes only the provided step
+    /// ([`pendulab_sim::fast::rk4_fixed`] on [`FastCart::derivative_array`]); each the steps
+    /// of [`FixedDynamics::rk4_step_fixed_with`] for that strategy, without its branch.
+    #[inline(always)]
+    fn visit_stepper<V: StepVisitor<4>>(&self, visitor: V) -> V::Output {
+        match self.trig {
+            Trig::Anchored => visitor.visit(&AnchoredStep(self.plant)),
+            Trig::Libm | Trig::Polynomial => visitor.visit(&PlainStep(self)),
+        }
+    }
+}
+
+/// [`FastCart`]'s stepper for [`Trig::Anchored`]: the anchored RK4 step (`anchored.rs`).
+struct AnchoredStep(CartPendulum);
+
+impl FixedStep<4> for AnchoredStep {
+    #[inline(always)]
+    fn step<F: MulAdd>(&self, x: &mut [f64; 4], u: f64, h: f64) {
+        anchored::step::<F>(&self.0, x, u, h);
+    }
+}
+
+/// [`FastCart`]'s stepper for [`Trig::Libm`] and [`Trig::Polynomial`]: the provided RK4 step
+/// ([`pendulab_sim::fast::rk4_fixed`]) on the kernel's right-hand side.
+struct PlainStep<'a>(&'a FastCart);
+
+impl FixedStep<4> for PlainStep<'_> {
+    #[inline(always)]
+    fn step<F: MulAdd>(&self, x: &mut [f64; 4], u: f64, h: f64) {
+        pendulab_sim::fast::rk4_fixed(self.0, x, u, h);
     }
 }
 

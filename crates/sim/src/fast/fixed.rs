@@ -101,6 +101,46 @@ pub trait FixedDynamics<const N: usize> {
     fn rk4_step_fixed_with<F: MulAdd>(&self, x: &mut [f64; N], u: f64, h: f64) {
         self.rk4_step_fixed(x, u, h);
     }
+
+    /// Hands `visitor` the stepper a whole run takes ([`StepVisitor::visit`]), chosen once
+    /// before the loop rather than at every step. Provided: the plant itself (its
+    /// [`FixedDynamics::rk4_step_fixed_with`], through the blanket [`FixedStep`]). A plant
+    /// whose step depends on a run-time switch (e.g. `pendulab_plants::cart::fast::FastCart`
+    /// and its [`Trig`](crate::fast::Trig)) overrides it to pass one stepper type per choice,
+    /// so that [`FixedLoop`] compiles one loop per choice with no branch per step. Every
+    /// stepper passed must take the steps [`FixedDynamics::rk4_step_fixed_with`] takes.
+    #[inline(always)]
+    fn visit_stepper<V: StepVisitor<N>>(&self, visitor: V) -> V::Output
+    where
+        Self: Sized,
+    {
+        visitor.visit(self)
+    }
+}
+
+/// One RK4 step of `h` with `u` held, in place, with the multiply–add strategy `F`: what
+/// [`FixedLoop`]'s run loop calls per step. Implemented by every [`FixedDynamics`] plant (its
+/// [`FixedDynamics::rk4_step_fixed_with`]) and by the stepper types a plant hands out from
+/// [`FixedDynamics::visit_stepper`].
+pub trait FixedStep<const N: usize> {
+    /// One step from `x(t)` to `x(t + h)` (`h` in the plant's time unit, s).
+    fn step<F: MulAdd>(&self, x: &mut [f64; N], u: f64, h: f64);
+}
+
+impl<P: FixedDynamics<N>, const N: usize> FixedStep<N> for P {
+    #[inline(always)]
+    fn step<F: MulAdd>(&self, x: &mut [f64; N], u: f64, h: f64) {
+        self.rk4_step_fixed_with::<F>(x, u, h);
+    }
+}
+
+/// What runs with the stepper a plant chooses ([`FixedDynamics::visit_stepper`]): a generic
+/// method, so the visitor's code is compiled once per stepper type.
+pub trait StepVisitor<const N: usize> {
+    /// The visit's result.
+    type Output;
+    /// Runs with `stepper`.
+    fn visit<S: FixedStep<N>>(self, stepper: &S) -> Self::Output;
 }
 
 /// One classic RK4 step of `h` with `u` held: the crate's one RK4 stepper
@@ -115,6 +155,7 @@ pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
 ) {
     let mut w = Rk4Scratch::<[f64; N]>::new(N);
     step_with(
+        #[inline(always)]
         |_, x: &[f64; N], dx: &mut [f64; N]| *dx = plant.derivative_fixed(x, u),
         0.0,
         x,
@@ -291,42 +332,92 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         monitor: &mut M,
         storage: Option<SampledRun>,
     ) -> Result<SampledRun> {
-        #[cfg(target_arch = "x86_64")]
-        if self.multiply_add() == MulAddPath::Fused {
-            // SAFETY: `multiply_add` returns `Fused` only if the processor supports FMA
-            // (detected at run time), the only requirement of calling a function compiled
-            // with `target_feature(enable = "fma")`.
-            return unsafe { self.run_fused(x0, monitor, storage) };
-        }
-        self.run_loop::<Separate, M>(x0, monitor, storage)
+        let fused = self.multiply_add() == MulAddPath::Fused;
+        self.plant.visit_stepper(Run {
+            controller: &mut self.controller,
+            saturation: self.saturation,
+            ts: self.ts,
+            t0: self.t0,
+            samples: self.samples,
+            nsub: self.nsub,
+            every: self.every,
+            fused,
+            x0,
+            monitor,
+            storage,
+        })
     }
+}
 
-    /// [`FixedLoop::run_loop`] with [`Fused`](crate::fast::Fused), compiled for FMA. Rust does not contract
-    /// `a * b + c`, so only the plant's `F::mul_add` differs from the baseline loop.
+/// One run of a [`FixedLoop`]: its settings, the controller and the run's arguments, the
+/// [`StepVisitor`] the plant hands its stepper to ([`FixedDynamics::visit_stepper`]), so the
+/// loop is compiled once per stepper type (and once more for FMA) with the step fixed.
+struct Run<'a, C, M: ?Sized> {
+    controller: &'a mut C,
+    saturation: Option<(f64, f64)>,
+    ts: f64,
+    t0: f64,
+    samples: usize,
+    nsub: usize,
+    every: Option<usize>,
+    /// Whether to take the FMA-compiled loop ([`FixedLoop::multiply_add`] is `Fused`).
+    fused: bool,
+    x0: &'a [f64],
+    monitor: &'a mut M,
+    storage: Option<SampledRun>,
+}
+
+impl<C: FixedController<N>, M: Monitor + ?Sized, const N: usize> StepVisitor<N> for Run<'_, C, M> {
+    type Output = Result<SampledRun>;
+
+    #[inline(always)]
+    fn visit<S: FixedStep<N>>(self, stepper: &S) -> Result<SampledRun> {
+        #[cfg(target_arch = "x86_64")]
+        if self.fused {
+            // SAFETY: `fused` is set only if the processor supports FMA (detected at run
+            // time by `FixedLoop::multiply_add`), the only requirement of calling a function
+            // compiled with `target_feature(enable = "fma")`.
+            return unsafe { self.run_fused(stepper) };
+        }
+        self.run_loop::<Separate, S, N>(stepper)
+    }
+}
+
+impl<'a, C, M: Monitor + ?Sized> Run<'a, C, M> {
+    /// [`Run::run_loop`] with [`Fused`](crate::fast::Fused), compiled for FMA. Rust does not
+    /// contract `a * b + c`, so only the stepper's `F::mul_add` differs from the baseline loop.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "fma")]
-    fn run_fused<M: Monitor + ?Sized>(
-        &mut self,
-        x0: &[f64],
-        monitor: &mut M,
-        storage: Option<SampledRun>,
-    ) -> Result<SampledRun> {
-        self.run_loop::<Fused, M>(x0, monitor, storage)
+    fn run_fused<S: FixedStep<N>, const N: usize>(self, stepper: &S) -> Result<SampledRun>
+    where
+        C: FixedController<N>,
+    {
+        self.run_loop::<Fused, S, N>(stepper)
     }
 
-    /// The loop itself, the plant's step with the multiply–add `F`.
+    /// The loop itself, the stepper's step with the multiply–add `F`.
     #[inline(always)]
-    fn run_loop<F: MulAdd, M: Monitor + ?Sized>(
-        &mut self,
-        x0: &[f64],
-        monitor: &mut M,
-        storage: Option<SampledRun>,
-    ) -> Result<SampledRun> {
+    fn run_loop<F: MulAdd, S: FixedStep<N>, const N: usize>(self, stepper: &S) -> Result<SampledRun>
+    where
+        C: FixedController<N>,
+    {
+        let Run {
+            controller,
+            saturation,
+            ts,
+            t0,
+            samples: n_samples,
+            nsub,
+            every: record_every,
+            fused: _,
+            x0,
+            monitor,
+            storage,
+        } = self;
         check_initial_state(x0, N)?;
-        self.controller.reset();
+        controller.reset();
         let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
-        let (ts, t0, n_samples, nsub) = (self.ts, self.t0, self.samples, self.nsub);
-        let cap = self.every.map_or(0, |e| n_samples / e + 1);
+        let cap = record_every.map_or(0, |e| n_samples / e + 1);
         let [mut bt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
         bt.resize(cap, 0.0);
         let (mut rx, mut ru, mut ry, mut rc) = (
@@ -344,8 +435,12 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         let mut status = RunStatus::Completed;
         let mut last_t = t0;
         let mut samples_run = 0usize;
-        let mut next_record = if self.every.is_some() { 0 } else { usize::MAX };
-        let every = self.every.unwrap_or(0);
+        let mut next_record = if record_every.is_some() {
+            0
+        } else {
+            usize::MAX
+        };
+        let every = record_every.unwrap_or(0);
         let mut row = 0usize;
         // `t_k = t₀ + k·ts`, carried from one sample to the next (the value the general loop
         // computes at each, one conversion and product per sample fewer). At most 10¹² + 1
@@ -354,7 +449,7 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
         for k in 0..n_samples + 1 {
             last_t = tk;
             samples_run += 1;
-            let ucmd = self.controller.command(tk, &x);
+            let ucmd = controller.command(tk, &x);
             if !ucmd.is_finite() {
                 return Err(SimError::NonFiniteCommand {
                     t: tk,
@@ -362,7 +457,7 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
                     value: ucmd,
                 });
             }
-            let p = match self.saturation {
+            let p = match saturation {
                 None => ucmd,
                 Some((lo, hi)) => {
                     let mut v = ucmd;
@@ -399,11 +494,11 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
             // one instruction on x86-64 (the unsigned one takes several without AVX-512).
             let tk1 = t0 + (k + 1) as i64 as f64 * ts;
             if nsub == 1 {
-                self.plant.rk4_step_fixed_with::<F>(&mut x, p, tk1 - tk);
+                stepper.step::<F>(&mut x, p, tk1 - tk);
             } else {
                 let h = (tk1 - tk) / nsub as f64;
                 for _ in 0..nsub {
-                    self.plant.rk4_step_fixed_with::<F>(&mut x, p, h);
+                    stepper.step::<F>(&mut x, p, h);
                 }
             }
             if !x.iter().sum::<f64>().is_finite() {
@@ -432,7 +527,7 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
                     ..Default::default()
                 },
                 saturated_samples: saturated,
-                switch_times: self.controller.switch_times().to_vec(),
+                switch_times: controller.switch_times().to_vec(),
                 final_time: last_t,
                 final_state: x.to_vec(),
             },

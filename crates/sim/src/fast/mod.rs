@@ -20,7 +20,7 @@ pub mod lanes;
 pub mod strategy;
 pub mod trig;
 
-pub use fixed::{FixedController, FixedDynamics, FixedLoop, rk4_fixed};
+pub use fixed::{FixedController, FixedDynamics, FixedLoop, FixedStep, StepVisitor, rk4_fixed};
 pub use lanes::{LaneDynamics, LaneOptions, LaneOutcome, rk4_lanes, run_feedback_lanes};
 pub use strategy::{
     AnchoredSinCos, Fused, LibmSinCos, MulAdd, MulAddPath, PolySinCos, Separate, SinCos, Trig,
