@@ -8,12 +8,15 @@
 //!     ├── pendulab.NotFiniteError          (also ValueError)  NaN or ±Inf in an argument
 //!     ├── pendulab.InvalidArgumentError    (also ValueError)  bad value: not symmetric, not
 //!     │                                    semidefinite, sample time, non-uniform time, …
-//!     └── pendulab.LinAlgError             (also numpy.linalg.LinAlgError, a ValueError)
-//!         │                                singular, ill-conditioned, no convergence, inaccurate,
-//!         │                                no unique solution, no real logarithm, pole at s = 0
-//!         ├── pendulab.NotStabilizableError  no stabilising Riccati solution (not
-//!         │                                  stabilisable, not detectable, boundary eigenvalue)
-//!         └── pendulab.NotControllableError  poles cannot be assigned
+//!     ├── pendulab.LinAlgError             (also numpy.linalg.LinAlgError, a ValueError)
+//!     │   │                                singular, ill-conditioned, no convergence, inaccurate,
+//!     │   │                                no unique solution, no real logarithm, pole at s = 0
+//!     │   ├── pendulab.NotStabilizableError  no stabilising Riccati solution (not
+//!     │   │                                  stabilisable, not detectable, boundary eigenvalue)
+//!     │   └── pendulab.NotControllableError  poles cannot be assigned
+//!     └── pendulab.InfeasibleError         an LMI or SOS synthesis has no solution (or the
+//!                                          solver found none): attributes `status`,
+//!                                          `certificate_valid`
 //! ```
 //!
 //! So `except ValueError` catches every pendulab error of bad input or failed numerics, as
@@ -47,11 +50,13 @@ pub enum Kind {
     NotStabilizable,
     /// `pendulab.NotControllableError`: the pair (A, B) is not controllable.
     NotControllable,
+    /// `pendulab.InfeasibleError`: an LMI/SOS synthesis found no solution.
+    Infeasible,
 }
 
 impl Kind {
     /// Every kind, base first (the order in which the classes are created).
-    pub const ALL: [Kind; 7] = [
+    pub const ALL: [Kind; 8] = [
         Kind::Error,
         Kind::Shape,
         Kind::NotFinite,
@@ -59,6 +64,7 @@ impl Kind {
         Kind::LinAlg,
         Kind::NotStabilizable,
         Kind::NotControllable,
+        Kind::Infeasible,
     ];
 
     /// The Python class name.
@@ -71,6 +77,7 @@ impl Kind {
             Kind::LinAlg => "LinAlgError",
             Kind::NotStabilizable => "NotStabilizableError",
             Kind::NotControllable => "NotControllableError",
+            Kind::Infeasible => "InfeasibleError",
         }
     }
 
@@ -93,6 +100,9 @@ impl Kind {
             Kind::NotControllable => {
                 "The pair (A, B) is not controllable: poles cannot be assigned."
             }
+            Kind::Infeasible => {
+                "An LMI or SOS synthesis has no solution, or the solver found none: `status` names the solver's outcome, `certificate_valid` whether a Farkas certificate of infeasibility checks out."
+            }
         }
     }
 
@@ -109,6 +119,7 @@ impl Kind {
         let value_error = py.get_type::<pyo3::exceptions::PyValueError>();
         match self {
             Kind::Error => PyTuple::new(py, [py.get_type::<pyo3::exceptions::PyException>()]),
+            Kind::Infeasible => PyTuple::new(py, [error()?]),
             Kind::Shape | Kind::NotFinite | Kind::InvalidArgument => {
                 PyTuple::new(py, [error()?, value_error])
             }
@@ -126,7 +137,8 @@ impl Kind {
     }
 }
 
-static TYPES: [PyOnceLock<Py<PyType>>; 7] = [
+static TYPES: [PyOnceLock<Py<PyType>>; 8] = [
+    PyOnceLock::new(),
     PyOnceLock::new(),
     PyOnceLock::new(),
     PyOnceLock::new(),

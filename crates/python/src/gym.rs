@@ -439,6 +439,7 @@ pub struct RigCore {
     encoders: Option<[Quantizer; 2]>,
     threads: usize,
     config: EnvConfig,
+    travel: f64,
 }
 
 /// The environment configuration of a rig and task (see [`RigCore::new`]).
@@ -590,8 +591,13 @@ impl RigCore {
                 ));
             }
         };
-        // The rig's travel (docs/model.md: |z| ≤ 0.4 m, |θ₁| ≤ 3 rad).
-        let travel = travel.unwrap_or(if rig == "arm" { 3.0 } else { 0.4 });
+        // The rig's travel (`RigSpec::travel_limit`; docs/model.md).
+        let rig_spec = if rig == "arm" {
+            RigSpec::arm()
+        } else {
+            RigSpec::cart()
+        };
+        let travel = travel.unwrap_or(rig_spec.travel_limit);
         let config = rig_config(rig, task, dt, substeps, max_steps, travel)?;
         let (envs, spec) = if rig == "cart" {
             let plant =
@@ -617,6 +623,7 @@ impl RigCore {
             encoders,
             threads: threads.max(1),
             config,
+            travel,
         })
     }
 
@@ -627,6 +634,12 @@ impl RigCore {
             RigEnvs::Cart(v) => v.len(),
             RigEnvs::Arm(v) => v.len(),
         }
+    }
+
+    /// The drive's travel (m or rad) beyond which an episode terminates.
+    #[getter]
+    fn travel(&self) -> f64 {
+        self.travel
     }
 
     /// Control period (s).

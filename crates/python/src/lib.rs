@@ -13,12 +13,22 @@
 //! | [`lti`] | `pendulab` (top level) | state space, analysis, equations, design, responses |
 //! | [`plants`] | `pendulab.plants` | the cart and arm pendulums, linearisation, simulation |
 //! | [`gym`] | `pendulab.gym` | Gymnasium environments and the native vector env |
+//! | [`lmi`] | `pendulab.lmi` | the LMI syntheses with their certificates |
+//! | [`ident`] | `pendulab.ident` | least-squares and feature identification |
+//! | [`control`] | `pendulab.control` | sliding mode, swing-up, NMPC, ODQ, Kalman, the spec factory |
+//! | [`book`] | `pendulab.book` | the book's examples and the lab report |
+//! | [`batch`] | `pendulab.plants` | batch runs on all cores that honour Ctrl-C |
 
 #![warn(missing_docs)]
 
+pub mod batch;
+pub mod book;
+pub mod control;
 pub mod convert;
 pub mod errors;
 pub mod gym;
+pub mod ident;
+pub mod lmi;
 pub mod lti;
 pub mod plants;
 
@@ -32,5 +42,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     lti::register(m)?;
     plants::register(m)?;
     gym::register(m)?;
+    lmi::register(m)?;
+    ident::register(m)?;
+    control::register(m)?;
+    book::register(m)?;
+    batch::register(m)?;
     Ok(())
 }

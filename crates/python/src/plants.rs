@@ -33,7 +33,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 }
 
 /// Parses one spec from its JSON text, naming the argument in the error.
-fn spec<T: serde::de::DeserializeOwned>(json: &str, what: &str) -> PyResult<T> {
+pub fn spec<T: serde::de::DeserializeOwned>(json: &str, what: &str) -> PyResult<T> {
     serde_json::from_str(json)
         .map_err(|e| new_err(Kind::InvalidArgument, format!("{what}: {e}"), Some("Spec")))
 }
@@ -54,18 +54,23 @@ fn simulate_json<'py>(
     scenario: &str,
 ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
     use pendulab_control::scenario::simulate;
-    use pendulab_plants::rig::PlantKind;
-    use pendulab_plants::spec::PlantSpec;
-    let plant: PlantSpec = if plant.trim_start().starts_with('{') {
-        spec(plant, "plant")?
-    } else {
-        PlantSpec::book(PlantKind::parse(plant).map_err(|e| from_error(Kind::InvalidArgument, &e))?)
-    };
+    let plant = plant_spec(plant)?;
     let controller: pendulab_control::spec::ControllerSpec = spec(controller, "controller")?;
     let scenario: pendulab_sim::scenario::ScenarioSpec = spec(scenario, "scenario")?;
     let run = py
         .detach(|| simulate(&plant, &controller, &scenario))
         .map_err(|e| from_error(Kind::InvalidArgument, &e))?;
+    run_dict(py, &run)
+}
+
+/// A simulated run as the dict `simulate_json` returns (see there).
+///
+/// # Errors
+/// Only if NumPy cannot allocate the arrays.
+pub fn run_dict<'py>(
+    py: Python<'py>,
+    run: &pendulab_control::scenario::Run,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
     let rows = |v: &[Vec<f64>]| -> PyResult<Bound<'py, PyArray2<f64>>> {
         let w = v.first().map_or(0, Vec::len);
         let flat: Vec<f64> = v.iter().flatten().copied().collect();
@@ -95,6 +100,23 @@ fn simulate_json<'py>(
     Ok(d)
 }
 
+/// The plant of a front-end call: `"cart"` / `"arm"` (the book's rig, `PlantSpec::book`) or a
+/// `PlantSpec` as JSON text.
+///
+/// # Errors
+/// `InvalidArgumentError` naming the unknown plant or the spec's bad key.
+pub fn plant_spec(plant: &str) -> PyResult<pendulab_plants::spec::PlantSpec> {
+    use pendulab_plants::rig::PlantKind;
+    use pendulab_plants::spec::PlantSpec;
+    if plant.trim_start().starts_with('{') {
+        spec(plant, "plant")
+    } else {
+        Ok(PlantSpec::book(
+            PlantKind::parse(plant).map_err(|e| from_error(Kind::InvalidArgument, &e))?,
+        ))
+    }
+}
+
 /// A [`PlantError`] as `pendulab.InvalidArgumentError` (bad parameter or operating point).
 pub fn plant_error(e: &PlantError) -> PyErr {
     from_error(Kind::InvalidArgument, e)
@@ -117,12 +139,64 @@ pub fn sim_error(e: &SimError) -> PyErr {
     from_error(kind, e)
 }
 
-/// Applies the entries of `values` onto `fields` (name → field), refusing unknown names.
-fn apply(
-    model: &str,
-    values: Option<&HashMap<String, f64>>,
-    fields: &mut [(&str, &mut f64)],
-) -> PyResult<()> {
+/// A plant's parameter struct with its fields listed once, by the book's symbols: the list
+/// both applies a dict of values ([`params_from`]) and reads them back ([`params_dict`]).
+pub trait ParamFields: Clone {
+    /// The model's name in error messages.
+    const MODEL: &'static str;
+    /// The book's values (table 3.5 or 3.7).
+    fn book() -> Self;
+    /// Every parameter: (the book's symbol, the field).
+    fn fields(&mut self) -> Vec<(&'static str, &mut f64)>;
+}
+
+impl ParamFields for CartPendulumParams {
+    const MODEL: &'static str = "cart pendulum";
+    fn book() -> Self {
+        CartPendulumParams::book()
+    }
+    fn fields(&mut self) -> Vec<(&'static str, &mut f64)> {
+        vec![
+            ("a_c", &mut self.a_c),
+            ("b_c", &mut self.b_c),
+            ("m_p", &mut self.m_p),
+            ("l_p", &mut self.l_p),
+            ("L_p", &mut self.L_p),
+            ("J_p", &mut self.J_p),
+            ("mu_p", &mut self.mu_p),
+            ("g", &mut self.g),
+        ]
+    }
+}
+
+impl ParamFields for ArmPendulumParams {
+    const MODEL: &'static str = "arm pendulum";
+    fn book() -> Self {
+        ArmPendulumParams::book()
+    }
+    fn fields(&mut self) -> Vec<(&'static str, &mut f64)> {
+        vec![
+            ("a1", &mut self.a1),
+            ("b1", &mut self.b1),
+            ("L1", &mut self.L1),
+            ("m2", &mut self.m2),
+            ("l2", &mut self.l2),
+            ("L2", &mut self.L2),
+            ("J2", &mut self.J2),
+            ("mu2", &mut self.mu2),
+            ("g", &mut self.g),
+        ]
+    }
+}
+
+/// The book's parameters with `values` applied (not yet validated: the Rust `new` checks
+/// them, so a NaN is refused there with its "must be finite" message).
+///
+/// # Errors
+/// `InvalidArgumentError` for a name that is not a parameter, listing the known ones.
+pub fn params_from<P: ParamFields>(values: Option<&HashMap<String, f64>>) -> PyResult<P> {
+    let mut p = P::book();
+    let mut fields = p.fields();
     for (k, v) in values.into_iter().flatten() {
         match fields.iter_mut().find(|(n, _)| n == k) {
             Some((_, f)) => **f = *v,
@@ -131,7 +205,8 @@ fn apply(
                 return Err(new_err(
                     Kind::InvalidArgument,
                     format!(
-                        "{model}: unknown parameter {k:?} (known: {})",
+                        "{}: unknown parameter {k:?} (known: {})",
+                        P::MODEL,
                         known.join(", ")
                     ),
                     None,
@@ -139,7 +214,14 @@ fn apply(
             }
         }
     }
-    Ok(())
+    drop(fields);
+    Ok(p)
+}
+
+/// The parameters as a dict of the book's symbols (SI units).
+pub fn params_dict<P: ParamFields>(p: &P) -> HashMap<&'static str, f64> {
+    let mut p = p.clone();
+    p.fields().into_iter().map(|(n, v)| (n, *v)).collect()
 }
 
 /// The cart's parameters: the book's (table 3.5) with `values` applied (not yet validated).
@@ -147,22 +229,7 @@ fn apply(
 /// # Errors
 /// `InvalidArgumentError` for a name that is not a parameter.
 pub fn cart_params(values: Option<&HashMap<String, f64>>) -> PyResult<CartPendulumParams> {
-    let mut p = CartPendulumParams::book();
-    apply(
-        "cart pendulum",
-        values,
-        &mut [
-            ("a_c", &mut p.a_c),
-            ("b_c", &mut p.b_c),
-            ("m_p", &mut p.m_p),
-            ("l_p", &mut p.l_p),
-            ("L_p", &mut p.L_p),
-            ("J_p", &mut p.J_p),
-            ("mu_p", &mut p.mu_p),
-            ("g", &mut p.g),
-        ],
-    )?;
-    Ok(p)
+    params_from(values)
 }
 
 /// The arm's parameters: the book's (table 3.7) with `values` applied (not yet validated).
@@ -170,23 +237,7 @@ pub fn cart_params(values: Option<&HashMap<String, f64>>) -> PyResult<CartPendul
 /// # Errors
 /// `InvalidArgumentError` for a name that is not a parameter.
 pub fn arm_params(values: Option<&HashMap<String, f64>>) -> PyResult<ArmPendulumParams> {
-    let mut p = ArmPendulumParams::book();
-    apply(
-        "arm pendulum",
-        values,
-        &mut [
-            ("a1", &mut p.a1),
-            ("b1", &mut p.b1),
-            ("L1", &mut p.L1),
-            ("m2", &mut p.m2),
-            ("l2", &mut p.l2),
-            ("L2", &mut p.L2),
-            ("J2", &mut p.J2),
-            ("mu2", &mut p.mu2),
-            ("g", &mut p.g),
-        ],
-    )?;
-    Ok(p)
+    params_from(values)
 }
 
 /// `"upright"` or `"hanging"`.
@@ -278,17 +329,7 @@ impl CartPendulum {
     /// The parameters as a dict of the book's symbols (SI units).
     #[getter]
     fn params(&self) -> HashMap<&'static str, f64> {
-        let p = self.plant.params();
-        HashMap::from([
-            ("a_c", p.a_c),
-            ("b_c", p.b_c),
-            ("m_p", p.m_p),
-            ("l_p", p.l_p),
-            ("L_p", p.L_p),
-            ("J_p", p.J_p),
-            ("mu_p", p.mu_p),
-            ("g", p.g),
-        ])
+        params_dict(self.plant.params())
     }
 
     /// `J = J_p + m_p l_p²` (kg m²), the pendulum's inertia about the pivot.
@@ -377,18 +418,7 @@ impl ArmPendulum {
     /// The parameters as a dict of the book's symbols (SI units).
     #[getter]
     fn params(&self) -> HashMap<&'static str, f64> {
-        let p = self.plant.params();
-        HashMap::from([
-            ("a1", p.a1),
-            ("b1", p.b1),
-            ("L1", p.L1),
-            ("m2", p.m2),
-            ("l2", p.l2),
-            ("L2", p.L2),
-            ("J2", p.J2),
-            ("mu2", p.mu2),
-            ("g", p.g),
-        ])
+        params_dict(self.plant.params())
     }
 
     /// `(α₂, α₃, α₅) = (J₂ + m₂ l₂², m₂ L₁ l₂, m₂ l₂ g)`.

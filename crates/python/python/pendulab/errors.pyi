@@ -14,3 +14,9 @@ class NotStabilizableError(LinAlgError): ...
 class NotControllableError(LinAlgError): ...
 
 __all__: list[str]
+
+class InfeasibleError(Error):
+    status: str
+    """The solver's outcome, e.g. ``"infeasible"``."""
+    certificate_valid: bool
+    """Whether a Farkas certificate of infeasibility checks out."""

@@ -193,7 +193,8 @@ class RigEnv(gymnasium.Env):
     dt : control period (s); the voltage is held over it and the plant integrated by
         ``substeps`` classic RK4 steps.
     max_steps : steps before truncation (default 500).
-    travel : drive travel (default 0.4 m for the cart, 3 rad for the arm; ``docs/model.md``).
+    travel : drive travel (default: the rig's ``RigSpec::travel_limit``, 0.4 m for the cart and
+        3 rad for the arm; ``docs/model.md``).
     quantize : observe the positions quantised by the rig's encoders (cart
         4.8414·10⁻⁵ m and 2π/14400 rad per count; arm 2π/200000 and 2π/14400 rad).
     params : the plant's parameters by the book's symbols (others from tables 3.5 / 3.7).
@@ -203,31 +204,9 @@ class RigEnv(gymnasium.Env):
 
     metadata = {"render_modes": []}
 
-    def __init__(
-        self,
-        rig: str = "cart",
-        task: str = "balance",
-        dt: float = 0.02,
-        substeps: int = 1,
-        max_steps: int = 500,
-        travel: Optional[float] = None,
-        quantize: bool = False,
-        params: Optional[dict] = None,
-        render_mode: Optional[str] = None,
-    ):
-        self._core = _native.RigCore(
-            rig,
-            1,
-            task=task,
-            autoreset=False,
-            dt=dt,
-            substeps=substeps,
-            max_steps=max_steps,
-            travel=travel,
-            quantize=quantize,
-            params=params,
-        )
-        self.rig, self.task, self.dt = rig, task, dt
+    def __init__(self, rig: str = "cart", task: str = "balance", render_mode: Optional[str] = None, **options: Any):
+        self._core = _native.RigCore(rig, 1, task=task, autoreset=False, **options)
+        self.rig, self.task, self.dt, self.travel = rig, task, self._core.dt, self._core.travel
         self.render_mode = render_mode
         self.action_space = spaces.Box(-5.0, 5.0, shape=(1,), dtype=np.float32)
         self.observation_space = spaces.Box(-np.inf, np.inf, shape=(4,), dtype=np.float64)
@@ -263,7 +242,8 @@ class RigVectorEnv(VectorEnv):
     Step for step the same as ``SyncVectorEnv`` over ``num_envs`` :class:`RigEnv` with the
     same arguments (environment ``i`` seeded with ``seed + i``, autoreset on the next step,
     each environment's generator continuing). ``threads`` (default: all cores) rayon threads
-    step batches larger than 512 environments. Other arguments as :class:`RigEnv`.
+    step batches larger than 512 environments. Other arguments (``dt``, ``substeps``,
+    ``max_steps``, ``travel``, ``quantize``, ``params``) as :class:`RigEnv`.
     """
 
     metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
@@ -273,30 +253,16 @@ class RigVectorEnv(VectorEnv):
         num_envs: int = 1,
         rig: str = "cart",
         task: str = "balance",
-        dt: float = 0.02,
-        substeps: int = 1,
-        max_steps: int = 500,
-        travel: Optional[float] = None,
-        quantize: bool = False,
-        params: Optional[dict] = None,
         render_mode: Optional[str] = None,
         threads: Optional[int] = None,
+        **options: Any,
     ):
         self.num_envs = num_envs
         self.render_mode = render_mode
         self._core = _native.RigCore(
-            rig,
-            num_envs,
-            task=task,
-            autoreset=True,
-            dt=dt,
-            substeps=substeps,
-            max_steps=max_steps,
-            travel=travel,
-            quantize=quantize,
-            params=params,
-            threads=_threads(threads),
+            rig, num_envs, task=task, autoreset=True, threads=_threads(threads), **options
         )
+        self.travel = self._core.travel
         self.single_action_space = spaces.Box(-5.0, 5.0, shape=(1,), dtype=np.float32)
         self.single_observation_space = spaces.Box(
             -np.inf, np.inf, shape=(4,), dtype=np.float64

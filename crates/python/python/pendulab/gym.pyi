@@ -1,4 +1,6 @@
-from typing import Any, Optional, Tuple
+from typing import Any, Optional, Tuple, TypedDict
+
+from typing_extensions import Unpack
 
 import gymnasium
 import numpy as np
@@ -23,36 +25,38 @@ class CartPoleVectorEnv(VectorEnv):
     @property
     def state(self) -> npt.NDArray[np.float64]: ...
 
+class RigOptions(TypedDict, total=False):
+    """The rig's keyword options (``RigEnv``'s docstring)."""
+
+    dt: float
+    substeps: int
+    max_steps: int
+    travel: Optional[float]
+    quantize: bool
+    params: Optional[dict[str, float]]
+
 class RigEnv(gymnasium.Env):
+    travel: float
     def __init__(
         self,
         rig: str = ...,
         task: str = ...,
-        dt: float = ...,
-        substeps: int = ...,
-        max_steps: int = ...,
-        travel: Optional[float] = ...,
-        quantize: bool = ...,
-        params: Optional[dict[str, float]] = ...,
         render_mode: Optional[str] = ...,
+        **options: Unpack[RigOptions],
     ) -> None: ...
     @property
     def state(self) -> npt.NDArray[np.float64]: ...
 
 class RigVectorEnv(VectorEnv):
+    travel: float
     def __init__(
         self,
         num_envs: int = ...,
         rig: str = ...,
         task: str = ...,
-        dt: float = ...,
-        substeps: int = ...,
-        max_steps: int = ...,
-        travel: Optional[float] = ...,
-        quantize: bool = ...,
-        params: Optional[dict[str, float]] = ...,
         render_mode: Optional[str] = ...,
         threads: Optional[int] = ...,
+        **options: Unpack[RigOptions],
     ) -> None: ...
     @property
     def state(self) -> npt.NDArray[np.float64]: ...

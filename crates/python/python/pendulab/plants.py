@@ -19,14 +19,13 @@ the motor voltage ``v`` (V), ±5 V on the rigs. Cart:
 """
 
 import json
-from concurrent.futures import ThreadPoolExecutor
 from typing import Any, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from ._native import ArmPendulum, CartPendulum, simulate_json
+from ._native import ArmPendulum, CartPendulum, batch_feedback, batch_simulate_json, simulate_json
 
-__all__ = ["CartPendulum", "ArmPendulum", "Trajectory", "simulate", "simulate_batch"]
+__all__ = ["CartPendulum", "ArmPendulum", "Trajectory", "simulate", "simulate_batch", "feedback_batch"]
 
 
 class Trajectory:
@@ -57,6 +56,15 @@ def _plant_json(plant: Union[str, Mapping[str, Any]]) -> str:
     return plant if isinstance(plant, str) else json.dumps(plant)
 
 
+def _scenario(x0, t_final, imperfections, scenario) -> str:
+    spec = dict(scenario)
+    spec["initial_state"] = [float(v) for v in np.asarray(x0, dtype=float).reshape(-1)]
+    spec["duration"] = float(t_final)
+    if imperfections is not None:
+        spec["imperfections"] = dict(imperfections)
+    return json.dumps(spec)
+
+
 def simulate(
     plant: Union[str, Mapping[str, Any]],
     controller: Mapping[str, Any],
@@ -78,16 +86,26 @@ def simulate(
     a spec that does not parse or validate raises ``pendulab.InvalidArgumentError`` naming
     the key.
     """
-    spec = dict(scenario)
-    spec["initial_state"] = [float(v) for v in np.asarray(x0, dtype=float).reshape(-1)]
-    spec["duration"] = float(t_final)
-    if imperfections is not None:
-        spec["imperfections"] = dict(imperfections)
-    return Trajectory(simulate_json(_plant_json(plant), json.dumps(controller), json.dumps(spec)))
+    spec = _scenario(x0, t_final, imperfections, scenario)
+    return Trajectory(simulate_json(_plant_json(plant), json.dumps(controller), spec))
 
 
 def simulate_batch(plant, controller, x0s, t_final, imperfections=None, workers=None, **scenario):
-    """:func:`simulate` from each initial state of ``x0s``, on ``workers`` threads (default:
-    all cores; each run releases the GIL). Returns the trajectories in order."""
-    with ThreadPoolExecutor(max_workers=workers) as ex:
-        return list(ex.map(lambda x0: simulate(plant, controller, x0, t_final, imperfections, **scenario), x0s))
+    """:func:`simulate` from each initial state of ``x0s``, in Rust on ``workers`` threads
+    (default: all cores) with the GIL released, a few runs at a time: Ctrl-C raises
+    ``KeyboardInterrupt`` between them. Returns the trajectories in order."""
+    specs = [_scenario(x0, t_final, imperfections, scenario) for x0 in x0s]
+    runs = batch_simulate_json(_plant_json(plant), json.dumps(controller), specs, threads=workers)
+    return [Trajectory(r) for r in runs]
+
+
+def feedback_batch(K, x0s, t_final, params=None, ts=1e-3, substeps=1, stay_within=None, threads=None):
+    """The book's cart pendulum (``params`` override table 3.5) under ``u = −K x`` (V, held
+    over each sample ``ts``, RK4 with ``substeps`` steps per sample) from every row of ``x0s``
+    (``[z, θ, ż, θ̇]``) for ``t_final`` seconds, on all cores (``threads``) by the eight-lane
+    kernel of ``pendulab bench sim-batch``; with ``stay_within=(i, bound)`` a run stops at the
+    first sample with ``|x_i| > bound``. Ctrl-C raises ``KeyboardInterrupt`` between chunks of
+    256 runs. Returns a dict: ``held`` (bool), ``steps`` (RK4 steps integrated),
+    ``final_state`` (runs × 4)."""
+    return batch_feedback(K, x0s, t_final, params=params, ts=ts, substeps=substeps,
+                          stay_within=stay_within, threads=threads)

@@ -68,5 +68,15 @@ def simulate_batch(
     workers: Optional[int] = ...,
     **scenario: object,
 ) -> list[Trajectory]: ...
+def feedback_batch(
+    K: npt.ArrayLike,
+    x0s: npt.ArrayLike,
+    t_final: float,
+    params: Optional[Mapping[str, float]] = ...,
+    ts: float = ...,
+    substeps: int = ...,
+    stay_within: Optional[Tuple[int, float]] = ...,
+    threads: Optional[int] = ...,
+) -> dict[str, _F]: ...
 
 __all__: list[str]
