@@ -122,7 +122,8 @@ fn run_one(
 /// `book_run(id, out=None, data=None)`: runs the example `id` and returns a dict: `id`,
 /// `values` (name → bool, float or array, in the example's order), `references` (the book's
 /// printed values: `name`, `value`, `source`, `tolerance`, `reproduced`), `notes`, `figures`
-/// (the SVG/PNG/GIF files written into the directory `out`, none without it) and `status`
+/// (the paths, `pathlib.Path`, of the SVG/PNG/GIF files written into the directory `out`;
+/// none without it) and `status`
 /// (`"reproduced"`, `"runs"`, `"differs"`). `data` is the text of a measured-data CSV for an
 /// example that takes one. Raises `pendulab.InvalidArgumentError` for an unknown id or a
 /// missing recording, `pendulab.Error` when the example fails.

@@ -198,7 +198,8 @@ fn control_sliding_surface<'py>(
 }
 
 /// `control_sliding_mode(S, A, B, k2, delta=0.0)`: the sliding-mode law
-/// `u = −(SᵀB)⁻¹ (SᵀA x + K₂ sat(σ/δ))`, `σ = Sᵀx` (book Part 2 §3.2.3; `δ = 0`: `sign σ`).
+/// `u = −(SᵀA x + K₂ σ/(|σ| + δ)) / (SᵀB)`, `σ = Sᵀx` (book Part 2 §3.2.3; `δ = 0`:
+/// `sign σ`).
 #[pyfunction]
 #[pyo3(signature = (S, A, B, k2, delta = 0.0))]
 #[allow(non_snake_case)]

@@ -7,7 +7,7 @@ seconds to the command ``u``, as the sampled-data loop calls them), ``reset()``,
 ``K_book = −K``).
 
 - :func:`sliding_surface`, :func:`sliding_mode` — the LQ-optimal switching surface and the
-  sliding-mode law (Part 2 §3.2.3);
+  sliding-mode law ``u = −(SᵀA x + K₂ σ/(|σ| + δ)) / (SᵀB)``, ``σ = Sᵀx`` (Part 2 §3.2.3);
 - :func:`energy_pumping`, :func:`energy_shaping` — swing-up from the hanging rest (Part 2
   §3.2.3; the energy-shaping gains are tuned for the rigs, not from the book);
 - :func:`nmpc_arm_swing_up` — the C/GMRES NMPC swing-up of the arm pendulum (Part 2 §3.3);
