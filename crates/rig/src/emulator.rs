@@ -53,6 +53,8 @@
 use crate::protocol::{
     CommandFrame, RejectCounts, SensorFrame, SeqVerdict, SequenceGate, flags, status,
 };
+use pendulab_plants::rig::RigSpec;
+use pendulab_plants::spec::{PlantParameters, PlantSpec};
 use pendulab_plants::wrap_angle as wrap;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -97,6 +99,14 @@ pub enum PlantStart {
 pub struct EmulatorConfig {
     /// The plant.
     pub plant: PlantKind,
+    /// The plant's physical parameters (`pendulab_plants::spec::PlantParameters`: the book's
+    /// table 3.5 or 3.7 by default, or a lab's, [`EmulatorConfig::for_plant`]); of the kind
+    /// `plant`.
+    pub parameters: PlantParameters,
+    /// The rig's numbers: encoders (resolution and zero), D/A, drive friction
+    /// (`pendulab_plants::RigSpec`, `docs/model.md` §3; the book rig's by default).
+    /// [`EmulatorConfig::friction_volts`], when positive, replaces `rig.friction`.
+    pub rig: RigSpec,
     /// Address to listen on (port 0: any free port).
     pub listen: SocketAddr,
     /// Period of the emulator's clock \[s\].
@@ -134,6 +144,8 @@ impl EmulatorConfig {
     pub fn new(plant: PlantKind, initial_state: [f64; 4]) -> Self {
         Self {
             plant,
+            parameters: PlantParameters::book(plant),
+            rig: plant.spec(),
             listen: SocketAddr::from(([127, 0, 0, 1], 0)),
             ts: plant.spec().sample_time,
             initial_state,
@@ -151,6 +163,19 @@ impl EmulatorConfig {
         }
     }
 
+    /// The rig of a plant file (a lab's `[plant]` table, `docs/lab.md`): its kind, parameters
+    /// and rig numbers, the loop period `rig.sample_time`, the amplifier limit
+    /// `rig.input_limit` and the drive friction of `rig.friction`; the other settings as
+    /// [`EmulatorConfig::new`].
+    pub fn for_plant(spec: &PlantSpec, initial_state: [f64; 4]) -> Self {
+        let mut c = Self::new(spec.kind(), initial_state);
+        c.parameters = *spec.parameters();
+        c.rig = *spec.rig();
+        c.ts = c.rig.sample_time;
+        c.voltage_limit = c.rig.input_limit;
+        c
+    }
+
     /// The longest run \[s\]: one year (`3.15·10⁷ s`). A bound, not a physical limit: it keeps
     /// every duration exactly representable as a [`Duration`] and an `Instant` offset.
     pub const MAX_DURATION: f64 = 365.0 * 86_400.0;
@@ -165,6 +190,24 @@ impl EmulatorConfig {
         let bad = |what: &str, v: f64, req: &str| {
             Err(ConfigError::invalid(format!("emulator {what}"), v, req).into())
         };
+        if self.parameters.kind() != self.plant {
+            return Err(ConfigError::invalid(
+                "emulator parameters",
+                format!("of the {} pendulum", self.parameters.kind().name()),
+                format!("must be the {} pendulum's", self.plant.name()),
+            )
+            .into());
+        }
+        let plant_error = |what: &str, e: pendulab_plants::spec::PlantSpecError| {
+            let text = e.to_string();
+            Err(ConfigError::invalid(format!("emulator {what}"), text, "refused").into())
+        };
+        if let Err(e) = self.parameters.validate() {
+            return plant_error("parameters", e);
+        }
+        if let Err(e) = self.rig.validate(self.plant) {
+            return plant_error("rig", e);
+        }
         if !(self.ts.is_finite() && self.ts >= 1e-5 && self.ts <= 0.1) {
             return bad("period", self.ts, "must be in [10 µs, 100 ms]");
         }

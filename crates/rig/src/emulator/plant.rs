@@ -19,6 +19,8 @@
 
 use crate::RigError;
 use crate::emulator::{EmulatorConfig, PlantKind};
+use pendulab_plants::rig::DriveFriction;
+use pendulab_plants::spec::PlantParameters;
 use pendulab_plants::{ArmPendulum, CartPendulum};
 use pendulab_sim::rig::RigChains;
 use pendulab_sim::{Actuator, Friction, Quantizer, SensorChain, WithDriveFriction, rk4_step};
@@ -71,18 +73,20 @@ pub struct RigPlant {
 }
 
 impl RigPlant {
-    /// The rig of `cfg`: `cfg.plant` with the book's parameters at `cfg.initial_state`, its
-    /// encoders (`RigSpec::encoders`, noise `cfg.encoder_noise_counts` counts, seeded by
-    /// `cfg.seed`), saturation at `±cfg.voltage_limit` \[V\], the D/A of `RigSpec::dac` if
-    /// `cfg.dac`, Karnopp friction of `cfg.friction_volts` \[V\] (Coulomb = stiction, band
-    /// [`FRICTION_VELOCITY_BAND`]) on the drive if positive, stepped by `cfg.ts` \[s\].
+    /// The rig of `cfg`: `cfg.plant` with the parameters `cfg.parameters` at
+    /// `cfg.initial_state`, the encoders of `cfg.rig` (`RigSpec::encoders`, noise
+    /// `cfg.encoder_noise_counts` counts, seeded by `cfg.seed`), saturation at
+    /// `±cfg.voltage_limit` \[V\], the D/A of `cfg.rig.dac` if `cfg.dac`, and on the drive
+    /// Karnopp friction of `cfg.friction_volts` \[V\] (Coulomb = stiction, band
+    /// [`FRICTION_VELOCITY_BAND`]) if positive, else the friction of `cfg.rig.friction` if
+    /// any; stepped by `cfg.ts` \[s\].
     ///
     /// # Errors
     /// [`RigError::Chain`] if sim refuses a number of the chains (a non-positive voltage
     /// limit, a negative noise or friction level: [`EmulatorConfig::validate`] catches them
-    /// first, naming the setting).
+    /// first, naming the setting) or the plant's parameters (invalid, or of the other plant).
     pub fn new(cfg: &EmulatorConfig) -> Result<Self, RigError> {
-        let spec = cfg.plant.spec();
+        let spec = cfg.rig;
         let steps = [spec.encoders[0].step, spec.encoders[1].step];
         let chain = |e| RigError::chain("the emulator's rig chains", e);
         let encoders = spec.encoders.map(|e| (e.state, e.step));
@@ -109,23 +113,71 @@ impl RigPlant {
         };
         let mut chains = RigChains { sensor, actuator };
         chains.sensor.prepare(4, cfg.ts).map_err(chain)?;
-        let friction = Friction::Coulomb {
-            input: 0,
-            velocity_state: 2,
-            coulomb: cfg.friction_volts,
-            stiction: cfg.friction_volts,
-            velocity_band: FRICTION_VELOCITY_BAND,
+        let friction = if cfg.friction_volts > 0.0 {
+            Some(Friction::Coulomb {
+                input: 0,
+                velocity_state: 2,
+                coulomb: cfg.friction_volts,
+                stiction: cfg.friction_volts,
+                velocity_band: FRICTION_VELOCITY_BAND,
+            })
+        } else {
+            spec.friction.map(|f| match f {
+                DriveFriction::DeadZone { width } => Friction::DeadZone { input: 0, width },
+                DriveFriction::Coulomb {
+                    coulomb,
+                    stiction,
+                    velocity_band,
+                } => Friction::Coulomb {
+                    input: 0,
+                    velocity_state: 2,
+                    coulomb,
+                    stiction,
+                    velocity_band,
+                },
+            })
         };
-        let with_friction = cfg.friction_volts > 0.0;
-        let model = match cfg.plant {
-            PlantKind::Cart if with_friction => Model::CartFriction(
-                WithDriveFriction::new(CartPendulum::book(), friction).map_err(chain)?,
-            ),
-            PlantKind::Arm if with_friction => Model::ArmFriction(
-                WithDriveFriction::new(ArmPendulum::book(), friction).map_err(chain)?,
-            ),
-            PlantKind::Cart => Model::Cart(CartPendulum::book()),
-            PlantKind::Arm => Model::Arm(ArmPendulum::book()),
+        // A dead zone is a static map of the command (the actuator's); Karnopp friction acts
+        // on the drive's velocity inside the plant.
+        let friction = match friction {
+            Some(f @ Friction::DeadZone { .. }) => {
+                chains.actuator = chains.actuator.clone().friction(f);
+                None
+            }
+            other => other,
+        };
+        let wrong = || {
+            RigError::chain(
+                "the emulator's plant",
+                pendulab_sim::SimError::InvalidArgument(format!(
+                    "parameters of the {} pendulum for the {} rig",
+                    cfg.parameters.kind().name(),
+                    cfg.plant.name()
+                )),
+            )
+        };
+        let invalid = |e: pendulab_plants::PlantError| {
+            RigError::chain(
+                "the emulator's plant",
+                pendulab_sim::SimError::InvalidArgument(e.to_string()),
+            )
+        };
+        let model = match (cfg.plant, cfg.parameters) {
+            (PlantKind::Cart, PlantParameters::Cart(p)) => {
+                let p = CartPendulum::new(p).map_err(invalid)?;
+                match friction {
+                    Some(f) => Model::CartFriction(WithDriveFriction::new(p, f).map_err(chain)?),
+                    None => Model::Cart(p),
+                }
+            }
+            (PlantKind::Arm, PlantParameters::Arm(p)) => {
+                let p = ArmPendulum::new(p).map_err(invalid)?;
+                match friction {
+                    Some(f) => Model::ArmFriction(WithDriveFriction::new(p, f).map_err(chain)?),
+                    None => Model::Arm(p),
+                }
+            }
+            _ => return Err(wrong()),
         };
         Ok(Self {
             model,
