@@ -218,10 +218,20 @@ pub fn params_from<P: ParamFields>(values: Option<&HashMap<String, f64>>) -> PyR
     Ok(p)
 }
 
-/// The parameters as a dict of the book's symbols (SI units).
-pub fn params_dict<P: ParamFields>(p: &P) -> HashMap<&'static str, f64> {
+/// The parameters as a dict of the book's symbols (SI units), in the book's order.
+///
+/// # Errors
+/// Only if Python cannot build the dict.
+pub fn params_dict<'py, P: ParamFields>(
+    py: Python<'py>,
+    p: &P,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
     let mut p = p.clone();
-    p.fields().into_iter().map(|(n, v)| (n, *v)).collect()
+    let d = pyo3::types::PyDict::new(py);
+    for (n, v) in p.fields() {
+        d.set_item(n, *v)?;
+    }
+    Ok(d)
 }
 
 /// The cart's parameters: the book's (table 3.5) with `values` applied (not yet validated).
@@ -328,8 +338,8 @@ impl CartPendulum {
 
     /// The parameters as a dict of the book's symbols (SI units).
     #[getter]
-    fn params(&self) -> HashMap<&'static str, f64> {
-        params_dict(self.plant.params())
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        params_dict(py, self.plant.params())
     }
 
     /// `J = J_p + m_p l_p²` (kg m²), the pendulum's inertia about the pivot.
@@ -417,8 +427,8 @@ impl ArmPendulum {
 
     /// The parameters as a dict of the book's symbols (SI units).
     #[getter]
-    fn params(&self) -> HashMap<&'static str, f64> {
-        params_dict(self.plant.params())
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        params_dict(py, self.plant.params())
     }
 
     /// `(α₂, α₃, α₅) = (J₂ + m₂ l₂², m₂ L₁ l₂, m₂ l₂ g)`.
