@@ -6,7 +6,8 @@ The problems are those of tools/reference/lmi_reference.py (written from their m
 statements, not from pendulab's modelling layer):
 
 - lmi-servo: the LMI LQ cost bound of p2c122_ex4 (5-state arm servo, maximise trace X);
-- sos-gain-schedule: the kernel-form SOS program of p2c15_ex7 (minimise gamma), one solve.
+- sos-gain-schedule: the kernel-form SOS program of p2c15_ex7 (minimise gamma), one solve
+  (gain_schedule_sos.py, the program lmi_reference.py solves).
 
 For each: wall-clock total of `prob.solve` (CVXPY canonicalisation + Clarabel), Clarabel's own
 `solve_time`, process CPU time, iteration count, and the conic dimensions Clarabel sees; with
@@ -27,8 +28,8 @@ import cvxpy as cp
 import numpy as np
 import scipy
 
-from book_plants import a1n, al2, al3, arm, augment, b1n
-from sos_kernel import mono, multiplier, padd, pmul, pscale, ptrans, sos
+from book_plants import arm, augment
+from gain_schedule_sos import gain_schedule_program
 
 EPS = 1e-6
 At, Bt = augment(*arm())
@@ -50,61 +51,7 @@ def servo_problem():
 
 
 def gain_schedule_problem():
-    rb = 1.0 - np.cos(np.deg2rad(65.0))
-    nu = 0.75
-    A1t = np.zeros((5, 5)); A1t[3, 2] = -a1n * al3 / al2
-    B1t = np.zeros((5, 1)); B1t[3, 0] = b1n * al3 / al2
-    X = [cp.Variable((n, n), symmetric=True) for _ in range(3)]
-    Lv = [cp.Variable((m, n)) for _ in range(3)]
-    gam = cp.Variable()
-    I5 = np.eye(n)
-    Xs = {mono(0): X[0], mono(1): rb * X[1], mono(2): rb**2 * X[2]}
-    Ls = {mono(0): Lv[0], mono(1): rb * Lv[1], mono(2): rb**2 * Lv[2]}
-    Xs0 = {mono(es0=0): X[0], mono(es0=1): rb * X[1], mono(es0=2): rb**2 * X[2]}
-    g1 = {mono(1): 1.0, mono(2): -1.0}
-    g2 = {mono(es0=1): 1.0, mono(es0=2): -1.0}
-    ga = {mono(): 1.0, mono(ew=1): -1.0}
-    gb = {mono(): 1.0, mono(ew=1): 1.0}
-    S11, _ = multiplier(n, 0, 1)
-    S22, _ = multiplier(n, 2, 1)
-    S31, _ = multiplier(n, 0, 3)
-    Sa, _ = multiplier(n, 0, 3)
-    Sb, _ = multiplier(n, 0, 3)
-    epsI = {mono(): EPS * I5}
-    M1 = padd(Xs, pscale(pmul(g1, S11), -1.0), pscale(epsI, -1.0))
-    M211 = padd(Xs0, pscale(pmul(g2, S22), -1.0), pscale(epsI, -1.0))
-    As = {mono(): At, mono(1): rb * A1t}
-    Bs = {mono(): Bt, mono(1): rb * B1t}
-    Y = padd(pmul(As, Xs), pmul(Bs, Ls))
-    Xdot = {mono(0, 1): nu * X[1], mono(1, 1): 2 * nu * rb * X[2]}
-    M311 = padd(Xdot, pscale(Y, -1.0), pscale(ptrans(Y), -1.0), pscale(pmul(g1, S31), -1.0),
-                pscale(pmul(ga, Sa), -1.0), pscale(pmul(gb, Sb), -1.0), pscale(epsI, -1.0))
-    Qh = np.sqrt(np.diag(Qs)) * np.eye(n)
-    XQ = pmul(Xs, {mono(): Qh})
-    LR = pmul(ptrans(Ls), {mono(): np.eye(1)})
-
-    def block(rows):
-        keys = set()
-        for r in rows:
-            for (b, _shape) in r:
-                if isinstance(b, dict):
-                    keys |= set(b)
-        out_ = {}
-        for k in keys:
-            out_[k] = cp.bmat([[(b[k] if k in b else np.zeros(shape)) if isinstance(b, dict)
-                                else (b if k == mono() else np.zeros(shape))
-                                for (b, shape) in r] for r in rows])
-        return out_
-
-    M2 = block([[(M211, (n, n)), (I5, (n, n))], [(I5, (n, n)), ({mono(): gam * I5}, (n, n))]])
-    M3 = block([[(M311, (n, n)), (XQ, (n, n)), (LR, (n, m))],
-                [(ptrans(XQ), (n, n)), (np.eye(n), (n, n)), (np.zeros((n, m)), (n, m))],
-                [(ptrans(LR), (m, n)), (np.zeros((m, n)), (m, n)), (np.eye(m), (m, m))]])
-    bs = lambda k: [mono(e) for e in range(k + 1)]
-    bs0 = lambda k: [mono(es0=e) for e in range(k + 1)]
-    cons = sos(M1, [bs(2)] * n)[0] + sos(M2, [bs0(2)] * n + [[mono()]] * n)[0] \
-        + sos(M3, [bs(4)] * n + [[mono()]] * (n + m))[0]
-    return cp.Problem(cp.Minimize(gam), cons)
+    return gain_schedule_program(At, Bt, Qs, EPS)[0]
 
 
 def dims(prob):

@@ -5,7 +5,7 @@
 Every problem is written here from its mathematical statement, without pendulab's modelling
 layer: the arm-type pendulum of docs/model.md §2 (table 3.7 parameters, book_plants.py), the
 LMIs of the book part 2 ch. 1, and for p2c15_ex7 a hand-written kernel-form SOS program (Gram matrices as PSD
-variables, coefficient matching as equalities, the monomial bases written out below).
+variables, coefficient matching as equalities; gain_schedule_sos.py, shared with the timing script).
 
 Writes crates/lmi/tests/fixtures/lmi_reference.json.
 Usage: python3 tools/reference/lmi_reference.py   (from the repository root)
@@ -22,8 +22,8 @@ import numpy as np
 import scipy
 from scipy.linalg import solve_continuous_are
 
-from book_plants import a1n, al2, al3, arm, augment, b1n
-from sos_kernel import mono, multiplier, padd, pmul, pscale, ptrans, sos
+from book_plants import arm, augment
+from gain_schedule_sos import RHO_DOT_BOUND, RHO_MAX, gain_schedule_program
 
 OUT = pathlib.Path("crates/lmi/tests/fixtures/lmi_reference.json")
 EPS = 1e-6
@@ -131,71 +131,9 @@ K_sat, X_sat, prob, _, _ = lq_lmi([(A, B)], Qsat, Rs, umax=0.1, x0s=[x0])
 out["p2c14_saturation"] = {"trace_X_max": float(np.trace(X_sat)), "K_at_max": K_sat.tolist(),
                            "x0": x0, "u_max": 0.1}
 
-# ---- p2c15_ex7: gain-scheduled servo, kernel-form SOS by hand -------------------------------
-# Parameters (normalised): rho = rb * s, s in [0, 1]; rho0 = rb * s0; rho_dot = 0.75 w,
-# w in [-1, 1].  Polynomials are dicts {(e_s, e_w, e_s0): coefficient matrix}.
-rb = 1.0 - np.cos(np.deg2rad(65.0))
-nu = 0.75
-A0t, B0t = At, Bt
-A1t = np.zeros((5, 5)); A1t[3, 2] = -a1n * al3 / al2
-B1t = np.zeros((5, 1)); B1t[3, 0] = b1n * al3 / al2
-n, m = 5, 1
-
-
-X = [cp.Variable((n, n), symmetric=True) for _ in range(3)]
-Lv = [cp.Variable((m, n)) for _ in range(3)]
-gam = cp.Variable()
-I5 = np.eye(n)
-Xs = {mono(0): X[0], mono(1): rb * X[1], mono(2): rb**2 * X[2]}
-Ls = {mono(0): Lv[0], mono(1): rb * Lv[1], mono(2): rb**2 * Lv[2]}
-Xs0 = {mono(es0=0): X[0], mono(es0=1): rb * X[1], mono(es0=2): rb**2 * X[2]}
-g1 = {mono(1): 1.0, mono(2): -1.0}                      # s (1 - s)
-g2 = {mono(es0=1): 1.0, mono(es0=2): -1.0}              # s0 (1 - s0)
-ga = {mono(): 1.0, mono(ew=1): -1.0}                    # 1 - w
-gb = {mono(): 1.0, mono(ew=1): 1.0}                     # 1 + w
-S11, R11 = multiplier(n, 0, 1)
-S22, R22 = multiplier(n, 2, 1)
-S31, R31 = multiplier(n, 0, 3)
-Sa, Ra = multiplier(n, 0, 3)
-Sb, Rb = multiplier(n, 0, 3)
-epsI = {mono(): EPS * I5}
-M1 = padd(Xs, pscale(pmul(g1, S11), -1.0), pscale(epsI, -1.0))
-M211 = padd(Xs0, pscale(pmul(g2, S22), -1.0), pscale(epsI, -1.0))
-As = {mono(): A0t, mono(1): rb * A1t}
-Bs = {mono(): B0t, mono(1): rb * B1t}
-Y = padd(pmul(As, Xs), pmul(Bs, Ls))
-# Xdot = rho_dot (X1 + 2 rho X2) = nu w (X1 + 2 rb s X2)
-Xdot = {mono(0, 1): nu * X[1], mono(1, 1): 2 * nu * rb * X[2]}
-M311 = padd(Xdot, pscale(Y, -1.0), pscale(ptrans(Y), -1.0), pscale(pmul(g1, S31), -1.0),
-            pscale(pmul(ga, Sa), -1.0), pscale(pmul(gb, Sb), -1.0), pscale(epsI, -1.0))
-Qh = np.sqrt(np.diag(Qs)) * np.eye(n)
-XQ = pmul(Xs, {mono(): Qh})
-LR = pmul(ptrans(Ls), {mono(): np.eye(1)})
-
-
-def block(rows):
-    keys = set()
-    for r in rows:
-        for (b, _shape) in r:
-            if isinstance(b, dict):
-                keys |= set(b)
-    out_ = {}
-    for k in keys:
-        out_[k] = cp.bmat([[(b[k] if k in b else np.zeros(shape)) if isinstance(b, dict) else (b if k == mono() else np.zeros(shape))
-                            for (b, shape) in r] for r in rows])
-    return out_
-
-
-M2 = block([[(M211, (n, n)), (I5, (n, n))], [(I5, (n, n)), ({mono(): gam * I5}, (n, n))]])
-M3 = block([[(M311, (n, n)), (XQ, (n, n)), (LR, (n, m))],
-            [(ptrans(XQ), (n, n)), (np.eye(n), (n, n)), (np.zeros((n, m)), (n, m))],
-            [(ptrans(LR), (m, n)), (np.zeros((m, n)), (m, n)), (np.eye(m), (m, m))]])
-bs = lambda k: [mono(e) for e in range(k + 1)]
-bs0 = lambda k: [mono(es0=e) for e in range(k + 1)]
-c1, Q1 = sos(M1, [bs(2)] * n)
-c2, Q2 = sos(M2, [bs0(2)] * n + [[mono()]] * n)
-c3, Q3 = sos(M3, [bs(4)] * n + [[mono()]] * (n + m))
-prob = cp.Problem(cp.Minimize(gam), c1 + c2 + c3)
+# ---- p2c15_ex7: gain-scheduled servo, kernel-form SOS by hand (gain_schedule_sos.py) -------
+rb, nu = RHO_MAX, RHO_DOT_BOUND
+prob, X, Lv = gain_schedule_program(At, Bt, Qs, EPS)
 tt, ts = solve(prob)
 gamma_star = float(prob.value)
 K_rhobar = None
