@@ -29,7 +29,7 @@
 //! # Ok(()) }
 //! ```
 
-use crate::spec::{Built, ControllerSpec, DURATION_MAX, SpecError, build_with};
+use crate::spec::{Built, ControllerSpec, DURATION_MAX, DesignWarning, SpecError, build_with};
 use pendulab_plants::rig::RigSpec;
 use pendulab_plants::spec::{PlantParameters, PlantSpec};
 use pendulab_plants::{ArmPendulum, CartPendulum, PlantError, wrap_about};
@@ -63,6 +63,10 @@ pub struct Run {
     pub switch_times: Vec<f64>,
     /// What the run did, in a few numbers.
     pub summary: Summary,
+    /// Where the plant or the loop differ from the model the controller was designed on
+    /// (its `designed_for` record: parameter values, sample time); empty without a record or
+    /// when they agree. A front end prints them.
+    pub design_warnings: Vec<DesignWarning>,
 }
 
 /// A run in a few numbers.
@@ -130,14 +134,17 @@ pub enum ScenarioError {
 /// Simulates `controller` on `plant` through `scenario` (module documentation).
 ///
 /// The controller is designed on `plant`'s parameters at the scenario's sample time (default
-/// the rig's). A non-zero scenario reference is the drive position's reference `r(t)` (the
+/// the rig's). A controller spec with a design record (`designed_for`,
+/// [`crate::spec::DesignRecord`]) is checked against `plant` first: a record of the other
+/// plant kind is an error; different parameter values or another sample time are returned in
+/// [`Run::design_warnings`]. A non-zero scenario reference is the drive position's reference `r(t)` (the
 /// controller spec must then have none of its own); the disturbance is added to the plant
 /// input after the amplifier; `imperfections.pivot_friction = false` sets the model's
 /// `μ_p`/`μ₂` to 0.
 ///
 /// # Errors
-/// [`ScenarioError`]: an invalid scenario (naming the key), an initial state of the wrong
-/// length, a run longer than [`DURATION_MAX`], the controller's [`SpecError`], imperfections
+/// [`ScenarioError`]: an invalid scenario (naming the key), a controller designed for the
+/// other plant kind ([`SpecError::WrongPlant`]), an initial state of the wrong length, a run longer than [`DURATION_MAX`], the controller's [`SpecError`], imperfections
 /// the rig part cannot provide, or a failed simulation.
 pub fn simulate(
     plant: &PlantSpec,
@@ -145,8 +152,14 @@ pub fn simulate(
     scenario: &ScenarioSpec,
 ) -> Result<Run, ScenarioError> {
     scenario.validate()?;
+    let mut design_warnings = controller.check_plant(plant)?;
     let rig = plant.rig();
     let ts = scenario.sample_time.unwrap_or(rig.sample_time);
+    design_warnings.extend(
+        controller
+            .designed_for()
+            .and_then(|r| r.check_sample_time(ts)),
+    );
     let mut params = *plant.parameters();
     if !scenario.imperfections.pivot_friction {
         match &mut params {
@@ -160,14 +173,16 @@ pub fn simulate(
         Some(scenario.reference.to_signal("scenario.reference")?)
     };
     let built = build_with(controller, &params, ts, reference)?;
-    match params {
+    let mut run = match params {
         PlantParameters::Cart(p) => {
             simulate_on(CartPendulum::new(p)?, rig, controller, built, scenario)
         }
         PlantParameters::Arm(p) => {
             simulate_on(ArmPendulum::new(p)?, rig, controller, built, scenario)
         }
-    }
+    }?;
+    run.design_warnings = design_warnings;
+    Ok(run)
 }
 
 /// The loop of [`simulate`] on any plant with the rig's state layout (`[q₀, q₁, q̇₀, q̇₁]`,
@@ -282,6 +297,7 @@ pub fn simulate_on<P: Dynamics>(
         ts,
         switch_times: out.diagnostics.switch_times.clone(),
         summary,
+        design_warnings: Vec::new(),
     })
 }
 

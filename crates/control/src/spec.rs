@@ -30,6 +30,12 @@
 //! | `gain-scheduled` | `coefficients = [K₀, K₁, …]` (library sign), `schedule`; or `lqr` + `design_points_deg` (arm) | `GainScheduled` polynomial in `ρ` |
 //! | `swing-up-balance` | `balance = { k \| k_book \| lqr }`, `switch_deg` (default 17) | energy shaping ([`crate::swing_up`], gains `EnergyShapingGains::{cart_rig, arm_rig}`), then the balance gain (latched) |
 //!
+//! Every kind also takes an optional `designed_for` table, the design record
+//! ([`DesignRecord`]: plant kind, parameters with provenance, operating point, sample time,
+//! method and inputs). [`build_for`] and `crate::scenario::simulate` refuse a controller whose
+//! record names the other plant kind ([`SpecError::WrongPlant`]) and report different
+//! parameters as [`DesignWarning`]s ([`ControllerSpec::check_plant`]).
+//!
 //! The `lqr` designs use `pendulab_lti::design::lqr` (continuous, `u = −K x`) on the plant's
 //! upright linearisation (`PlantParameters::linearize_upright`, the arm at `θ₁ₑ = 0`); on the
 //! book plant these are the gains of the book's `cdip_lqr_sim` and `adip_lqr_sim`. The
@@ -78,6 +84,9 @@ use pendulab_sim::controllers::{
 };
 use pendulab_sim::signal::Signal;
 use serde::{Deserialize, Serialize};
+
+mod record;
+pub use record::{DesignInput, DesignRecord, DesignWarning};
 
 /// Longest run \[s\], and the latest `step_time` of an `lq-servo`: an experiment on the rig lasts
 /// seconds to minutes; an hour bounds the log (3.6 million rows at 1 kHz, about 400 MB) and
@@ -151,16 +160,25 @@ impl ControllerSpec {
     /// The keys of each `kind` (besides `kind` itself), as the module documentation lists
     /// them: any other key in a kind's table is refused when it is read.
     pub const KEYS: [(&str, &[&str]); 4] = [
-        (Self::KINDS[0], &["k", "k_book", "lqr", "reference"]),
+        (
+            Self::KINDS[0],
+            &["k", "k_book", "lqr", "reference", "designed_for"],
+        ),
         (
             Self::KINDS[1],
-            &["k1", "k2", "lqr", "reference", "step_time"],
+            &["k1", "k2", "lqr", "reference", "step_time", "designed_for"],
         ),
         (
             Self::KINDS[2],
-            &["coefficients", "schedule", "lqr", "design_points_deg"],
+            &[
+                "coefficients",
+                "schedule",
+                "lqr",
+                "design_points_deg",
+                "designed_for",
+            ],
         ),
-        (Self::KINDS[3], &["balance", "switch_deg"]),
+        (Self::KINDS[3], &["balance", "switch_deg", "designed_for"]),
     ];
 
     /// The `kind` as written in a file.
@@ -170,6 +188,26 @@ impl ControllerSpec {
             ControllerSpec::LqServo(_) => Self::KINDS[1],
             ControllerSpec::GainScheduled(_) => Self::KINDS[2],
             ControllerSpec::SwingUpBalance(_) => Self::KINDS[3],
+        }
+    }
+
+    /// The `designed_for` slot of whichever kind this is.
+    fn record_slot_ref(&self) -> &Option<DesignRecord> {
+        match self {
+            ControllerSpec::StateFeedback(c) => &c.designed_for,
+            ControllerSpec::LqServo(c) => &c.designed_for,
+            ControllerSpec::GainScheduled(c) => &c.designed_for,
+            ControllerSpec::SwingUpBalance(c) => &c.designed_for,
+        }
+    }
+
+    /// The `designed_for` slot of whichever kind this is, to set.
+    fn record_slot(&mut self) -> &mut Option<DesignRecord> {
+        match self {
+            ControllerSpec::StateFeedback(c) => &mut c.designed_for,
+            ControllerSpec::LqServo(c) => &mut c.designed_for,
+            ControllerSpec::GainScheduled(c) => &mut c.designed_for,
+            ControllerSpec::SwingUpBalance(c) => &mut c.designed_for,
         }
     }
 
@@ -207,6 +245,9 @@ pub struct StateFeedbackSpec {
     /// State reference `[q₀, q₁, q̇₀, q̇₁]` \[m or rad, rad, m/s or rad/s, rad/s\] (default 0).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<Vec<f64>>,
+    /// The model the controller was designed on ([`DesignRecord`]; optional).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub designed_for: Option<DesignRecord>,
 }
 
 /// Keys of `kind = "lq-servo"`: `k1` with `k2`, or `lqr`.
@@ -229,6 +270,9 @@ pub struct LqServoSpec {
     /// Time of the reference step \[s\], from 0 to [`DURATION_MAX`] (default 0).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub step_time: Option<f64>,
+    /// The model the controller was designed on ([`DesignRecord`]; optional).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub designed_for: Option<DesignRecord>,
 }
 
 /// Keys of `kind = "gain-scheduled"`: `coefficients`, or `lqr` with `design_points_deg`.
@@ -248,6 +292,9 @@ pub struct GainScheduledSpec {
     /// Arm angles \[°\] of two LQR designs interpolated linearly in `ρ = 1 − cos θ₁`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub design_points_deg: Option<Vec<f64>>,
+    /// The model the controller was designed on ([`DesignRecord`]; optional).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub designed_for: Option<DesignRecord>,
 }
 
 /// Keys of `kind = "swing-up-balance"`.
@@ -261,6 +308,9 @@ pub struct SwingUpBalanceSpec {
     /// [`SWITCH_DEG_MAX`] (default [`SWITCH_DEG_DEFAULT`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub switch_deg: Option<f64>,
+    /// The model the controller was designed on ([`DesignRecord`]; optional).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub designed_for: Option<DesignRecord>,
 }
 
 /// What [`build`] refuses. Each message names the key as written in a controller file
@@ -380,6 +430,25 @@ pub enum SpecError {
         /// What is wrong.
         detail: &'static str,
     },
+    /// The controller was designed for the other plant kind (its `designed_for.plant`).
+    #[error(
+        "controller.designed_for.plant = \"{}\": the controller was designed for the {} pendulum and cannot run on the {} pendulum",
+        designed.name(), designed.name(), plant.name()
+    )]
+    WrongPlant {
+        /// The plant kind of the design record.
+        designed: PlantKind,
+        /// The plant kind it was to run on.
+        plant: PlantKind,
+    },
+    /// The design record is malformed.
+    #[error("{key}: {detail}")]
+    DesignRecord {
+        /// The key (`controller.designed_for.…`).
+        key: String,
+        /// What is wrong.
+        detail: String,
+    },
     /// The servo's reference signal could not be formed.
     #[error("controller.step_time = {time}: {source}")]
     Step {
@@ -432,10 +501,12 @@ pub fn build(spec: &ControllerSpec, plant: PlantKind, ts: f64) -> Result<Built, 
 /// own parameters (`plant.parameters()`), running at loop period `ts` \[s\].
 ///
 /// # Errors
-/// [`SpecError`] naming the key, its value and what is wrong: a gain or weight of the wrong
-/// length or not finite, a negative `q` or non-positive `r`, keys missing or given together,
+/// [`SpecError`] naming the key, its value and what is wrong: a design record of the other
+/// plant kind or malformed ([`ControllerSpec::check_plant`]; parameter differences are not
+/// errors here), a gain or weight of the wrong length or not finite, a negative `q` or non-positive `r`, keys missing or given together,
 /// `step_time`/`switch_deg` out of range, a failed design, or `ts` not positive.
 pub fn build_for(spec: &ControllerSpec, plant: &PlantSpec, ts: f64) -> Result<Built, SpecError> {
+    spec.check_plant(plant)?;
     build_with(spec, plant.parameters(), ts, None)
 }
 

@@ -248,3 +248,197 @@ fn a_spec_written_back_reads_as_the_same_spec() {
         );
     }
 }
+
+/// A state-feedback spec with the book's cart gain and a design record made on `plant`.
+fn recorded_on(plant: &PlantSpec) -> ControllerSpec {
+    let inputs = [
+        (
+            "q".to_string(),
+            DesignInput::List(vec![10.0, 10.0, 0.0, 0.0]),
+        ),
+        ("r".to_string(), DesignInput::Number(1.0)),
+    ]
+    .into_iter()
+    .collect();
+    ControllerSpec::StateFeedback(StateFeedbackSpec {
+        k_book: Some(vec![3.16228, 13.47175, 4.48137, 2.26289]),
+        ..Default::default()
+    })
+    .with_designed_for(DesignRecord::new(
+        plant,
+        vec![0.0; 4],
+        Some(1e-3),
+        "lqr",
+        inputs,
+    ))
+}
+
+#[test]
+fn a_cart_design_on_the_arm_plant_is_an_error_naming_both() {
+    let spec = recorded_on(&PlantSpec::book(PlantKind::Cart));
+    let arm = PlantSpec::book(PlantKind::Arm);
+    let named = |e: &SpecError| {
+        let m = e.to_string();
+        assert!(matches!(
+            e,
+            SpecError::WrongPlant {
+                designed: PlantKind::Cart,
+                plant: PlantKind::Arm
+            }
+        ));
+        assert!(
+            m.contains("designed_for.plant") && m.contains("cart") && m.contains("arm"),
+            "{m}"
+        );
+    };
+    named(&spec.check_plant(&arm).unwrap_err());
+    named(&build_for(&spec, &arm, 1e-3).unwrap_err());
+    named(&build(&spec, PlantKind::Arm, 1e-3).unwrap_err());
+    let scenario = pendulab_sim::scenario::ScenarioSpec::new(vec![0.0; 4], 0.1);
+    match crate::scenario::simulate(&arm, &spec, &scenario).unwrap_err() {
+        crate::scenario::ScenarioError::Controller(e) => named(&e),
+        e => panic!("{e}"),
+    }
+    // On the plant it was designed for, it builds and has nothing to report.
+    let cart = PlantSpec::book(PlantKind::Cart);
+    assert_eq!(spec.check_plant(&cart).unwrap(), vec![]);
+    build_for(&spec, &cart, 1e-3).unwrap();
+}
+
+#[test]
+fn different_parameters_are_warnings_naming_each_key_and_both_values() {
+    use pendulab_plants::spec::{PlantParameters, Provenance};
+    let book = PlantSpec::book(PlantKind::Cart);
+    let spec = recorded_on(&book);
+    // The same rig with two parameters changed (a user's plant).
+    let PlantParameters::Cart(mut p) = *book.parameters() else {
+        unreachable!()
+    };
+    let (m_p, mu_p) = (p.m_p * 1.1, p.mu_p * 0.5);
+    p.m_p = m_p;
+    p.mu_p = mu_p;
+    let user = PlantSpec::new(
+        PlantParameters::Cart(p),
+        Provenance::User { note: None },
+        book.rig().clone(),
+    )
+    .unwrap();
+    let w = spec.check_plant(&user).unwrap();
+    let book_p = pendulab_plants::CartPendulumParams::book();
+    let expected = vec![
+        DesignWarning::Parameter {
+            key: "parameters.m_p".into(),
+            designed: book_p.m_p,
+            plant: m_p,
+        },
+        DesignWarning::Parameter {
+            key: "parameters.mu_p".into(),
+            designed: book_p.mu_p,
+            plant: mu_p,
+        },
+    ];
+    // Warnings come in the order of the plant's parameters (the struct's fields).
+    let order: Vec<String> = user
+        .parameters()
+        .entries()
+        .into_iter()
+        .map(|e| e.0)
+        .collect();
+    let pos = |k: &str| order.iter().position(|n| n == k).unwrap();
+    let mut expected = expected;
+    expected.sort_by_key(|w| match w {
+        DesignWarning::Parameter { key, .. } => pos(&key["parameters.".len()..]),
+        DesignWarning::SampleTime { .. } => usize::MAX,
+    });
+    assert_eq!(w, expected);
+    assert!(w[0].to_string().contains("parameters."), "{}", w[0]);
+    // The run goes ahead and carries the warnings, plus the sample time's when the loop
+    // runs at another period than the record's 1 ms.
+    let mut scenario = pendulab_sim::scenario::ScenarioSpec::new(vec![0.0; 4], 0.05);
+    scenario.sample_time = Some(2e-3);
+    let run = crate::scenario::simulate(&user, &spec, &scenario).unwrap();
+    assert_eq!(run.design_warnings[..2], expected[..]);
+    assert_eq!(
+        run.design_warnings[2],
+        DesignWarning::SampleTime {
+            designed: 1e-3,
+            run: 2e-3
+        }
+    );
+    scenario.sample_time = None;
+    let run = crate::scenario::simulate(&book, &spec, &scenario).unwrap();
+    assert_eq!(run.design_warnings, vec![]);
+}
+
+#[test]
+fn the_design_record_round_trips_through_toml_and_is_checked_by_key() {
+    let spec = recorded_on(&PlantSpec::book(PlantKind::Arm));
+    let text = toml::to_string(&spec).unwrap();
+    let back: ControllerSpec = toml::from_str(&text).unwrap();
+    assert_eq!(back, spec, "{text}");
+    assert!(text.contains("[designed_for]"), "{text}");
+    // In a rig controller file it is the [controller.designed_for] table.
+    let file = format!(
+        "plant = \"arm\"\n[controller]\n{}",
+        text.replace("[designed_for", "[controller.designed_for")
+    );
+    let f: File = toml::from_str(&file).unwrap();
+    assert_eq!(f.controller, spec);
+    // A foreign key inside the record is refused by name.
+    let bad = text.replace("method = ", "methd = ");
+    let e = toml::from_str::<ControllerSpec>(&bad)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("methd"), "{e}");
+    // Malformed records: each error names its key.
+    let arm = PlantSpec::book(PlantKind::Arm);
+    let with = |f: &dyn Fn(&mut DesignRecord)| {
+        let mut r = spec.designed_for().unwrap().clone();
+        f(&mut r);
+        spec.clone()
+            .with_designed_for(r)
+            .check_plant(&arm)
+            .unwrap_err()
+            .to_string()
+    };
+    for (e, key) in [
+        (
+            with(&|r| r.operating_point = vec![0.0; 3]),
+            "designed_for.operating_point",
+        ),
+        (
+            with(&|r| r.operating_point[1] = f64::NAN),
+            "designed_for.operating_point",
+        ),
+        (
+            with(&|r| r.sample_time = Some(0.0)),
+            "designed_for.sample_time",
+        ),
+        (with(&|r| r.method = " ".into()), "designed_for.method"),
+        (
+            with(&|r| {
+                r.inputs
+                    .insert("r".into(), DesignInput::Number(f64::INFINITY));
+            }),
+            "designed_for.inputs.r",
+        ),
+        (
+            with(&|r| {
+                r.parameters.remove("a1");
+            }),
+            "a1",
+        ),
+        (
+            with(&|r| {
+                r.parameters.insert("a_c".into(), 1.0);
+            }),
+            "a_c",
+        ),
+    ] {
+        assert!(e.contains(key), "{key}: {e}");
+    }
+    // No record: nothing to check.
+    let bare = ControllerSpec::StateFeedback(StateFeedbackSpec::default());
+    assert_eq!(bare.check_plant(&arm).unwrap(), vec![]);
+    assert!(bare.designed_for().is_none());
+}

@@ -417,6 +417,7 @@ fn a_swing_up_run_switches_once_and_ends_upright() {
             ..Default::default()
         }),
         switch_deg: None,
+        ..Default::default()
     });
     // (The hanging rest itself is an equilibrium of the energy shaping: start 1 mrad off.)
     let mut s = ScenarioSpec::new(vec![0.0, std::f64::consts::PI + 0.001, 0.0, 0.0], 20.0);

@@ -352,17 +352,24 @@ pub fn safety_for(
 /// Parses and checks a controller file: the plant, the loop rate, the `[safety]` and
 /// `[estimator]` tables against their documented ranges (module documentation; the
 /// `[safety]` table by [`Safety::validate`]), the `[controller]` table's keys against its
-/// `kind`, and its references against the limits ([`check_references`]). The controller itself
+/// `kind`, its design record against the file's `plant` (`ControllerSpec::check_kind`: a
+/// controller designed for the other plant is refused; the parameters are compared by the
+/// front end that knows the plant, `ControllerSpec::check_plant`), and its references
+/// against the limits ([`check_references`]). The controller itself
 /// is built from [`Loaded::spec`] by `pendulab_control::spec::build`, which checks the rest of
 /// the table.
 ///
 /// # Errors
 /// [`RigError::Config`]: [`ConfigError::Invalid`] naming the key, its value and what is wrong;
 /// [`ConfigError::File`] for TOML syntax errors (with the line) and a key foreign to the
-/// controller kind (naming the kind); [`ConfigError::Plant`] for an unknown plant.
+/// controller kind (naming the kind); [`ConfigError::Plant`] for an unknown plant;
+/// [`ConfigError::Controller`] for a design record of the other plant.
 pub fn load(text: &str) -> Result<Loaded, RigError> {
     let file: ControllerFile = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
     let plant = PlantKind::parse(&file.plant).map_err(ConfigError::from)?;
+    file.controller
+        .check_kind(plant)
+        .map_err(ConfigError::from)?;
     let rate = file.rate_hz.unwrap_or(1000.0);
     if !(rate.is_finite() && (RATE_HZ_MIN..=RATE_HZ_MAX).contains(&rate)) {
         return Err(ConfigError::invalid(
@@ -699,6 +706,40 @@ mod tests {
         let mut l = load(&base("swing-up-balance")).unwrap();
         l.override_watchdog_periods(100).unwrap();
         assert_eq!(l.safety.angle_window, None);
+    }
+
+    #[test]
+    fn a_controller_designed_for_the_other_plant_is_refused_naming_both() {
+        use pendulab_control::spec::DesignRecord;
+        use pendulab_plants::spec::PlantSpec;
+        // A cart design's record (as a design tool writes it), in a cart file and an arm file.
+        let record = DesignRecord::new(
+            &PlantSpec::book(PlantKind::Cart),
+            vec![0.0; 4],
+            Some(1e-3),
+            "lqr",
+            Default::default(),
+        );
+        let spec = load(SF).unwrap().spec.with_designed_for(record);
+        let table = toml::to_string(&spec)
+            .unwrap()
+            .replace("[designed_for", "[controller.designed_for");
+        let cart = format!("plant = \"cart\"\n[controller]\n{table}");
+        assert_eq!(load(&cart).unwrap().spec, spec);
+        let arm = cart.replace(
+            "plant = \"cart\"\n[controller]",
+            "plant = \"arm\"\n[controller]",
+        );
+        let e = load(&arm).unwrap_err();
+        assert!(
+            matches!(e, RigError::Config(ConfigError::Controller(_))),
+            "{e:?}"
+        );
+        let e = e.to_string();
+        assert!(
+            e.contains("designed_for.plant") && e.contains("cart") && e.contains("arm"),
+            "{e}"
+        );
     }
 
     #[test]
