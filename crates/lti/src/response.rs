@@ -14,7 +14,8 @@
 //! shape mismatches are typed errors naming the offending sample.
 //!
 //! **Performance.** The recursion runs in [`LsimKernel::run`], allocation-free on flat
-//! column-major buffers, specialised at compile time for up to 8 states.
+//! column-major buffers, specialised at compile time for up to 8 states; [`lsim_outputs`]
+//! runs it without recording the states.
 
 use crate::domain::TimeDomain;
 use crate::error::{LtiError, Result};
@@ -183,7 +184,8 @@ impl LsimKernel {
     ///
     /// Buffers are column-major with one row per sample (signal `i` occupies
     /// `[i·len, (i+1)·len)`, the layout of [`Trajectory`]'s matrices): `u` has `len·m`
-    /// values, `x_out` `len·n`, `y_out` `len·p`; `x0` has `n`.
+    /// values, `x_out` `len·n` — or none, and the states are not recorded (outputs only) —
+    /// `y_out` `len·p`; `x0` has `n`.
     ///
     /// # Errors
     /// [`LtiError::InvalidArgument`] if a buffer has the wrong length.
@@ -196,10 +198,11 @@ impl LsimKernel {
         y_out: &mut [f64],
     ) -> Result<()> {
         let (n, m, p) = (self.n, self.m, self.p);
+        let record = !x_out.is_empty();
         for (name, got, want) in [
             ("u", u.len(), len * m),
             ("x0", x0.len(), n),
-            ("x_out", x_out.len(), len * n),
+            ("x_out", x_out.len(), if record { len * n } else { 0 }),
             ("y_out", y_out.len(), len * p),
         ] {
             if got != want {
@@ -211,21 +214,38 @@ impl LsimKernel {
         if len == 0 {
             return Ok(());
         }
-        match n {
-            1 => self.run_fixed::<1>(len, u, x0, x_out, y_out),
-            2 => self.run_fixed::<2>(len, u, x0, x_out, y_out),
-            3 => self.run_fixed::<3>(len, u, x0, x_out, y_out),
-            4 => self.run_fixed::<4>(len, u, x0, x_out, y_out),
-            5 => self.run_fixed::<5>(len, u, x0, x_out, y_out),
-            6 => self.run_fixed::<6>(len, u, x0, x_out, y_out),
-            7 => self.run_fixed::<7>(len, u, x0, x_out, y_out),
-            8 => self.run_fixed::<8>(len, u, x0, x_out, y_out),
-            _ => self.run_dynamic(len, u, x0, x_out, y_out),
+        if record {
+            self.run_sized::<true>(len, u, x0, x_out, y_out);
+        } else {
+            self.run_sized::<false>(len, u, x0, x_out, y_out);
         }
         Ok(())
     }
 
-    fn run_fixed<const N: usize>(
+    /// The recursion specialised on the state dimension (and on whether states are
+    /// recorded, `RECORD`, so that the outputs-only loop carries no store or branch for them).
+    fn run_sized<const RECORD: bool>(
+        &self,
+        len: usize,
+        u: &[f64],
+        x0: &[f64],
+        x_out: &mut [f64],
+        y_out: &mut [f64],
+    ) {
+        match self.n {
+            1 => self.run_fixed::<1, RECORD>(len, u, x0, x_out, y_out),
+            2 => self.run_fixed::<2, RECORD>(len, u, x0, x_out, y_out),
+            3 => self.run_fixed::<3, RECORD>(len, u, x0, x_out, y_out),
+            4 => self.run_fixed::<4, RECORD>(len, u, x0, x_out, y_out),
+            5 => self.run_fixed::<5, RECORD>(len, u, x0, x_out, y_out),
+            6 => self.run_fixed::<6, RECORD>(len, u, x0, x_out, y_out),
+            7 => self.run_fixed::<7, RECORD>(len, u, x0, x_out, y_out),
+            8 => self.run_fixed::<8, RECORD>(len, u, x0, x_out, y_out),
+            _ => self.run_dynamic(len, u, x0, x_out, y_out),
+        }
+    }
+
+    fn run_fixed<const N: usize, const RECORD: bool>(
         &self,
         len: usize,
         u: &[f64],
@@ -253,8 +273,7 @@ impl LsimKernel {
                 c.copy_from_slice(&self.c[..N]);
             }
             let d = if p == 1 { self.d[0] } else { 0.0 };
-            let (x_cols, _) = x_out.split_at_mut(N * len);
-            let cols: [&mut [f64]; N] = split_columns(x_cols, len);
+            let cols: [&mut [f64]; N] = state_columns::<N, RECORD>(x_out, len);
             let u = &u[..len];
             for k in 0..len {
                 let uk = u[k];
@@ -265,8 +284,10 @@ impl LsimKernel {
                     }
                     y_out[k] = yk;
                 }
-                for j in 0..N {
-                    cols[j][k] = x[j];
+                if RECORD {
+                    for j in 0..N {
+                        cols[j][k] = x[j];
+                    }
                 }
                 let uk1 = if k + 1 < len { u[k + 1] } else { uk };
                 // Two interleaved partial sums halve the floating-point dependency chain of
@@ -290,7 +311,7 @@ impl LsimKernel {
             }
             return;
         }
-        let cols: [&mut [f64]; N] = split_columns(x_out, len);
+        let cols: [&mut [f64]; N] = state_columns::<N, RECORD>(x_out, len);
         for k in 0..len {
             for i in 0..p {
                 let mut yk = 0.0;
@@ -302,8 +323,10 @@ impl LsimKernel {
                 }
                 y_out[i * len + k] = yk;
             }
-            for j in 0..N {
-                cols[j][k] = x[j];
+            if RECORD {
+                for j in 0..N {
+                    cols[j][k] = x[j];
+                }
             }
             let k1 = if k + 1 < len { k + 1 } else { k };
             let mut next = [0.0; N];
@@ -332,6 +355,7 @@ impl LsimKernel {
         // the only allocation and happen once per call, outside the loop.
         let mut x = x0.to_vec();
         let mut next = vec![0.0; n];
+        let record = !x_out.is_empty();
         for k in 0..len {
             for i in 0..p {
                 let mut yk = 0.0;
@@ -343,8 +367,10 @@ impl LsimKernel {
                 }
                 y_out[i * len + k] = yk;
             }
-            for j in 0..n {
-                x_out[j * len + k] = x[j];
+            if record {
+                for j in 0..n {
+                    x_out[j * len + k] = x[j];
+                }
             }
             let k1 = if k + 1 < len { k + 1 } else { k };
             for i in 0..n {
@@ -369,6 +395,20 @@ impl LsimKernel {
 fn split_columns<const N: usize>(buf: &mut [f64], len: usize) -> [&mut [f64]; N] {
     let mut it = buf.chunks_exact_mut(len);
     std::array::from_fn(|_| it.next().expect("buffer holds N columns"))
+}
+
+/// The `N` state columns of `x_out` when states are recorded; `N` empty slices otherwise
+/// (never written).
+fn state_columns<const N: usize, const RECORD: bool>(
+    x_out: &mut [f64],
+    len: usize,
+) -> [&mut [f64]; N] {
+    if RECORD {
+        let (x_cols, _) = x_out.split_at_mut(N * len);
+        split_columns(x_cols, len)
+    } else {
+        std::array::from_fn(|_| <&mut [f64]>::default())
+    }
 }
 
 fn check_x0(x0: &[f64], n: usize) -> Result<()> {
@@ -443,6 +483,62 @@ pub fn lsim<D: TimeDomain>(
         u.clone(),
         Mat::from_vec(len, sys.ny(), y),
     ))
+}
+
+/// [`lsim`]'s outputs only, written into `y_out` without recording the states: the same
+/// validation, discretisation and recursion (so `y_out` equals [`lsim`]'s outputs bit for
+/// bit), for long simulations where the state history is not wanted.
+///
+/// `u` and `y_out` are column-major with one row per sample (input `l` occupies
+/// `u[l·len .. (l+1)·len]`, output `i` `y_out[i·len .. (i+1)·len]`, `len = t.len()`); for one
+/// input or output that is simply the signal.
+///
+/// # Errors
+/// As [`lsim`]; [`LtiError::DimensionMismatch`] for a `u` or `y_out` of the wrong length.
+pub fn lsim_outputs<D: TimeDomain>(
+    sys: &StateSpace<D>,
+    u: &[f64],
+    t: &[f64],
+    x0: Option<&[f64]>,
+    options: &LsimOptions,
+    y_out: &mut [f64],
+) -> Result<()> {
+    let len = t.len();
+    for (what, got, width) in [
+        (
+            "input u (column-major, one row per sample)",
+            u.len(),
+            sys.nu(),
+        ),
+        (
+            "output buffer y (column-major, one row per sample)",
+            y_out.len(),
+            sys.ny(),
+        ),
+    ] {
+        if got != len * width {
+            return Err(LtiError::DimensionMismatch {
+                what: what.into(),
+                expected: (len, width),
+                found: (got / len.max(1), width),
+            });
+        }
+    }
+    if let Some(k) = u.iter().position(|v| !v.is_finite()) {
+        return Err(LtiError::NonFinite {
+            what: "input u (row = sample)".into(),
+            row: k % len.max(1),
+            col: k / len.max(1),
+            value: u[k],
+        });
+    }
+    let zero = vec![0.0; sys.nx()];
+    let x0 = x0.unwrap_or(&zero);
+    check_x0(x0, sys.nx())?;
+    let dt = uniform_step(t, sys.domain().sample_time())?;
+    let dt_kernel = if dt > 0.0 { dt } else { 1.0 };
+    let kernel = LsimKernel::new(sys, dt_kernel, options.hold)?;
+    kernel.run(len, u, x0, &mut [], y_out)
 }
 
 /// Zero-input response from `x0` at `t[0]` (MATLAB `initial(sys, x0, t)`); the trajectory's
@@ -548,4 +644,76 @@ pub fn impulse<D: TimeDomain>(sys: &StateSpace<D>, t: &[f64]) -> Result<Vec<Traj
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::Mat;
+
+    /// A 5-state SISO system and a MIMO one (2 inputs, 2 outputs, 9 states: the dynamic path).
+    fn systems() -> Vec<StateSpace<crate::Continuous>> {
+        let mut out = Vec::new();
+        for (n, m, p) in [(5, 1, 1), (9, 2, 2), (3, 2, 1)] {
+            let a = Mat::from_fn(n, n, |i, j| {
+                if i == j {
+                    -1.0 - i as f64
+                } else {
+                    0.1 * ((i * 7 + j * 3) % 5) as f64 - 0.2
+                }
+            });
+            let b = Mat::from_fn(n, m, |i, j| 1.0 / (1.0 + (i + j) as f64));
+            let c = Mat::from_fn(p, n, |i, j| ((i + 2 * j) % 3) as f64 - 0.5);
+            let d = Mat::from_fn(p, m, |i, j| 0.1 * (i + j) as f64);
+            out.push(StateSpace::continuous(a, b, c, d).unwrap());
+        }
+        out
+    }
+
+    #[test]
+    fn lsim_outputs_equals_lsim_bit_for_bit() {
+        for sys in systems() {
+            let len = 501;
+            let t = time_vector(5.0, 0.01).unwrap();
+            assert_eq!(t.len(), len);
+            let u = Mat::from_fn(len, sys.nu(), |k, l| ((k as f64) * 0.03 + l as f64).sin());
+            let x0: Vec<f64> = (0..sys.nx()).map(|i| 0.1 * i as f64).collect();
+            for hold in [InputHold::Zoh, InputHold::Foh] {
+                let o = LsimOptions { hold };
+                let full = lsim(&sys, &u, &t, Some(&x0), &o).unwrap();
+                let mut y = vec![0.0; len * sys.ny()];
+                lsim_outputs(&sys, u.as_slice(), &t, Some(&x0), &o, &mut y).unwrap();
+                assert_eq!(&y[..], full.y().as_slice());
+            }
+        }
+    }
+
+    #[test]
+    fn lsim_outputs_refuses_what_lsim_refuses() {
+        let sys = &systems()[0];
+        let t = time_vector(1.0, 0.1).unwrap();
+        let o = LsimOptions::default();
+        let mut y = vec![0.0; t.len()];
+        let mut u = vec![0.0; t.len()];
+        assert!(matches!(
+            lsim_outputs(sys, &u[1..], &t, None, &o, &mut y),
+            Err(LtiError::DimensionMismatch { .. })
+        ));
+        assert!(matches!(
+            lsim_outputs(sys, &u, &t, None, &o, &mut y[1..]),
+            Err(LtiError::DimensionMismatch { .. })
+        ));
+        u[3] = f64::NAN;
+        assert!(matches!(
+            lsim_outputs(sys, &u, &t, None, &o, &mut y),
+            Err(LtiError::NonFinite { row: 3, col: 0, .. })
+        ));
+        u[3] = 0.0;
+        let mut bent = t.clone();
+        bent[4] += 0.01;
+        assert!(matches!(
+            lsim_outputs(sys, &u, &bent, None, &o, &mut y),
+            Err(LtiError::NonUniformTime { .. })
+        ));
+    }
 }

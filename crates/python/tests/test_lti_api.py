@@ -154,3 +154,31 @@ def test_wrong_argument_counts_are_type_errors():
         pl.lqr(A4, B4)
     with pytest.raises(TypeError):
         pl.poles("not a system")
+
+
+def test_lsim_outputs_only_equals_the_full_run():
+    rng = np.random.default_rng(11)
+    t = np.arange(2001) * 1e-3
+    for n, m, p in [(5, 1, 1), (9, 2, 2), (3, 2, 1)]:
+        a = rng.standard_normal((n, n)) - 3 * np.eye(n)
+        sys = pl.ss(a, rng.standard_normal((n, m)), rng.standard_normal((p, n)), rng.standard_normal((p, m)))
+        u = np.sin(np.outer(t, np.arange(1, m + 1)))
+        u = u[:, 0] if m == 1 else u
+        x0 = rng.standard_normal(n)
+        for hold in ("foh", "zoh"):
+            full = pl.lsim(sys, u, t, x0, hold=hold)
+            y, t_out, x = pl.lsim(sys, u, t, x0, hold=hold, return_x=False)
+            assert x is None
+            np.testing.assert_array_equal(y, full.y)
+            np.testing.assert_array_equal(t_out, t)
+    # Non-contiguous and integer inputs take the converting path, with the same result.
+    sys = pl.ss([[-1.0]], [[1.0]], [[1.0]], 0)
+    u = np.ones(4002)[::2]
+    np.testing.assert_array_equal(pl.lsim(sys, u, t, return_x=False).y, pl.lsim(sys, u, t).y)
+    np.testing.assert_array_equal(pl.lsim(sys, np.ones(2001, dtype=int), t, return_x=False).y, pl.lsim(sys, u, t).y)
+    with pytest.raises(pl.NotFiniteError):
+        pl.lsim(sys, np.r_[np.ones(2000), np.nan], t, return_x=False)
+    with pytest.raises(pl.ShapeError):
+        pl.lsim(sys, np.ones(2000), t, return_x=False)
+    with pytest.raises(pl.InvalidArgumentError):
+        pl.lsim(sys, np.ones(3), [0.0, 0.1, 0.3], return_x=False)

@@ -8,7 +8,8 @@ Workloads (issue 17, performance):
   ``solve_continuous_are`` + the gain ``R⁻¹BᵀX``.
 - ``dcgain``: the trivial call, ``dcgain`` of a 1-state system, pendulab vs python-control.
 - ``lsim``: 10⁶ samples of a stable 5-state system with one input (FOH), including the
-  NumPy conversions, pendulab vs SciPy's ``signal.lsim`` (SciPy on 10⁵ samples, scaled).
+  NumPy conversions, pendulab vs SciPy's ``signal.lsim`` (SciPy on 10⁵ samples, scaled);
+  pendulab with the states (``lsim``) and outputs only (``lsim(..., return_x=False)``).
 
 Each figure is the median of repeated timings (``timeit``); accuracy is checked against the
 peers in the same run (printed as the largest relative difference). Usage:
@@ -94,11 +95,17 @@ def main():
     u = np.sin(t)
     sys5 = pl.ss(a5, b5, c5, d5)
     t_pl = per_call(lambda: pl.lsim(sys5, u, t), 1, repeat=5)
+    t_pl_y = per_call(lambda: pl.lsim(sys5, u, t, return_x=False), 1, repeat=9)
+    assert np.array_equal(pl.lsim(sys5, u, t, return_x=False).y, pl.lsim(sys5, u, t).y)
     n_sp = 100_000
     t_sp = per_call(lambda: ss.lsim((a5, b5, c5, d5), u[:n_sp], t[:n_sp]), 1, repeat=3)
     y_pl = pl.lsim(sys5, u[:n_sp], t[:n_sp]).y
     y_sp = ss.lsim((a5, b5, c5, d5), u[:n_sp], t[:n_sp])[1]
-    out["lsim_samples_per_s"] = {"pendulab": n / t_pl, "scipy": n_sp / t_sp}
+    out["lsim_samples_per_s"] = {
+        "pendulab": n / t_pl,
+        "pendulab outputs only": n / t_pl_y,
+        "scipy": n_sp / t_sp,
+    }
     out["lsim_max_rel_diff_vs_scipy"] = float(np.abs(y_pl - y_sp).max() / np.abs(y_sp).max())
     json.dump(out, sys.stdout, indent=2)
     print()

@@ -105,7 +105,7 @@ def feedback_batch(K, x0s, t_final, params=None, ts=1e-3, substeps=1, stay_withi
     (``[z, θ, ż, θ̇]``) for ``t_final`` seconds, on all cores (``threads``) by the eight-lane
     kernel of ``pendulab bench sim-batch``; with ``stay_within=(i, bound)`` a run stops at the
     first sample with ``|x_i| > bound``. Ctrl-C raises ``KeyboardInterrupt`` between chunks of
-    256 runs. Returns a dict: ``held`` (bool), ``steps`` (RK4 steps integrated),
+    1024 runs. Returns a dict: ``held`` (bool), ``steps`` (RK4 steps integrated),
     ``final_state`` (runs × 4)."""
     return batch_feedback(K, x0s, t_final, params=params, ts=ts, substeps=substeps,
                           stay_within=stay_within, threads=threads)

@@ -106,11 +106,16 @@ fn is_zero_scalar(obj: &Bound<'_, PyAny>) -> bool {
 /// interval); a discrete system is iterated (`T` spaced by its `dt`). Returns `LsimResult`
 /// (`yout, T, xout = lsim(...)`, plus `.u`).
 ///
+/// With `return_x=False` (python-control's keyword) the states are not recorded: `xout` is
+/// `None`, `u` is `U` as given, and the outputs (equal bit for bit to those with states) come
+/// from pendulab-lti's `lsim_outputs`, written straight into the returned array; a float64
+/// contiguous `U` of one input and `T` are read in place.
+///
 /// Raises `pendulab.InvalidArgumentError` (variant `NonUniformTime`) for unevenly spaced `T`,
 /// `pendulab.ShapeError` for `U`/`X0` of the wrong shape, `pendulab.NotFiniteError` for
 /// NaN/Inf.
 #[pyfunction]
-#[pyo3(signature = (sys, U = None, T = None, X0 = None, hold = "foh"))]
+#[pyo3(signature = (sys, U = None, T = None, X0 = None, hold = "foh", return_x = true))]
 #[allow(non_snake_case)]
 pub fn lsim(
     sys: &Bound<'_, PyAny>,
@@ -118,9 +123,13 @@ pub fn lsim(
     T: Option<&Bound<'_, PyAny>>,
     X0: Option<&Bound<'_, PyAny>>,
     hold: &str,
+    return_x: bool,
 ) -> PyResult<LsimResult> {
     let py = sys.py();
     let s = system(sys)?;
+    if !return_x {
+        return lsim_outputs(py, &s, U, T, X0, self::hold(hold)?);
+    }
     let t = times(T)?;
     let nu = with_sys!(&s, s => s.nu());
     let u = match U {
@@ -140,6 +149,93 @@ pub fn lsim(
     )?;
     drop(u);
     LsimResult::from_trajectory(py, traj)
+}
+
+/// A float64, C-contiguous 1-d array read in place (`None`: another kind of object).
+fn contiguous_1d<'py>(obj: &Bound<'py, PyAny>) -> Option<numpy::PyReadonlyArray1<'py, f64>> {
+    use numpy::PyArrayMethods;
+    let a = obj.cast::<numpy::PyArray1<f64>>().ok()?;
+    let r = a.try_readonly().ok()?;
+    r.as_slice().is_ok().then_some(r)
+}
+
+/// `lsim(..., return_x=False)`: the outputs only (pendulab-lti `lsim_outputs`).
+#[allow(non_snake_case)]
+fn lsim_outputs(
+    py: Python<'_>,
+    s: &super::system::Sys,
+    U: Option<&Bound<'_, PyAny>>,
+    T: Option<&Bound<'_, PyAny>>,
+    X0: Option<&Bound<'_, PyAny>>,
+    hold: InputHold,
+) -> PyResult<LsimResult> {
+    use numpy::{PyArray1, PyArrayMethods};
+    let (nu, ny) = with_sys!(s, s => (s.nu(), s.ny()));
+    let t_obj = match T {
+        Some(t) if !t.is_none() => t.clone(),
+        _ => return Err(times(None).expect_err("T is required")),
+    };
+    let t_view = contiguous_1d(&t_obj);
+    let t_owned: Vec<f64>;
+    let t: &[f64] = match &t_view {
+        Some(r) => r.as_slice()?,
+        None => {
+            t_owned = times(Some(&t_obj))?;
+            &t_owned
+        }
+    };
+    let len = t.len();
+    let u_view = match U {
+        Some(u) if nu == 1 => contiguous_1d(u),
+        _ => None,
+    };
+    let u_owned: Vec<f64>;
+    let u: &[f64] = match (&u_view, U) {
+        (Some(r), _) => r.as_slice()?,
+        (None, Some(u)) if !u.is_none() && !is_zero_scalar(u) => {
+            u_owned = matrix(u, "U", OneD::Column)?.data.into();
+            &u_owned
+        }
+        _ => {
+            u_owned = vec![0.0; len * nu];
+            &u_owned
+        }
+    };
+    let x0 = match X0 {
+        Some(x) if !x.is_none() && !is_zero_scalar(x) => Some(vector(x, "X0")?),
+        _ => None,
+    };
+    let x0 = x0.as_ref().map(|v| v.as_slice());
+    let options = LsimOptions { hold };
+    let y: Py<PyAny> = if ny == 1 {
+        let y = PyArray1::<f64>::zeros(py, len, false);
+        {
+            let mut w = y.readwrite();
+            let ys = w.as_slice_mut()?;
+            nogil(
+                py,
+                || with_sys!(s, s => response::lsim_outputs(s, u, t, x0, &options, ys)),
+            )?;
+        }
+        y.into_any().unbind()
+    } else {
+        let mut ys = vec![0.0; len * ny];
+        nogil(
+            py,
+            || with_sys!(s, s => response::lsim_outputs(s, u, t, x0, &options, &mut ys)),
+        )?;
+        signals(py, Mat::from_vec(len, ny, ys))?
+    };
+    let t_out = match t_view {
+        Some(_) => t_obj.unbind(),
+        None => slice_to_numpy(py, t).into_any().unbind(),
+    };
+    Ok(LsimResult {
+        y,
+        t: t_out,
+        x: py.None(),
+        u: U.map_or_else(|| py.None(), |u| u.clone().unbind()),
+    })
 }
 
 impl LsimResult {
