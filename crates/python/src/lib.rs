@@ -18,6 +18,7 @@
 //! | [`control`] | `pendulab.control` | sliding mode, swing-up, NMPC, ODQ, Kalman, the spec factory |
 //! | [`book`] | `pendulab.book` | the book's examples and the lab report |
 //! | [`batch`] | `pendulab.plants` | batch runs on all cores that honour Ctrl-C |
+//! | [`render`] | `pendulab.gym` | the rigs drawn for `render_mode="rgb_array"` |
 
 #![warn(missing_docs)]
 
@@ -31,6 +32,7 @@ pub mod ident;
 pub mod lmi;
 pub mod lti;
 pub mod plants;
+pub mod render;
 
 use pyo3::prelude::*;
 
@@ -47,5 +49,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     control::register(m)?;
     book::register(m)?;
     batch::register(m)?;
+    render::register(m)?;
     Ok(())
 }

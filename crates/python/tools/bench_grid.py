@@ -71,7 +71,7 @@ def main():
         "workload": "grid 100x100, 10 s at 1 kHz, LQR, stop at |theta| > pi/2",
         "cores": os.cpu_count(), "numpy": np.__version__,
         "python": py, "cli_bench_sim_batch": ref,
-        "cli_over_python_time": py["grid_seconds_median"] / ref["grid_seconds_median"],
+        "python_time_over_cli": py["grid_seconds_median"] / ref["grid_seconds_median"],
         "same_outcomes": py["executed_steps"] == ref["executed_steps"] and py["upright_fraction"] == ref["upright_fraction"],
     }, indent=1))
 

@@ -57,6 +57,16 @@ def _cartpole_spaces():
     return spaces.Discrete(2), spaces.Box(-high, high, dtype=np.float32)
 
 
+def _render_mode(render_mode: Optional[str]) -> Optional[str]:
+    """``None`` or ``"rgb_array"``; ``"human"`` (a window) is not provided."""
+    if render_mode not in (None, "rgb_array"):
+        raise _native.InvalidArgumentError(
+            f"render_mode {render_mode!r}: only 'rgb_array' is provided (no window); "
+            "show the frames with matplotlib or save them"
+        )
+    return render_mode
+
+
 def _threads(threads: Optional[int]) -> int:
     return max(1, os.cpu_count() or 1) if threads is None else int(threads)
 
@@ -71,16 +81,18 @@ class CartPoleEnv(gymnasium.Env):
     ``|x| > 2.4`` or ``|θ| > 12°``; truncation at 500 steps comes from ``TimeLimit`` when
     made with ``gymnasium.make("pendulab/CartPole-v1")``, as for Gymnasium's.
     ``reset(options={"low": ..., "high": ...})`` changes the initial-state bounds.
+    ``render_mode="rgb_array"``: ``render()`` returns the cart and pole as an ``(320, 480, 3)``
+    ``uint8`` picture (pole drawn 1 m long, track ±2.4 m).
     """
 
-    metadata = {"render_modes": [], "render_fps": 50}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
 
     def __init__(self, sutton_barto_reward: bool = False, render_mode: Optional[str] = None):
         self._core = _native.ClassicCartPoleCore(
             1, autoreset=False, sutton_barto_reward=sutton_barto_reward
         )
         self.action_space, self.observation_space = _cartpole_spaces()
-        self.render_mode = render_mode
+        self.render_mode = _render_mode(render_mode)
         self.state: Optional[np.ndarray] = None
         self._beyond: Optional[int] = None
 
@@ -113,6 +125,12 @@ class CartPoleEnv(gymnasium.Env):
         obs = self._core.reset_to(self.state[None, :])
         self._beyond = None
         return obs[0], {}
+
+    def render(self):
+        if self.render_mode == "rgb_array" and self.state is not None:
+            x, x_dot, theta, theta_dot = (float(v) for v in self.state)
+            return _native.render_rig("cart", [x, theta, x_dot, theta_dot], 2.4, pendulum_length=1.0)
+        return None
 
 
 class CartPoleVectorEnv(VectorEnv):
@@ -200,14 +218,17 @@ class RigEnv(gymnasium.Env):
     params : the plant's parameters by the book's symbols (others from tables 3.5 / 3.7).
 
     The action is the motor voltage, ``Box(-5, 5, (1,), float32)``, clipped to ±5 V.
+    ``render_mode="rgb_array"``: ``render()`` returns the rig at its state as an
+    ``(320, 480, 3)`` ``uint8`` picture (the drawing of the book's figures).
     """
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
 
     def __init__(self, rig: str = "cart", task: str = "balance", render_mode: Optional[str] = None, **options: Any):
         self._core = _native.RigCore(rig, 1, task=task, autoreset=False, **options)
         self.rig, self.task, self.dt, self.travel = rig, task, self._core.dt, self._core.travel
-        self.render_mode = render_mode
+        self.render_mode = _render_mode(render_mode)
+        self.metadata = {**self.metadata, "render_fps": round(1.0 / self.dt)}
         self.action_space = spaces.Box(-5.0, 5.0, shape=(1,), dtype=np.float32)
         self.observation_space = spaces.Box(-np.inf, np.inf, shape=(4,), dtype=np.float64)
         self._seeded = False
@@ -227,6 +248,11 @@ class RigEnv(gymnasium.Env):
             seeds = None
         self._seeded = True
         return self._core.reset(seeds)[0], {}
+
+    def render(self):
+        if self.render_mode == "rgb_array":
+            return _native.render_rig(self.rig, self.state.tolist(), self.travel)
+        return None
 
     def step(self, action):
         a = np.asarray(action, dtype=np.float64).reshape(-1)
