@@ -59,6 +59,31 @@ where
     }
 }
 
+/// Environments stepped between two looks at Python's signal handlers.
+const SIGNAL_BLOCK: usize = 1 << 17;
+
+/// Runs `f` on the index ranges of `n` environments, [`SIGNAL_BLOCK`] at a time, each with
+/// the GIL released, and runs Python's signal handlers between them: Ctrl-C during the step
+/// of a huge batch raises `KeyboardInterrupt` within one block's time (the environments of
+/// the blocks already stepped stay stepped: reset them).
+///
+/// # Errors
+/// `f`'s first error, or the exception a signal handler raised.
+fn in_blocks<F>(py: Python<'_>, n: usize, mut f: F) -> PyResult<()>
+where
+    F: FnMut(std::ops::Range<usize>) -> PyResult<()> + Send,
+{
+    let mut start = 0;
+    while start < n {
+        let end = (start + SIGNAL_BLOCK).min(n);
+        // The closure's error is a `PyErr`, which may cross threads (it is `Send`).
+        py.detach(|| f(start..end))?;
+        py.check_signals()?;
+        start = end;
+    }
+    Ok(())
+}
+
 /// Builds a `(n, 4)` array from `n·4` values.
 fn matrix<'py, T: numpy::Element>(
     py: Python<'py>,
@@ -347,7 +372,7 @@ impl ClassicCartPoleCore {
         let mut out = vec![PoleOut::default(); n];
         let mut slots = std::mem::take(&mut self.slots);
         let this = &*self;
-        py.detach(|| {
+        let reset = py.detach(|| {
             // The resets first (sequential: column j goes to the j-th pending environment).
             let mut reset = vec![false; n];
             if let Some(f) = &fresh {
@@ -365,15 +390,22 @@ impl ClassicCartPoleCore {
                     }
                 }
             }
-            for_chunks(this.threads, &mut slots, &mut out, |off, slots, out| {
+            reset
+        });
+        let result = in_blocks(py, n, |r| {
+            let (s, o) = (&mut slots[r.clone()], &mut out[r.clone()]);
+            for_chunks(this.threads, s, o, |off, slots, out| {
+                let off = r.start + off;
                 for (i, (slot, o)) in slots.iter_mut().zip(out.iter_mut()).enumerate() {
                     if !reset[off + i] {
                         *o = this.step_one(slot, acts[off + i] as u8);
                     }
                 }
             });
+            Ok(())
         });
         self.slots = slots;
+        result?;
         step_arrays(py, &out)
     }
 }
@@ -772,12 +804,16 @@ impl RigCore {
         let mut out = vec![RigOut::default(); n];
         let mut envs = std::mem::replace(&mut self.envs, RigEnvs::Cart(Vec::new()));
         let this = &*self;
-        let result = py.detach(|| match &mut envs {
-            RigEnvs::Cart(v) => this.step_all(v, acts, &mut out),
-            RigEnvs::Arm(v) => this.step_all(v, acts, &mut out),
+        let result = in_blocks(py, n, |r| {
+            let (a, o) = (&acts[r.clone()], &mut out[r.clone()]);
+            match &mut envs {
+                RigEnvs::Cart(v) => this.step_all(&mut v[r], a, o),
+                RigEnvs::Arm(v) => this.step_all(&mut v[r], a, o),
+            }
+            .map_err(|e| sim_error(&e))
         });
         self.envs = envs;
-        result.map_err(|e| sim_error(&e))?;
+        result?;
         step_arrays(py, &out)
     }
 }
