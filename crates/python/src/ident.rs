@@ -201,6 +201,34 @@ fn messages(errors: Vec<IdentError>) -> Vec<String> {
     errors.iter().map(|e| e.to_string()).collect()
 }
 
+/// Runs `solve` and, when it succeeds, `validate` on its result, with the GIL released.
+fn solve_then_validate<R: Send, V: Send>(
+    py: Python<'_>,
+    solve: impl FnOnce() -> pendulab_ident::Result<R> + Send,
+    validate: impl FnOnce(&R) -> V + Send,
+) -> (pendulab_ident::Result<R>, Option<V>) {
+    py.detach(|| {
+        let r = solve();
+        let v = r.as_ref().ok().map(validate);
+        (r, v)
+    })
+}
+
+/// Puts a least-squares method's diagnostics, the failed checks and the validation into `d`.
+fn put_ls_result(
+    d: &Bound<'_, PyDict>,
+    lsq: &LeastSquares,
+    failed: Vec<IdentError>,
+    fit: Option<pendulab_ident::Result<Validation>>,
+) -> PyResult<()> {
+    put_lsq(d, lsq)?;
+    d.set_item("failed_checks", messages(failed))?;
+    match fit {
+        Some(fit) => put_fit(d, "fit", fit),
+        None => Ok(()),
+    }
+}
+
 /// Puts the least-squares diagnostics into `d`.
 fn put_lsq(d: &Bound<'_, PyDict>, lsq: &LeastSquares) -> PyResult<()> {
     let py = d.py();
@@ -267,29 +295,24 @@ fn ident_drive_ls<'py>(
         }
     };
     let (y, v) = (column(y, yname)?, column(v, "v")?);
-    let (r, fit) = py.detach(|| {
-        let r = if cart {
-            cart_drive_ls(ts, &y, &v, &opts)
-        } else {
-            arm_drive_ls(ts, &y, &v, &opts)
-        };
-        let fit = r
-            .as_ref()
-            .ok()
-            .map(|d| validate_drive(ts, &y, &v, d.a, d.b, yname));
-        (r, fit)
-    });
+    let (r, fit) = solve_then_validate(
+        py,
+        || {
+            if cart {
+                cart_drive_ls(ts, &y, &v, &opts)
+            } else {
+                arm_drive_ls(ts, &y, &v, &opts)
+            }
+        },
+        |d| validate_drive(ts, &y, &v, d.a, d.b, yname),
+    );
     let r = ie(r)?;
     let d = PyDict::new(py);
     d.set_item("a", r.a)?;
     d.set_item("b", r.b)?;
-    put_lsq(&d, &r.lsq)?;
     let mut failed = data_checks(&opts, ts, y.len());
     failed.extend(r.failed_checks(ts));
-    d.set_item("failed_checks", messages(failed))?;
-    if let Some(fit) = fit {
-        put_fit(&d, "fit", fit)?;
-    }
+    put_ls_result(&d, &r.lsq, failed, fit)?;
     Ok(d)
 }
 
@@ -317,26 +340,19 @@ fn ident_cart_pendulum_ls<'py>(
     let opts = ls_options(filter, tf, hold, savgol, savgol_order)?;
     let c = CartPendulumConstants { mp, lp, g };
     let (z, phi) = (column(z, "z")?, column(phi, "phi")?);
-    let (r, fit) = py.detach(|| {
-        let r = cart_pendulum_ls(ts, &z, &phi, &c, &opts);
-        let fit = r
-            .as_ref()
-            .ok()
-            .map(|p| validate_cart_pendulum(ts, &z, &phi, p.jp, p.mup, &c));
-        (r, fit)
-    });
+    let (r, fit) = solve_then_validate(
+        py,
+        || cart_pendulum_ls(ts, &z, &phi, &c, &opts),
+        |p| validate_cart_pendulum(ts, &z, &phi, p.jp, p.mup, &c),
+    );
     let r = ie(r)?;
     let d = PyDict::new(py);
     d.set_item("Jp", r.jp)?;
     d.set_item("mup", r.mup)?;
-    put_lsq(&d, &r.lsq)?;
     let mut failed = data_checks(&opts, ts, z.len());
     failed.extend(c.check_range().err());
     failed.extend(r.failed_checks(ts, &c));
-    d.set_item("failed_checks", messages(failed))?;
-    if let Some(fit) = fit {
-        put_fit(&d, "fit", fit)?;
-    }
+    put_ls_result(&d, &r.lsq, failed, fit)?;
     Ok(d)
 }
 
@@ -365,27 +381,20 @@ fn ident_arm_pendulum_ls<'py>(
     let opts = ls_options(filter, tf, hold, savgol, savgol_order)?;
     let c = ArmPendulumConstants { l1: L1, m2, l2, g };
     let (p1, p2) = (column(phi1, "phi1")?, column(phi2, "phi2")?);
-    let (r, fit) = py.detach(|| {
-        let r = arm_pendulum_ls(ts, &p1, &p2, &c, &opts);
-        let fit = r
-            .as_ref()
-            .ok()
-            .map(|p| validate_arm_pendulum(ts, &p1, &p2, p.alpha2, p.mu2, &c));
-        (r, fit)
-    });
+    let (r, fit) = solve_then_validate(
+        py,
+        || arm_pendulum_ls(ts, &p1, &p2, &c, &opts),
+        |p| validate_arm_pendulum(ts, &p1, &p2, p.alpha2, p.mu2, &c),
+    );
     let r = ie(r)?;
     let d = PyDict::new(py);
     d.set_item("J2", r.j2)?;
     d.set_item("mu2", r.mu2)?;
     d.set_item("alpha2", r.alpha2)?;
-    put_lsq(&d, &r.lsq)?;
     let mut failed = data_checks(&opts, ts, p1.len());
     failed.extend(c.check_range().err());
     failed.extend(r.failed_checks(ts, &c));
-    d.set_item("failed_checks", messages(failed))?;
-    if let Some(fit) = fit {
-        put_fit(&d, "fit", fit)?;
-    }
+    put_ls_result(&d, &r.lsq, failed, fit)?;
     Ok(d)
 }
 

@@ -341,6 +341,21 @@ fn solve_options() -> SolveOptions {
     SolveOptions::default()
 }
 
+/// `(A, B)` of one plant model (`B` of one input may be 1-d).
+#[allow(non_snake_case)]
+fn plant(A: &Bound<'_, PyAny>, B: &Bound<'_, PyAny>) -> PyResult<(DMatrix<f64>, DMatrix<f64>)> {
+    Ok((matrix(A, "A", OneD::Row)?, matrix(B, "B", OneD::Column)?))
+}
+
+/// Runs the design `f` with the GIL released; `what` names it in `InfeasibleError`.
+fn design(
+    py: Python<'_>,
+    what: &str,
+    f: impl FnOnce() -> pendulab_lmi::Result<StateFeedbackDesign> + Send,
+) -> PyResult<LmiFeedback> {
+    feedback_result(what, py.detach(f).map_err(|e| lmi_error(&e))?)
+}
+
 /// `lq(A, B, Q, R)`: the LMI LQ (guaranteed-cost) state feedback (book Part 2 §1.2.2):
 /// `X ≻ 0`, `[[He(AX + BL), X C_qᵀ, Lᵀ R^½], [C_q X, −I, 0], [R^½ L, 0, −I]] ≺ 0`
 /// (`Q = C_qᵀ C_q`), maximise `tr X`; `K = −L X⁻¹` approaches the LQR gain.
@@ -354,12 +369,11 @@ fn lmi_lq(
     Q: &Bound<'_, PyAny>,
     R: &Bound<'_, PyAny>,
 ) -> PyResult<LmiFeedback> {
-    let (a, b) = (matrix(A, "A", OneD::Row)?, matrix(B, "B", OneD::Column)?);
+    let (a, b) = plant(A, B)?;
     let w = weights(Q, R)?;
-    let d = py
-        .detach(|| synthesis::lq_state_feedback(&a, &b, &w.q, &w.r, &solve_options()))
-        .map_err(|e| lmi_error(&e))?;
-    feedback_result("LMI LQ design", d)
+    design(py, "LMI LQ design", || {
+        synthesis::lq_state_feedback(&a, &b, &w.q, &w.r, &solve_options())
+    })
 }
 
 /// `d_stability(A, B, Q, R, regions)`: the LQ guaranteed cost with the closed-loop poles in
@@ -375,15 +389,12 @@ fn lmi_d_stability(
     R: &Bound<'_, PyAny>,
     regions: &Bound<'_, PyAny>,
 ) -> PyResult<LmiFeedback> {
-    let (a, b) = (matrix(A, "A", OneD::Row)?, matrix(B, "B", OneD::Column)?);
+    let (a, b) = plant(A, B)?;
     let w = weights(Q, R)?;
     let regs = self::regions(Some(regions))?;
-    let d = py
-        .detach(|| {
-            synthesis::multiobjective_state_feedback(&a, &b, &w.q, &w.r, &regs, &solve_options())
-        })
-        .map_err(|e| lmi_error(&e))?;
-    feedback_result("D-stability design", d)
+    design(py, "D-stability design", || {
+        synthesis::multiobjective_state_feedback(&a, &b, &w.q, &w.r, &regs, &solve_options())
+    })
 }
 
 /// `robust(vertices, Q, R, regions=())`: one gain for every plant in the convex hull of the
@@ -401,10 +412,9 @@ fn lmi_robust(
     let v = self::vertices(vertices)?;
     let w = weights(Q, R)?;
     let regs = self::regions(regions)?;
-    let d = py
-        .detach(|| synthesis::robust_state_feedback(&v, &w.q, &w.r, &regs, &solve_options()))
-        .map_err(|e| lmi_error(&e))?;
-    feedback_result("robust design", d)
+    design(py, "robust design", || {
+        synthesis::robust_state_feedback(&v, &w.q, &w.r, &regs, &solve_options())
+    })
 }
 
 /// `saturated(A, B, Q, R, u_max, x0s)`: the LQ guaranteed cost with `|u_i| ≤ u_max_i` on the
@@ -421,15 +431,12 @@ fn lmi_saturated(
     u_max: &Bound<'_, PyAny>,
     x0s: &Bound<'_, PyAny>,
 ) -> PyResult<LmiFeedback> {
-    let (a, b) = (matrix(A, "A", OneD::Row)?, matrix(B, "B", OneD::Column)?);
+    let (a, b) = plant(A, B)?;
     let w = weights(Q, R)?;
     let bound = input_bound(u_max, x0s)?;
-    let d = py
-        .detach(|| {
-            synthesis::saturated_state_feedback(&a, &b, &w.q, &w.r, &bound, &solve_options())
-        })
-        .map_err(|e| lmi_error(&e))?;
-    feedback_result("saturation design", d)
+    design(py, "saturation design", || {
+        synthesis::saturated_state_feedback(&a, &b, &w.q, &w.r, &bound, &solve_options())
+    })
 }
 
 /// `state_feedback(vertices, Q=None, R=None, regions=(), u_max=None, x0s=None,
@@ -496,10 +503,9 @@ fn lmi_state_feedback(
         margin,
         ..StateFeedbackSpec::default()
     };
-    let d = py
-        .detach(|| synthesis::state_feedback(&v, &spec, &solve_options()))
-        .map_err(|e| lmi_error(&e))?;
-    feedback_result("state-feedback design", d)
+    design(py, "state-feedback design", || {
+        synthesis::state_feedback(&v, &spec, &solve_options())
+    })
 }
 
 /// A Lyapunov certificate `P` of α-stability (`AᵀP + PA + 2αP ≺ 0`, `P ≻ 0`) and the decay
