@@ -75,6 +75,7 @@ mod model;
 mod report;
 mod rig;
 mod simulate;
+mod sys;
 
 use clap::{Parser, Subcommand};
 
@@ -178,6 +179,10 @@ enum Command {
     Model(model::ModelArgs),
     /// Simulate a controller file on a lab's plant with the rig's imperfections.
     Simulate(simulate::SimulateArgs),
+    /// MATLAB's verbs for any linear system (ss, eig, ctrb, obsv, step, impulse, initial, lsim,
+    /// bode, c2d, d2c, place, lqe).
+    #[command(flatten)]
+    Sys(sys::SysCommand),
 }
 
 fn main() -> ExitCode {
@@ -192,6 +197,7 @@ fn main() -> ExitCode {
         Command::Lab(args) => lab::run(&args),
         Command::Model(args) => model::run(&args),
         Command::Simulate(args) => simulate::run(&args),
+        Command::Sys(cmd) => sys::run(&cmd),
     };
     let result = result.and_then(|()| match finish_stdout() {
         Some(e) => Err(anyhow::Error::new(e).context("cannot write to standard output")),

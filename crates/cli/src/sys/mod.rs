@@ -1,0 +1,214 @@
+//! MATLAB's verbs for any linear system: `pendulab ss|eig|ctrb|obsv|step|impulse|initial|lsim|
+//! bode|c2d|d2c|place|lqe SYSFILE …`.
+//!
+//! Each verb reads one system ([`input`]: a TOML/JSON system file or the matrices on the command
+//! line), calls the `pendulab-lti` function of the same MATLAB name, prints a summary (or one
+//! JSON object with `--json`) and, for the responses, draws a figure with `--out FILE.svg|.png`.
+//! Conventions are MATLAB's and python-control's: state feedback `u = −K x` (the book's
+//! `u = +K x` is printed beside it, labelled), frequencies in rad/s, gains in dB, phases in
+//! degrees, responses indexed `[output][input][sample]` as python-control's MIMO responses.
+//! `c2d`/`d2c`/`ss --save FILE` write the resulting system as a system file that the next verb
+//! reads.
+
+pub mod input;
+mod verbs;
+
+pub use input::SysArgs;
+pub use verbs::run;
+
+use std::path::PathBuf;
+
+/// Response options shared by `step`, `impulse`, `initial` and `lsim`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct FigureArgs {
+    /// Write the figure to this file (`.svg` or `.png`).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object instead of a summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Time grid options of `step`, `impulse` and `initial`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct TimeArgs {
+    /// Final time in seconds (default: from the slowest pole, see the `step` documentation).
+    #[arg(long, allow_hyphen_values = true)]
+    pub t_final: Option<f64>,
+    /// Time step of a continuous system's response in seconds (default: t_final/1000;
+    /// a discrete system steps at its dt).
+    #[arg(long, allow_hyphen_values = true)]
+    pub step_size: Option<f64>,
+}
+
+/// The MATLAB verbs.
+#[derive(Debug, clap::Subcommand)]
+pub enum SysCommand {
+    /// Print a linear system's realisation (A, B, C, D, dt) and its poles (MATLAB `ss`);
+    /// `--save` writes it as a system file.
+    Ss {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Write the system to this file (`.toml` or `.json`).
+        #[arg(long, value_name = "FILE")]
+        save: Option<PathBuf>,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Poles of a system with natural frequency, damping ratio and time constant (MATLAB `eig`,
+    /// `damp`).
+    Eig {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Controllability matrix [B AB … Aⁿ⁻¹B], its rank and singular values (MATLAB `ctrb`).
+    Ctrb {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Observability matrix [C; CA; …; CAⁿ⁻¹], its rank and singular values (MATLAB `obsv`).
+    Obsv {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Step response, one per input (MATLAB `step`), with MATLAB's `stepinfo` figures of each
+    /// channel.
+    Step {
+        #[command(flatten)]
+        sys: SysArgs,
+        #[command(flatten)]
+        time: TimeArgs,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Impulse response, one per input (MATLAB `impulse`).
+    Impulse {
+        #[command(flatten)]
+        sys: SysArgs,
+        #[command(flatten)]
+        time: TimeArgs,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Zero-input response from an initial state (MATLAB `initial`).
+    Initial {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Initial state x0 (n values, inline "1 0" or a file).
+        #[arg(long, allow_hyphen_values = true)]
+        x0: String,
+        #[command(flatten)]
+        time: TimeArgs,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Response to sampled inputs (MATLAB `lsim`): the input file has the columns t, u1 … um.
+    Lsim {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Input samples: a text file (as `pendulab lqr` reads) with columns t, u1 … um;
+        /// t uniformly spaced.
+        #[arg(long, value_name = "FILE")]
+        input: PathBuf,
+        /// Initial state x0 (default zeros).
+        #[arg(long, allow_hyphen_values = true)]
+        x0: Option<String>,
+        /// Interpolation of a continuous system's input between samples: foh (default,
+        /// python-control's) or zoh.
+        #[arg(long, default_value = "foh")]
+        hold: String,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Bode diagram of every channel (MATLAB `bode`): gain in dB, unwrapped phase in degrees.
+    Bode {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Lowest frequency in rad/s (default: MATLAB's automatic range).
+        #[arg(long, allow_hyphen_values = true)]
+        w_min: Option<f64>,
+        /// Highest frequency in rad/s.
+        #[arg(long, allow_hyphen_values = true)]
+        w_max: Option<f64>,
+        /// Number of frequencies (log-spaced) when a range is given.
+        #[arg(long, default_value_t = 200)]
+        points: usize,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Discretise a continuous system (MATLAB `c2d`).
+    C2d {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Sample time in seconds.
+        #[arg(long, allow_hyphen_values = true)]
+        ts: f64,
+        /// zoh (default), foh, tustin, euler (forward) or backward.
+        #[arg(long, default_value = "zoh")]
+        method: String,
+        /// Tustin prewarp frequency in rad/s.
+        #[arg(long, allow_hyphen_values = true)]
+        prewarp: Option<f64>,
+        /// Write the discrete system to this file (`.toml` or `.json`).
+        #[arg(long, value_name = "FILE")]
+        save: Option<PathBuf>,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Convert a discrete system to continuous time (MATLAB `d2c`).
+    D2c {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// zoh (default), foh, tustin, euler (forward) or backward.
+        #[arg(long, default_value = "zoh")]
+        method: String,
+        /// Tustin prewarp frequency in rad/s.
+        #[arg(long, allow_hyphen_values = true)]
+        prewarp: Option<f64>,
+        /// Write the continuous system to this file (`.toml` or `.json`).
+        #[arg(long, value_name = "FILE")]
+        save: Option<PathBuf>,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// State-feedback gain K placing the poles of A − BK (MATLAB `place`).
+    Place {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Desired poles: "-1 -2", complex as "-1+2i -1-2i" (conjugate pairs complete).
+        #[arg(long, allow_hyphen_values = true)]
+        poles: String,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Steady-state Kalman estimator gain (MATLAB `lqe(A, G, C, Qn, Rn)`).
+    Lqe {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Process-noise input matrix G (n×g; default: identity).
+        #[arg(long, allow_hyphen_values = true)]
+        g: Option<String>,
+        /// Process-noise covariance Qn (g×g).
+        #[arg(long, allow_hyphen_values = true)]
+        qn: String,
+        /// Measurement-noise covariance Rn (p×p).
+        #[arg(long, allow_hyphen_values = true)]
+        rn: String,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+}

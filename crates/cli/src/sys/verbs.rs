@@ -1,0 +1,659 @@
+//! The verbs' bodies: each calls the `pendulab-lti` function of its MATLAB name and prints.
+
+use super::input::{Sys, matrix_arg, vector_arg, with_sys};
+use super::{FigureArgs, SysCommand, TimeArgs};
+use crate::lqr::{fmt_row, read_matrix, rows_of};
+use anyhow::{Context, Result, anyhow, bail};
+use pendulab_lti::Complex64;
+use pendulab_lti::analysis::{ctrb, obsv, rank};
+use pendulab_lti::design::{lqe, place};
+use pendulab_lti::discretization::Discretization;
+use pendulab_lti::frequency_response::{freqresp, frequency_grid, logspace};
+use pendulab_lti::response::{InputHold, LsimOptions, impulse, initial, lsim, step, time_vector};
+use pendulab_lti::{Mat, Trajectory};
+use pendulab_plot::{Bode, Channel, Figure, SignalPanel, TimeResponse};
+use serde::Serialize;
+use serde_json::json;
+use std::path::Path;
+
+/// Runs one MATLAB verb.
+///
+/// # Errors
+/// The system's errors ([`super::input`]); the library's errors for the computation (naming
+/// what failed); a figure or system file that cannot be written.
+pub fn run(cmd: &SysCommand) -> Result<()> {
+    match cmd {
+        SysCommand::Ss { sys, save, json } => ss(&sys.load()?, save.as_deref(), *json),
+        SysCommand::Eig { sys, json } => eig(&sys.load()?, *json),
+        SysCommand::Ctrb { sys, json } => {
+            let s = sys.load()?;
+            let (a, b, _, _) = s.matrices();
+            rank_report(
+                "controllability matrix [B AB … A^(n-1)B]",
+                &ctrb(a, b)?,
+                *json,
+            )
+        }
+        SysCommand::Obsv { sys, json } => {
+            let s = sys.load()?;
+            let (a, _, c, _) = s.matrices();
+            rank_report(
+                "observability matrix [C; CA; …; CA^(n-1)]",
+                &obsv(a, c)?,
+                *json,
+            )
+        }
+        SysCommand::Step { sys, time, fig } => channels(&sys.load()?, time, fig, false),
+        SysCommand::Impulse { sys, time, fig } => channels(&sys.load()?, time, fig, true),
+        SysCommand::Initial { sys, x0, time, fig } => {
+            let s = sys.load()?;
+            let x0 = vector_arg(x0, "x0")?;
+            let t = time_grid(&s, time)?;
+            let traj = with_sys!(&s, |v| initial(v, &x0, &t))?;
+            trajectory_out(&[("initial", traj)], fig, "initial")
+        }
+        SysCommand::Lsim {
+            sys,
+            input,
+            x0,
+            hold,
+            fig,
+        } => {
+            let s = sys.load()?;
+            let data =
+                read_matrix(input).with_context(|| format!("reading {}", input.display()))?;
+            let nu = s.matrices().1.ncols();
+            if data.ncols() != nu + 1 {
+                bail!(
+                    "{}: expected {} columns (t, then {nu} input(s)), found {}",
+                    input.display(),
+                    nu + 1,
+                    data.ncols()
+                );
+            }
+            let t: Vec<f64> = data.column(0).iter().copied().collect();
+            let u = data.columns(1, nu).into_owned();
+            let hold = match hold.as_str() {
+                "foh" => InputHold::Foh,
+                "zoh" => InputHold::Zoh,
+                other => bail!("--hold {other}: expected foh or zoh"),
+            };
+            let x0 = x0.as_deref().map(|v| vector_arg(v, "x0")).transpose()?;
+            let opts = LsimOptions { hold };
+            let traj = with_sys!(&s, |v| lsim(v, &u, &t, x0.as_deref(), &opts))?;
+            trajectory_out(&[("lsim", traj)], fig, "lsim")
+        }
+        SysCommand::Bode {
+            sys,
+            w_min,
+            w_max,
+            points,
+            fig,
+        } => bode(&sys.load()?, *w_min, *w_max, *points, fig),
+        SysCommand::C2d {
+            sys,
+            ts,
+            method,
+            prewarp,
+            save,
+            json,
+        } => {
+            let s = sys.load()?;
+            let Sys::C(c) = &s else {
+                bail!(
+                    "c2d discretises a continuous system; this one is discrete (dt = {})",
+                    s.dt().unwrap_or(f64::NAN)
+                );
+            };
+            let d = c.c2d(*ts, method_of(method, *prewarp)?)?;
+            ss(&Sys::D(d), save.as_deref(), *json)
+        }
+        SysCommand::D2c {
+            sys,
+            method,
+            prewarp,
+            save,
+            json,
+        } => {
+            let s = sys.load()?;
+            let Sys::D(d) = &s else {
+                bail!("d2c converts a discrete system; this one is continuous (give dt)");
+            };
+            let c = d.d2c(method_of(method, *prewarp)?)?;
+            ss(&Sys::C(c), save.as_deref(), *json)
+        }
+        SysCommand::Place { sys, poles, json } => {
+            let s = sys.load()?;
+            let poles = parse_poles(poles)?;
+            let (a, b, _, _) = s.matrices();
+            let p = place(a, b, &poles)?;
+            let out = json!({
+                "K": rows_of(&p.gain),
+                "K_book": rows_of(&(-&p.gain)),
+                "convention": "u = -K x (MATLAB, python-control, pendulab); the book writes u = +K_book x with K_book = -K",
+                "requested_poles": pairs(&p.requested_poles),
+                "achieved_poles": pairs(&p.achieved_poles),
+                "max_relative_error": p.max_relative_error,
+                "eigenvector_condition": finite_or_null(p.eigenvector_condition),
+            });
+            if *json {
+                println!("{out}");
+                return Ok(());
+            }
+            print_matrix("K (u = −K x)", &p.gain);
+            print_matrix("K_book (the book's u = +K x)", &(-&p.gain));
+            print_poles("achieved poles of A − BK", &p.achieved_poles);
+            println!("max relative pole error: {:.3e}", p.max_relative_error);
+            Ok(())
+        }
+        SysCommand::Lqe {
+            sys,
+            g,
+            qn,
+            rn,
+            json,
+        } => {
+            let s = sys.load()?;
+            let n = s.matrices().0.nrows();
+            let g = match g {
+                Some(g) => matrix_arg(g, "G")?,
+                None => Mat::identity(n, n),
+            };
+            let qn = matrix_arg(qn, "Qn")?;
+            let rn = matrix_arg(rn, "Rn")?;
+            let k = with_sys!(&s, |v| lqe(v, &g, &qn, &rn, None))?;
+            let out = json!({
+                "L": rows_of(&k.gain),
+                "P": rows_of(&k.covariance),
+                "estimator_poles": pairs(&k.estimator_poles),
+                "residual": k.residual,
+            });
+            if *json {
+                println!("{out}");
+                return Ok(());
+            }
+            print_matrix("L (x̂' = A x̂ + B u + L (y − C x̂ − D u))", &k.gain);
+            print_matrix("P (error covariance)", &k.covariance);
+            print_poles("estimator poles (A − LC)", &k.estimator_poles);
+            println!("relative Riccati residual: {:.3e}", k.residual);
+            Ok(())
+        }
+    }
+}
+
+fn pairs(p: &[Complex64]) -> Vec<[f64; 2]> {
+    p.iter().map(|z| [z.re, z.im]).collect()
+}
+
+fn finite_or_null(v: f64) -> serde_json::Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        serde_json::Value::Null
+    }
+}
+
+fn print_matrix(name: &str, m: &Mat) {
+    println!("{name}:");
+    for row in rows_of(m) {
+        println!("  {}", fmt_row(&row));
+    }
+}
+
+fn print_poles(name: &str, p: &[Complex64]) {
+    println!("{name}:");
+    for z in p {
+        println!("  {:.10} {:+.10}j", z.re, z.im);
+    }
+}
+
+/// A discretisation method by its MATLAB name.
+fn method_of(name: &str, prewarp: Option<f64>) -> Result<Discretization> {
+    if prewarp.is_some() && name != "tustin" {
+        bail!("--prewarp applies to the tustin method only (got --method {name})");
+    }
+    Ok(match name {
+        "zoh" => Discretization::Zoh,
+        "foh" => Discretization::Foh,
+        "tustin" | "bilinear" => Discretization::Tustin { prewarp },
+        "euler" | "forward" => Discretization::ForwardEuler,
+        "backward" => Discretization::BackwardEuler,
+        other => bail!("--method {other}: expected zoh, foh, tustin, euler or backward"),
+    })
+}
+
+/// Parses poles: real numbers and complex numbers written `a+bi`/`a-bj`, separated by spaces,
+/// commas or semicolons. A complex pole whose conjugate is missing gets it added (MATLAB
+/// needs both; writing one is the common slip, and the gain is real only for the pair).
+fn parse_poles(text: &str) -> Result<Vec<Complex64>> {
+    let mut out: Vec<Complex64> = Vec::new();
+    for tok in text
+        .trim()
+        .trim_start_matches('[')
+        .trim_end_matches(']')
+        .split([' ', ',', ';', '\t'])
+        .filter(|t| !t.is_empty())
+    {
+        out.push(parse_complex(tok).ok_or_else(|| {
+            anyhow!("--poles: `{tok}` is not a number (write complex poles as -1+2i)")
+        })?);
+    }
+    if out.is_empty() {
+        bail!("--poles: no poles given");
+    }
+    let mut missing = Vec::new();
+    for p in &out {
+        if p.im != 0.0 && !out.iter().any(|q| q.re == p.re && q.im == -p.im) {
+            missing.push(p.conj());
+        }
+    }
+    out.extend(missing);
+    Ok(out)
+}
+
+/// `a`, `a+bi`, `a-bj`, `bi`; `None` for anything else or a non-finite part.
+fn parse_complex(tok: &str) -> Option<Complex64> {
+    let z = if let Some(body) = tok.strip_suffix(['i', 'j']) {
+        // The sign that separates the real and the imaginary part: the last + or − that is
+        // not at the start and not an exponent's sign.
+        let bytes = body.as_bytes();
+        let split = (1..bytes.len()).rev().find(|&k| {
+            (bytes[k] == b'+' || bytes[k] == b'-') && !matches!(bytes[k - 1], b'e' | b'E')
+        });
+        match split {
+            Some(k) => {
+                let re: f64 = body[..k].parse().ok()?;
+                let im_text = &body[k..];
+                let im: f64 = match im_text {
+                    "+" => 1.0,
+                    "-" => -1.0,
+                    s => s.parse().ok()?,
+                };
+                Complex64::new(re, im)
+            }
+            None => {
+                let im: f64 = match body {
+                    "" | "+" => 1.0,
+                    "-" => -1.0,
+                    s => s.parse().ok()?,
+                };
+                Complex64::new(0.0, im)
+            }
+        }
+    } else {
+        Complex64::new(tok.parse().ok()?, 0.0)
+    };
+    (z.re.is_finite() && z.im.is_finite()).then_some(z)
+}
+
+/// The realisation as JSON (`a`, `b`, `c`, `d`, `dt` when discrete): the system-file format.
+fn system_json(s: &Sys) -> serde_json::Value {
+    let (a, b, c, d) = s.matrices();
+    let mut v = json!({ "a": rows_of(a), "b": rows_of(b), "c": rows_of(c), "d": rows_of(d) });
+    if let Some(dt) = s.dt() {
+        v["dt"] = json!(dt);
+    }
+    v
+}
+
+/// `ss`, `c2d`, `d2c`: prints the realisation and its poles, and writes it with `--save`.
+fn ss(s: &Sys, save: Option<&Path>, as_json: bool) -> Result<()> {
+    let poles = with_sys!(s, |v| v.poles())?;
+    if let Some(path) = save {
+        write_system(s, path)?;
+    }
+    let mut out = system_json(s);
+    out["poles"] = json!(pairs(&poles));
+    if as_json {
+        println!("{out}");
+        return Ok(());
+    }
+    let (a, b, c, d) = s.matrices();
+    match s.dt() {
+        None => println!(
+            "continuous-time system, {} state(s), {} input(s), {} output(s)",
+            a.nrows(),
+            b.ncols(),
+            c.nrows()
+        ),
+        Some(dt) => println!(
+            "discrete-time system, dt = {dt} s, {} state(s), {} input(s), {} output(s)",
+            a.nrows(),
+            b.ncols(),
+            c.nrows()
+        ),
+    }
+    for (name, m) in [("A", a), ("B", b), ("C", c), ("D", d)] {
+        print_matrix(name, m);
+    }
+    print_poles("poles", &poles);
+    if let Some(path) = save {
+        println!("written: {}", path.display());
+    }
+    Ok(())
+}
+
+/// Writes a system file (TOML, or JSON by the `.json` extension), whole or not at all.
+fn write_system(s: &Sys, path: &Path) -> Result<()> {
+    let v = system_json(s);
+    let text = if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        serde_json::to_string_pretty(&v)? + "\n"
+    } else {
+        toml::to_string(&v).context("formatting the system as TOML")?
+    };
+    crate::lab::write_whole(path, text.as_bytes())
+}
+
+#[derive(Serialize)]
+struct RankJson {
+    matrix: Vec<Vec<f64>>,
+    rank: usize,
+    full_rank: bool,
+    tolerance: f64,
+    singular_values: Vec<f64>,
+}
+
+fn rank_report(name: &str, m: &Mat, as_json: bool) -> Result<()> {
+    let info = rank(m);
+    let out = RankJson {
+        matrix: rows_of(m),
+        rank: info.rank,
+        full_rank: info.rank == m.nrows().min(m.ncols()),
+        tolerance: info.tolerance,
+        singular_values: info.singular_values,
+    };
+    if as_json {
+        println!("{}", serde_json::to_string(&out)?);
+        return Ok(());
+    }
+    print_matrix(name, m);
+    println!(
+        "rank {} of {} (tolerance {:.3e}); singular values: {}",
+        out.rank,
+        m.nrows().min(m.ncols()),
+        out.tolerance,
+        fmt_row(&out.singular_values)
+    );
+    Ok(())
+}
+
+fn eig(s: &Sys, as_json: bool) -> Result<()> {
+    let damp = with_sys!(s, |v| v.damp())?;
+    let rows: Vec<_> = damp
+        .iter()
+        .map(|d| {
+            json!({
+                "pole": [d.pole.re, d.pole.im],
+                "natural_frequency": finite_or_null(d.natural_frequency),
+                "damping_ratio": finite_or_null(d.damping_ratio),
+                "time_constant": finite_or_null(d.time_constant),
+            })
+        })
+        .collect();
+    if as_json {
+        println!("{}", json!({ "poles": rows, "dt": s.dt() }));
+        return Ok(());
+    }
+    println!(
+        "{:>30}  {:>12}  {:>10}  {:>12}",
+        "pole", "ωn [rad/s]", "ζ", "τ [s]"
+    );
+    for d in &damp {
+        println!(
+            "{:>14.6} {:+14.6}j  {:>12.6}  {:>10.5}  {:>12.6}",
+            d.pole.re, d.pole.im, d.natural_frequency, d.damping_ratio, d.time_constant
+        );
+    }
+    Ok(())
+}
+
+/// The default final time of a response: 7 time constants of the slowest decaying mode (the
+/// response is within 0.1 % of its final value), shortened to 5 e-folding times of the fastest
+/// growing mode when the system is unstable, and 10 s when no pole sets a time scale (only
+/// integrators or none). Discrete poles are mapped by `s = ln(z)/dt`.
+pub fn default_t_final(s: &Sys) -> Result<f64> {
+    let poles = with_sys!(s, |v| v.poles())?;
+    let dt = s.dt();
+    let mut settle: f64 = 0.0;
+    let mut grow = f64::INFINITY;
+    for p in poles {
+        let sp = match dt {
+            None => p,
+            Some(dt) if p.norm() > 0.0 => p.ln() / dt,
+            Some(_) => continue, // z = 0: a pure delay, settles in one step
+        };
+        if sp.re < -1e-12 * sp.norm().max(1.0) {
+            settle = settle.max(7.0 / -sp.re);
+        } else if sp.re > 1e-12 * sp.norm().max(1.0) {
+            grow = grow.min(5.0 / sp.re);
+        } else if sp.im.abs() > 0.0 {
+            // Undamped oscillation: ten periods.
+            settle = settle.max(10.0 * 2.0 * std::f64::consts::PI / sp.im.abs());
+        }
+    }
+    let t = if grow.is_finite() {
+        if settle > 0.0 { settle.min(grow) } else { grow }
+    } else if settle > 0.0 {
+        settle
+    } else {
+        10.0
+    };
+    Ok(match dt {
+        Some(dt) => (t / dt).ceil().clamp(10.0, 100_000.0) * dt,
+        None => t,
+    })
+}
+
+/// The response's time grid: `0 … t_final` by the step size (a discrete system's dt).
+fn time_grid(s: &Sys, time: &TimeArgs) -> Result<Vec<f64>> {
+    let t_final = match time.t_final {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            bail!("--t-final {t}: must be finite and > 0 seconds")
+        }
+        Some(t) => t,
+        None => default_t_final(s)?,
+    };
+    let dt = match (s.dt(), time.step_size) {
+        (Some(_), Some(_)) => {
+            bail!("--step-size applies to continuous systems; a discrete system steps at its dt")
+        }
+        (Some(dt), None) => dt,
+        (None, Some(h)) if !(h.is_finite() && h > 0.0) => {
+            bail!("--step-size {h}: must be finite and > 0 seconds")
+        }
+        (None, Some(h)) => h,
+        (None, None) => t_final / 1000.0,
+    };
+    if t_final / dt > 1e7 {
+        bail!(
+            "{} samples requested (t_final {t_final} s / step {dt} s); at most 10⁷",
+            (t_final / dt).round()
+        );
+    }
+    Ok(time_vector(t_final, dt)?)
+}
+
+/// `step` and `impulse`: one trajectory per input.
+fn channels(s: &Sys, time: &TimeArgs, fig: &FigureArgs, impulse_resp: bool) -> Result<()> {
+    let t = time_grid(s, time)?;
+    let trajs = if impulse_resp {
+        with_sys!(s, |v| impulse(v, &t))?
+    } else {
+        with_sys!(s, |v| step(v, &t))?
+    };
+    let what = if impulse_resp { "impulse" } else { "step" };
+    let labelled: Vec<(String, Trajectory)> = trajs
+        .into_iter()
+        .enumerate()
+        .map(|(j, tr)| (format!("{what} on u{}", j + 1), tr))
+        .collect();
+    let refs: Vec<(&str, Trajectory)> = labelled
+        .iter()
+        .map(|(l, t)| (l.as_str(), t.clone()))
+        .collect();
+    trajectory_out(&refs, fig, what)
+}
+
+/// Prints responses (`t`, `y[output][run][sample]`, and `x` for one run) and draws them.
+fn trajectory_out(runs: &[(&str, Trajectory)], fig: &FigureArgs, what: &str) -> Result<()> {
+    let Some((_, first)) = runs.first() else {
+        bail!("the system has no inputs: no {what} response");
+    };
+    let t = first.t().to_vec();
+    let ny = first.y().ncols();
+    let y: Vec<Vec<Vec<f64>>> = (0..ny)
+        .map(|i| {
+            runs.iter()
+                .map(|(_, tr)| tr.y().column(i).iter().copied().collect())
+                .collect()
+        })
+        .collect();
+    if let Some(path) = &fig.out {
+        let mut tr = TimeResponse::new().title(format!("{what} response"));
+        for (label, traj) in runs {
+            tr = tr.run(*label, traj);
+        }
+        for i in 0..ny {
+            tr = tr.panel(SignalPanel::new(Channel::Output(i), format!("y{}", i + 1)));
+        }
+        save_figure(&tr.figure()?, path)?;
+    }
+    if fig.json {
+        let mut out =
+            json!({ "t": t, "y": y, "runs": runs.iter().map(|(l, _)| *l).collect::<Vec<_>>() });
+        if runs.len() == 1 {
+            out["x"] = json!(rows_of(first.x()));
+        }
+        println!("{out}");
+        return Ok(());
+    }
+    println!(
+        "{what} response: {} samples, t = 0 … {:.6} s, {} output(s), {} run(s)",
+        t.len(),
+        t.last().copied().unwrap_or(0.0),
+        ny,
+        runs.len()
+    );
+    for (i, per_run) in y.iter().enumerate() {
+        for ((label, _), series) in runs.iter().zip(per_run) {
+            let last = series.last().copied().unwrap_or(f64::NAN);
+            let (lo, hi) = series
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
+            println!(
+                "  y{} ({label}): final {last:.6}, min {lo:.6}, max {hi:.6}",
+                i + 1
+            );
+        }
+    }
+    if let Some(path) = &fig.out {
+        println!("figure: {}", path.display());
+    }
+    Ok(())
+}
+
+fn save_figure(f: &Figure, path: &Path) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("svg") => f.save_svg(path),
+        Some("png") => f.save_png(path),
+        _ => bail!(
+            "--out {}: the figure file must end in .svg or .png",
+            path.display()
+        ),
+    }
+    .with_context(|| format!("writing {}", path.display()))
+}
+
+fn bode(
+    s: &Sys,
+    w_min: Option<f64>,
+    w_max: Option<f64>,
+    points: usize,
+    fig: &FigureArgs,
+) -> Result<()> {
+    let w = match (w_min, w_max) {
+        (None, None) => with_sys!(s, |v| frequency_grid(v, 100))?,
+        (Some(lo), Some(hi)) => {
+            if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
+                bail!("--w-min {lo} --w-max {hi}: need 0 < w-min < w-max, finite (rad/s)");
+            }
+            if !(2..=1_000_000).contains(&points) {
+                bail!("--points {points}: must be in [2, 10⁶]");
+            }
+            if let Some(dt) = s.dt()
+                && hi > std::f64::consts::PI / dt
+            {
+                bail!(
+                    "--w-max {hi}: above the Nyquist frequency π/dt = {} rad/s",
+                    std::f64::consts::PI / dt
+                );
+            }
+            logspace(lo.log10(), hi.log10(), points)
+        }
+        _ => bail!("give both --w-min and --w-max, or neither (MATLAB's automatic range)"),
+    };
+    let fr = with_sys!(s, |v| freqresp(v, &w))?;
+    let (_, b, c, _) = s.matrices();
+    let (ny, nu) = (c.nrows(), b.ncols());
+    let mut plot = Bode::new().title("Bode diagram");
+    let mut chans = Vec::new();
+    for i in 0..ny {
+        for j in 0..nu {
+            let h: Vec<Complex64> = fr.response.iter().map(|g| g[(i, j)]).collect();
+            let label = format!("u{} → y{}", j + 1, i + 1);
+            let mag: Vec<f64> = h.iter().map(|z| 20.0 * z.norm().log10()).collect();
+            let mut phase: Vec<f64> = h.iter().map(|z| z.arg().to_degrees()).collect();
+            pendulab_lti::frequency_response::unwrap_degrees(&mut phase);
+            plot = plot.response(label.clone(), &w, &h);
+            chans.push(
+                json!({ "input": j + 1, "output": i + 1, "magnitude_db": mag, "phase_deg": phase }),
+            );
+        }
+    }
+    if let Some(path) = &fig.out {
+        save_figure(&plot.figure(), path)?;
+    }
+    if fig.json {
+        println!("{}", json!({ "w": w, "channels": chans }));
+        return Ok(());
+    }
+    println!(
+        "Bode: {} frequencies from {:.4e} to {:.4e} rad/s, {} channel(s)",
+        w.len(),
+        w.first().copied().unwrap_or(0.0),
+        w.last().copied().unwrap_or(0.0),
+        chans.len()
+    );
+    if let Some(path) = &fig.out {
+        println!("figure: {}", path.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_complex;
+    use pendulab_lti::Complex64;
+
+    #[test]
+    fn complex_numbers_parse_as_matlab_writes_them() {
+        let c = |re, im| Some(Complex64::new(re, im));
+        assert_eq!(parse_complex("-1"), c(-1.0, 0.0));
+        assert_eq!(parse_complex("-1+2i"), c(-1.0, 2.0));
+        assert_eq!(parse_complex("-1-2j"), c(-1.0, -2.0));
+        assert_eq!(parse_complex("1e-3-2e+1i"), c(1e-3, -20.0));
+        assert_eq!(parse_complex("2i"), c(0.0, 2.0));
+        assert_eq!(parse_complex("-i"), c(0.0, -1.0));
+        assert_eq!(parse_complex("x"), None);
+        assert_eq!(parse_complex("nan"), None);
+    }
+}
