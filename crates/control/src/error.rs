@@ -6,6 +6,7 @@
 //! cost is large, a continuation whose optimality residual has not yet decayed — are reported
 //! in the returned diagnostics, never as errors.
 
+#[cfg(feature = "lmi")]
 use pendulab_lmi::LmiError;
 use pendulab_lti::LtiError;
 use pendulab_plants::PlantError;
@@ -94,6 +95,7 @@ pub enum ControlError {
     #[error(transparent)]
     Lti(#[from] LtiError),
     /// An error of the LMI/LP layer.
+    #[cfg(feature = "lmi")]
     #[error(transparent)]
     Lmi(#[from] LmiError),
     /// An error of a plant model (invalid parameters, non-finite operating point).

@@ -50,6 +50,7 @@
 //! puts one behind any [`Controller`].
 
 use crate::error::{ControlError, Result, check_matrix, check_param};
+#[cfg(feature = "lmi")]
 use pendulab_lmi::{Expr, Problem, SolveOptions};
 use pendulab_lti::design::StateFeedback;
 use pendulab_lti::{Discrete, Mat, StateSpace};
@@ -542,6 +543,7 @@ pub struct OdqDesign {
 
 const COST_SAMPLES: usize = 200_000;
 
+#[cfg(feature = "lmi")]
 fn markov(sys: &StateSpace<Discrete>, count: usize) -> Vec<Mat> {
     // M_k = C A^{k−1} B, k = 1 … count.
     let mut out = Vec::with_capacity(count);
@@ -691,6 +693,7 @@ pub enum Realization {
 }
 
 /// Options of [`odq_lp`], with documented defaults.
+#[cfg(feature = "lmi")]
 #[derive(Debug, Clone, PartialEq)]
 pub struct OdqLpOptions {
     /// Evaluation horizon `T` in samples (default 300, the book's; ≥ 2). The LP optimises the
@@ -705,6 +708,7 @@ pub struct OdqLpOptions {
     pub solver: SolveOptions,
 }
 
+#[cfg(feature = "lmi")]
 impl Default for OdqLpOptions {
     fn default() -> Self {
         Self {
@@ -736,6 +740,7 @@ impl Default for OdqLpOptions {
 /// [`ControlError::InvalidParameter`] for `T < 2`, `γ_wv < 1`, order 0 or `d ≤ 0`;
 /// [`ControlError::NotApplicable`] for `D ≠ 0`; [`ControlError::LinearProgram`] when the LP is
 /// not solved (status given); the LMI layer's modelling errors.
+#[cfg(feature = "lmi")]
 #[doc(alias = "odq")]
 pub fn odq_lp(sys: &StateSpace<Discrete>, step: f64, options: &OdqLpOptions) -> Result<OdqDesign> {
     check_param("quantisation step d", step, step > 0.0, "must be > 0")?;
@@ -855,6 +860,7 @@ pub fn odq_lp(sys: &StateSpace<Discrete>, step: f64, options: &OdqLpOptions) -> 
 /// Ho–Kalman realisation (B. L. Ho and R. E. Kalman, 1966; balanced by the SVD as in Kung's
 /// method) of the strictly proper filter with Markov parameters `taps` (`H_k = C A^k B`),
 /// truncated to `order` states.
+#[cfg(feature = "lmi")]
 fn ho_kalman(taps: &[Mat], m: usize, order: usize, step: f64) -> Result<DynamicQuantizer> {
     let q = taps.len().div_ceil(2).max(1);
     if taps.len() < 2 * q - 1 || q < 2 {
