@@ -318,196 +318,157 @@ fn jacobian_arrays<'py>(py: Python<'py>, j: &Jacobian<4>) -> Ab<'py> {
     )
 }
 
-/// The cart-type pendulum (book §3.1, table 3.5; `docs/model.md` §1).
-#[pyclass(module = "pendulab._native", frozen)]
-pub struct CartPendulum {
-    plant: CartPlant,
-}
-
-#[pymethods]
-impl CartPendulum {
-    /// The plant with the book's parameters, each overridable in `params`.
-    #[new]
-    #[pyo3(signature = (params = None))]
-    fn new(params: Option<HashMap<String, f64>>) -> PyResult<Self> {
-        let p = cart_params(params.as_ref())?;
-        Ok(Self {
-            plant: CartPlant::new(p).map_err(|e| plant_error(&e))?,
-        })
-    }
-
-    /// The parameters as a dict of the book's symbols (SI units).
-    #[getter]
-    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        params_dict(py, self.plant.params())
-    }
-
-    /// `J = J_p + m_p l_p²` (kg m²), the pendulum's inertia about the pivot.
-    #[getter]
-    fn inertia_about_pivot(&self) -> f64 {
-        self.plant.inertia_about_pivot()
-    }
-
-    /// `ẋ = f(x, u)` at the state `x = [z, θ, ż, θ̇]` and the voltage `u` (V).
-    fn derivative<'py>(
-        &self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: f64,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let f = self.plant.derivative_array(&state4(x, "x")?, voltage(u)?);
-        Ok(slice_to_numpy(py, &f))
-    }
-
-    /// The analytic Jacobian `(A, B) = (∂f/∂x, ∂f/∂u)` at any point `(x, u)`.
-    fn jacobian<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: f64) -> PyResult<Ab<'py>> {
-        let j = self.plant.jacobian(&state4(x, "x")?, voltage(u)?);
-        Ok(jacobian_arrays(py, &j))
-    }
-
-    /// The linearisation `(A, B, C, D)` at the rest `posture` (`"upright"` or `"hanging"`)
-    /// with the cart at `z` (m), in deviation variables; `C = I` or, with `measured`, the
-    /// encoder rows `[z, θ]`.
-    #[pyo3(signature = (posture = "upright", z = 0.0, measured = false))]
-    fn linearize<'py>(
-        &self,
-        py: Python<'py>,
-        posture: &str,
-        z: f64,
-        measured: bool,
-    ) -> PyResult<Abcd<'py>> {
-        let eq = CartEquilibrium {
-            z,
-            posture: self::posture(posture)?,
-        };
-        let sys = if measured {
-            self.plant.linearize_measured(eq)
-        } else {
-            self.plant.linearize(eq)
+/// Declares a plant's Python class: the methods both pendulums share (`new`, `params`,
+/// `derivative`, `jacobian`, `linearize`, `upright_energy`, `__repr__`), written once, plus
+/// the plant's own methods (`extra`). `coord` names the drive coordinate of the equilibrium
+/// (`z` for the cart, `theta1` for the arm); `state` documents the state vector.
+macro_rules! plant_class {
+    (
+        $(#[$doc:meta])*
+        $class:ident($plant:ty, $params:ident, $eq:ident { $coord:ident }, state $state:literal,
+            linearize $lin_doc:literal)
+        { $($extra:tt)* }
+    ) => {
+        $(#[$doc])*
+        #[pyclass(module = "pendulab._native", frozen)]
+        pub struct $class {
+            plant: $plant,
         }
-        .map_err(|e| plant_error(&e))?;
-        Ok(abcd(py, &sys))
-    }
 
-    /// The pendulum's energy `E = ½ J θ̇² + m_p g l_p (1 + cos θ)` (J) at `x`.
-    fn energy(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
-        Ok(self
-            .plant
-            .energy(&CartPendulumState::from_array(state4(x, "x")?)))
-    }
+        #[pymethods]
+        impl $class {
+            /// The plant with the book's parameters, each overridable in `params`.
+            #[new]
+            #[pyo3(signature = (params = None))]
+            fn new(params: Option<HashMap<String, f64>>) -> PyResult<Self> {
+                let p = $params(params.as_ref())?;
+                Ok(Self {
+                    plant: <$plant>::new(p).map_err(|e| plant_error(&e))?,
+                })
+            }
 
-    /// The upright rest's energy `2 m_p g l_p` (J).
-    #[getter]
-    fn upright_energy(&self) -> f64 {
-        self.plant.upright_energy()
-    }
+            /// The parameters as a dict of the book's symbols (SI units).
+            #[getter]
+            fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+                params_dict(py, self.plant.params())
+            }
 
-    fn __repr__(&self) -> String {
-        format!("CartPendulum({:?})", self.plant.params())
-    }
-}
+            #[doc = concat!("`ẋ = f(x, u)` at the state `x = ", $state, "` and the voltage `u` (V).")]
+            fn derivative<'py>(
+                &self,
+                py: Python<'py>,
+                x: &Bound<'py, PyAny>,
+                u: f64,
+            ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+                let f = self.plant.derivative_array(&state4(x, "x")?, voltage(u)?);
+                Ok(slice_to_numpy(py, &f))
+            }
 
-/// The arm-type pendulum (book §3.3, table 3.7; `docs/model.md` §2).
-#[pyclass(module = "pendulab._native", frozen)]
-pub struct ArmPendulum {
-    plant: ArmPlant,
-}
+            /// The analytic Jacobian `(A, B) = (∂f/∂x, ∂f/∂u)` at any point `(x, u)`.
+            fn jacobian<'py>(
+                &self,
+                py: Python<'py>,
+                x: &Bound<'py, PyAny>,
+                u: f64,
+            ) -> PyResult<Ab<'py>> {
+                let j = self.plant.jacobian(&state4(x, "x")?, voltage(u)?);
+                Ok(jacobian_arrays(py, &j))
+            }
 
-#[pymethods]
-impl ArmPendulum {
-    /// The plant with the book's parameters, each overridable in `params`.
-    #[new]
-    #[pyo3(signature = (params = None))]
-    fn new(params: Option<HashMap<String, f64>>) -> PyResult<Self> {
-        let p = arm_params(params.as_ref())?;
-        Ok(Self {
-            plant: ArmPlant::new(p).map_err(|e| plant_error(&e))?,
-        })
-    }
+            #[doc = $lin_doc]
+            #[pyo3(signature = (posture = "upright", $coord = 0.0, measured = false))]
+            fn linearize<'py>(
+                &self,
+                py: Python<'py>,
+                posture: &str,
+                $coord: f64,
+                measured: bool,
+            ) -> PyResult<Abcd<'py>> {
+                let eq = $eq {
+                    $coord,
+                    posture: self::posture(posture)?,
+                };
+                let sys = if measured {
+                    self.plant.linearize_measured(eq)
+                } else {
+                    self.plant.linearize(eq)
+                }
+                .map_err(|e| plant_error(&e))?;
+                Ok(abcd(py, &sys))
+            }
 
-    /// The parameters as a dict of the book's symbols (SI units).
-    #[getter]
-    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        params_dict(py, self.plant.params())
-    }
+            /// The upright rest's energy (J): `2 m_p g l_p` (cart), `2 α₅` (arm).
+            #[getter]
+            fn upright_energy(&self) -> f64 {
+                self.plant.upright_energy()
+            }
 
-    /// `(α₂, α₃, α₅) = (J₂ + m₂ l₂², m₂ L₁ l₂, m₂ l₂ g)`.
-    #[getter]
-    fn alphas(&self) -> (f64, f64, f64) {
-        (
-            self.plant.alpha2(),
-            self.plant.alpha3(),
-            self.plant.alpha5(),
-        )
-    }
+            fn __repr__(&self) -> String {
+                format!(concat!(stringify!($class), "({:?})"), self.plant.params())
+            }
 
-    /// `ẋ = f(x, u)` at the state `x = [θ₁, θ₂, θ̇₁, θ̇₂]` and the voltage `u` (V).
-    fn derivative<'py>(
-        &self,
-        py: Python<'py>,
-        x: &Bound<'py, PyAny>,
-        u: f64,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let f = self.plant.derivative_array(&state4(x, "x")?, voltage(u)?);
-        Ok(slice_to_numpy(py, &f))
-    }
-
-    /// The analytic Jacobian `(A, B) = (∂f/∂x, ∂f/∂u)` at any point `(x, u)`.
-    fn jacobian<'py>(&self, py: Python<'py>, x: &Bound<'py, PyAny>, u: f64) -> PyResult<Ab<'py>> {
-        let j = self.plant.jacobian(&state4(x, "x")?, voltage(u)?);
-        Ok(jacobian_arrays(py, &j))
-    }
-
-    /// The linearisation `(A, B, C, D)` with the arm at rest at `theta1` (rad) and the
-    /// pendulum at rest `posture`; `C = I` or, with `measured`, the encoder rows `[θ₁, θ₂]`.
-    #[pyo3(signature = (posture = "upright", theta1 = 0.0, measured = false))]
-    fn linearize<'py>(
-        &self,
-        py: Python<'py>,
-        posture: &str,
-        theta1: f64,
-        measured: bool,
-    ) -> PyResult<Abcd<'py>> {
-        let eq = ArmEquilibrium {
-            theta1,
-            posture: self::posture(posture)?,
-        };
-        let sys = if measured {
-            self.plant.linearize_measured(eq)
-        } else {
-            self.plant.linearize(eq)
+            $($extra)*
         }
-        .map_err(|e| plant_error(&e))?;
-        Ok(abcd(py, &sys))
-    }
-
-    /// The LPV form `(A₀, A₁, B₀, B₁)` of the upright model: `A(ρ) = A₀ + ρ A₁`,
-    /// `B(ρ) = B₀ + ρ B₁`, `ρ = 1 − cos θ₁` (book part 2 §1.5).
-    #[allow(clippy::type_complexity)]
-    fn lpv<'py>(&self, py: Python<'py>) -> Abcd<'py> {
-        let ArmLpv { a0, a1, b0, b1 } = self.plant.lpv();
-        (
-            matrix_to_numpy(py, &a0),
-            matrix_to_numpy(py, &a1),
-            matrix_to_numpy(py, &b0),
-            matrix_to_numpy(py, &b1),
-        )
-    }
-
-    /// The pendulum's energy `E₂ = ½ α₂ θ̇₂² + α₅ (1 + cos θ₂)` (J) at `x`.
-    fn energy(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
-        Ok(self
-            .plant
-            .pendulum_energy(&ArmPendulumState::from_array(state4(x, "x")?)))
-    }
-
-    /// The upright rest's energy `2 α₅` (J).
-    #[getter]
-    fn upright_energy(&self) -> f64 {
-        self.plant.upright_energy()
-    }
-
-    fn __repr__(&self) -> String {
-        format!("ArmPendulum({:?})", self.plant.params())
-    }
+    };
 }
+
+plant_class!(
+    /// The cart-type pendulum (book §3.1, table 3.5; `docs/model.md` §1).
+    CartPendulum(CartPlant, cart_params, CartEquilibrium { z }, state "[z, θ, ż, θ̇]",
+        linearize "The linearisation `(A, B, C, D)` at the rest `posture` (`\"upright\"` or \
+                   `\"hanging\"`) with the cart at `z` (m), in deviation variables; `C = I` or, \
+                   with `measured`, the encoder rows `[z, θ]`.")
+    {
+        /// `J = J_p + m_p l_p²` (kg m²), the pendulum's inertia about the pivot.
+        #[getter]
+        fn inertia_about_pivot(&self) -> f64 {
+            self.plant.inertia_about_pivot()
+        }
+
+        /// The pendulum's energy `E = ½ J θ̇² + m_p g l_p (1 + cos θ)` (J) at `x`.
+        fn energy(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+            Ok(self
+                .plant
+                .energy(&CartPendulumState::from_array(state4(x, "x")?)))
+        }
+    }
+);
+
+plant_class!(
+    /// The arm-type pendulum (book §3.3, table 3.7; `docs/model.md` §2).
+    ArmPendulum(ArmPlant, arm_params, ArmEquilibrium { theta1 }, state "[θ₁, θ₂, θ̇₁, θ̇₂]",
+        linearize "The linearisation `(A, B, C, D)` with the arm at rest at `theta1` (rad) and \
+                   the pendulum at rest `posture`; `C = I` or, with `measured`, the encoder \
+                   rows `[θ₁, θ₂]`.")
+    {
+        /// `(α₂, α₃, α₅) = (J₂ + m₂ l₂², m₂ L₁ l₂, m₂ l₂ g)`.
+        #[getter]
+        fn alphas(&self) -> (f64, f64, f64) {
+            (
+                self.plant.alpha2(),
+                self.plant.alpha3(),
+                self.plant.alpha5(),
+            )
+        }
+
+        /// The LPV form `(A₀, A₁, B₀, B₁)` of the upright model: `A(ρ) = A₀ + ρ A₁`,
+        /// `B(ρ) = B₀ + ρ B₁`, `ρ = 1 − cos θ₁` (book part 2 §1.5).
+        #[allow(clippy::type_complexity)]
+        fn lpv<'py>(&self, py: Python<'py>) -> Abcd<'py> {
+            let ArmLpv { a0, a1, b0, b1 } = self.plant.lpv();
+            (
+                matrix_to_numpy(py, &a0),
+                matrix_to_numpy(py, &a1),
+                matrix_to_numpy(py, &b0),
+                matrix_to_numpy(py, &b1),
+            )
+        }
+
+        /// The pendulum's energy `E₂ = ½ α₂ θ̇₂² + α₅ (1 + cos θ₂)` (J) at `x`.
+        fn energy(&self, x: &Bound<'_, PyAny>) -> PyResult<f64> {
+            Ok(self
+                .plant
+                .pendulum_energy(&ArmPendulumState::from_array(state4(x, "x")?)))
+        }
+    }
+);
