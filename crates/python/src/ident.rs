@@ -438,11 +438,13 @@ fn ident_p_step<'py>(
 /// `ident_free_oscillation(t, y, m, l, g, hysteresis=None, amplitude_correction=False,
 /// ts=None)`: a pendulum's `J`, `μ` from its free oscillation (book Part 1 §3.2.1: mean period
 /// and decay ratio of the peaks, with the known `m`, `l`, `g`); `ts` (s) is the sample time
-/// the validations simulate at (default: the mean step of `t`).
+/// the validations simulate at (default: the mean step of `t`). `failed_checks` holds the
+/// known constants' range check: the cart pendulum's (`m_p = m`, `l_p = l`), or with `L1` the
+/// arm pendulum's (`m₂ = m`, `l₂ = l`).
 #[pyfunction]
 #[pyo3(signature = (t, y, m, l, g = 9.81, hysteresis = None, amplitude_correction = false,
-                    ts = None))]
-#[allow(clippy::too_many_arguments)]
+                    ts = None, L1 = None))]
+#[allow(clippy::too_many_arguments, non_snake_case)]
 fn ident_free_oscillation<'py>(
     py: Python<'py>,
     t: &Bound<'py, PyAny>,
@@ -453,8 +455,19 @@ fn ident_free_oscillation<'py>(
     hysteresis: Option<f64>,
     amplitude_correction: bool,
     ts: Option<f64>,
+    L1: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (t, y) = (column(t, "t")?, column(y, "y")?);
+    let range = match L1 {
+        None => CartPendulumConstants { mp: m, lp: l, g }.check_range(),
+        Some(l1) => ArmPendulumConstants {
+            l1,
+            m2: m,
+            l2: l,
+            g,
+        }
+        .check_range(),
+    };
     let osc = ie(free_oscillation(&t, &y, &OscillationOptions { hysteresis }))?;
     let correction = if amplitude_correction {
         PeriodCorrection::LargeAmplitude
@@ -479,6 +492,7 @@ fn ident_free_oscillation<'py>(
         osc.peaks.iter().map(|k| k.t).collect::<Vec<_>>(),
     )?;
     d.set_item("hysteresis", osc.hysteresis)?;
+    d.set_item("failed_checks", messages(range.err().into_iter().collect()))?;
     let mean_step = match (t.first(), t.last()) {
         (Some(a), Some(b)) if t.len() > 1 => (b - a) / (t.len() - 1) as f64,
         _ => 0.0,

@@ -99,3 +99,6 @@ def test_a_failed_check_refuses_unless_forced():
         ident.identify("cart-ls", path, window=(1.0, 1.2))
     res = ident.identify("cart-ls", path, window=(1.0, 1.2), force=True)
     assert res["warnings"]
+    # A known constant out of its plausible range (m_p = 1000 kg) is refused as by the CLI.
+    with pytest.raises(pl.InvalidArgumentError, match="plausible range"):
+        ident.identify("pend-free", RIG / "cdip_pend_data.csv", mp=1000.0)

@@ -185,7 +185,7 @@ def identify(
         m, l = (mp, lp) if cart else (m2, l2)
         r = free_oscillation(
             t, rec.column(col), m, l, g, hysteresis=hysteresis,
-            amplitude_correction=amplitude_correction, ts=ts,
+            amplitude_correction=amplitude_correction, ts=ts, L1=None if cart else L1,
         )
         jn, mun = ("Jp", "mup") if cart else ("J2", "mu2")
         est.update({jn: r["J"], mun: r["mu"]})
@@ -196,7 +196,6 @@ def identify(
             se["period"] = r["period_std_error"]
         if r["decay_ratio_std_error"] is not None:
             se["decay_ratio"] = r["decay_ratio_std_error"]
-        r["failed_checks"] = []
         out["fit_linear"] = r.get("fit_linear")
     gate.check(r["failed_checks"])
     fit = r.get("fit")
