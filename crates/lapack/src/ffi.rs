@@ -27,7 +27,7 @@ mod blas_bodies;
 mod lapack_bodies;
 mod svd_bodies;
 
-use blas_bodies::{gemm_impl, gemv_impl, symv_impl, syr2k_impl, syrk_impl};
+use blas_bodies::{ScaledArgs, gemm_impl, gemv_impl, symv_impl, syr2k_impl, syrk_impl};
 use lapack_bodies::{gesv_impl, potrf_impl, potrs_impl, syevr_impl};
 use svd_bodies::{SvdArgs, gesdd_impl, gesvd_impl};
 
@@ -69,86 +69,77 @@ macro_rules! svd_entry {
     };
 }
 
+/// One `extern "C"` entry point of xGEMM, xSYR2K, xGEMV or xSYMV: the routine's leading
+/// arguments, then the trailing ones of the form `ALPHA, A, LDA, B, LDB, BETA, C, LDC` (see
+/// `blas_bodies::ScaledArgs`; `X, INCX, Y, INCY` in place of `B, LDB, C, LDC` for the
+/// matrix–vector routines); it forwards to the routine's generic body.
+macro_rules! scaled_entry {
+    ($(#[$doc:meta])* $t:ty, $name:ident, $body:ident, ($($lead:ident: $lt:ty),+ $(,)?),
+     ($b:ident, $ldb:ident, $c:ident, $ldc:ident)) => {
+        $(#[$doc])*
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            $($lead: $lt,)+
+            alpha: *const $t,
+            a: *const $t,
+            lda: *const c_int,
+            $b: *const $t,
+            $ldb: *const c_int,
+            beta: *const $t,
+            $c: *mut $t,
+            $ldc: *const c_int,
+        ) {
+            let args = ScaledArgs { alpha, a, lda, b: $b, ldb: $ldb, beta, c: $c, ldc: $ldc };
+            // SAFETY: forwarded caller contract.
+            unsafe { $body::<$t>(($($lead),+), args) }
+        }
+    };
+}
+
 macro_rules! symbols {
     ($t:ty, $p:literal,
      $gemm:ident, $gemv:ident, $symv:ident, $syrk:ident, $syr2k:ident,
      $potrf:ident, $potrs:ident, $syevr:ident, $gesdd:ident, $gesvd:ident, $gesv:ident) => {
-        #[doc = concat!("BLAS `", $p, "GEMM`: `C ← α op(A) op(B) + β C` (`C` is `m × n`).")]
-        ///
-        /// `op(X)` is `X` for `'N'`, `Xᵀ` for `'T'`/`'C'`. `β = 0` does not read `C`;
-        /// `α = 0` does not read `A`, `B`. An invalid argument makes the call a no-op.
-        ///
-        /// # Safety
-        /// Fortran contract: every pointer refers to a valid object of the documented size
-        /// (`A`: `lda × ka`, `B`: `ldb × kb`, `C`: `ldc × n`); `C` does not alias `A` or `B`.
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $gemm(
-            transa: *const c_char,
-            transb: *const c_char,
-            m: *const c_int,
-            n: *const c_int,
-            k: *const c_int,
-            alpha: *const $t,
-            a: *const $t,
-            lda: *const c_int,
-            b: *const $t,
-            ldb: *const c_int,
-            beta: *const $t,
-            c: *mut $t,
-            ldc: *const c_int,
-        ) {
-            // SAFETY: forwarded caller contract.
-            unsafe { gemm_impl::<$t>(transa, transb, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc) }
-        }
+        scaled_entry!(
+            #[doc = concat!("BLAS `", $p, "GEMM`: `C ← α op(A) op(B) + β C` (`C` is `m × n`).")]
+            ///
+            /// `op(X)` is `X` for `'N'`, `Xᵀ` for `'T'`/`'C'`. `β = 0` does not read `C`;
+            /// `α = 0` does not read `A`, `B`. An invalid argument makes the call a no-op.
+            ///
+            /// # Safety
+            /// Fortran contract: every pointer refers to a valid object of the documented size
+            /// (`A`: `lda × ka`, `B`: `ldb × kb`, `C`: `ldc × n`); `C` does not alias `A` or `B`.
+            $t, $gemm, gemm_impl,
+            (transa: *const c_char, transb: *const c_char, m: *const c_int, n: *const c_int,
+             k: *const c_int),
+            (b, ldb, c, ldc)
+        );
 
-        #[doc = concat!("BLAS `", $p, "GEMV`: `y ← α op(A) x + β y` (`A` is `m × n`).")]
-        ///
-        /// Increments may be negative (the vector is then traversed from its end) but not
-        /// zero. `β = 0` does not read `y`. An invalid argument makes the call a no-op.
-        ///
-        /// # Safety
-        /// Fortran contract: `A` is `lda × n`, `x`/`y` hold `1 + (len − 1)|inc|` elements;
-        /// `y` does not alias `A` or `x`.
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $gemv(
-            trans: *const c_char,
-            m: *const c_int,
-            n: *const c_int,
-            alpha: *const $t,
-            a: *const $t,
-            lda: *const c_int,
-            x: *const $t,
-            incx: *const c_int,
-            beta: *const $t,
-            y: *mut $t,
-            incy: *const c_int,
-        ) {
-            // SAFETY: forwarded caller contract.
-            unsafe { gemv_impl::<$t>(trans, m, n, alpha, a, lda, x, incx, beta, y, incy) }
-        }
+        scaled_entry!(
+            #[doc = concat!("BLAS `", $p, "GEMV`: `y ← α op(A) x + β y` (`A` is `m × n`).")]
+            ///
+            /// Increments may be negative (the vector is then traversed from its end) but not
+            /// zero. `β = 0` does not read `y`. An invalid argument makes the call a no-op.
+            ///
+            /// # Safety
+            /// Fortran contract: `A` is `lda × n`, `x`/`y` hold `1 + (len − 1)|inc|` elements;
+            /// `y` does not alias `A` or `x`.
+            $t, $gemv, gemv_impl,
+            (trans: *const c_char, m: *const c_int, n: *const c_int),
+            (x, incx, y, incy)
+        );
 
-        #[doc = concat!("BLAS `", $p, "SYMV`: `y ← α A x + β y`, `A` symmetric given by its `uplo` triangle.")]
-        ///
-        /// Only the named triangle of `A` is read. An invalid argument makes the call a no-op.
-        ///
-        /// # Safety
-        /// Fortran contract as for the `GEMV` routine with `A` `lda × n`.
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $symv(
-            uplo: *const c_char,
-            n: *const c_int,
-            alpha: *const $t,
-            a: *const $t,
-            lda: *const c_int,
-            x: *const $t,
-            incx: *const c_int,
-            beta: *const $t,
-            y: *mut $t,
-            incy: *const c_int,
-        ) {
-            // SAFETY: forwarded caller contract.
-            unsafe { symv_impl::<$t>(uplo, n, alpha, a, lda, x, incx, beta, y, incy) }
-        }
+        scaled_entry!(
+            #[doc = concat!("BLAS `", $p, "SYMV`: `y ← α A x + β y`, `A` symmetric given by its `uplo` triangle.")]
+            ///
+            /// Only the named triangle of `A` is read. An invalid argument makes the call a no-op.
+            ///
+            /// # Safety
+            /// Fortran contract as for the `GEMV` routine with `A` `lda × n`.
+            $t, $symv, symv_impl,
+            (uplo: *const c_char, n: *const c_int),
+            (x, incx, y, incy)
+        );
 
         #[doc = concat!("BLAS `", $p, "SYRK`: `C ← α A Aᵀ + β C` (`'N'`) or `C ← α Aᵀ A + β C` (`'T'`/`'C'`).")]
         ///
@@ -174,31 +165,18 @@ macro_rules! symbols {
             unsafe { syrk_impl::<$t>(uplo, trans, n, k, alpha, a, lda, beta, c, ldc) }
         }
 
-        #[doc = concat!("BLAS `", $p, "SYR2K`: `C ← α (A Bᵀ + B Aᵀ) + β C` (`'N'`) or `C ← α (Aᵀ B + Bᵀ A) + β C`.")]
-        ///
-        /// Only the `uplo` triangle of `C` is read and written. An invalid argument makes the
-        /// call a no-op.
-        ///
-        /// # Safety
-        /// Fortran contract: `A`, `B` are `ld × k` (`'N'`) or `ld × n`, `C` is `ldc × n`, no aliasing.
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $syr2k(
-            uplo: *const c_char,
-            trans: *const c_char,
-            n: *const c_int,
-            k: *const c_int,
-            alpha: *const $t,
-            a: *const $t,
-            lda: *const c_int,
-            b: *const $t,
-            ldb: *const c_int,
-            beta: *const $t,
-            c: *mut $t,
-            ldc: *const c_int,
-        ) {
-            // SAFETY: forwarded caller contract.
-            unsafe { syr2k_impl::<$t>(uplo, trans, n, k, alpha, a, lda, b, ldb, beta, c, ldc) }
-        }
+        scaled_entry!(
+            #[doc = concat!("BLAS `", $p, "SYR2K`: `C ← α (A Bᵀ + B Aᵀ) + β C` (`'N'`) or `C ← α (Aᵀ B + Bᵀ A) + β C`.")]
+            ///
+            /// Only the `uplo` triangle of `C` is read and written. An invalid argument makes the
+            /// call a no-op.
+            ///
+            /// # Safety
+            /// Fortran contract: `A`, `B` are `ld × k` (`'N'`) or `ld × n`, `C` is `ldc × n`, no aliasing.
+            $t, $syr2k, syr2k_impl,
+            (uplo: *const c_char, trans: *const c_char, n: *const c_int, k: *const c_int),
+            (b, ldb, c, ldc)
+        );
 
         #[doc = concat!("LAPACK `", $p, "POTRF`: Cholesky factorisation `A = L Lᵀ` (`'L'`) or `A = Uᵀ U` (`'U'`).")]
         ///

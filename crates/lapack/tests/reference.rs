@@ -295,66 +295,35 @@ fn check_triangle(out: &[Vec<f64>], reference: &[Vec<f64>], input: &[Vec<f64>], 
     assert!(e <= TOL, "rel err {e:e}");
 }
 
+/// Calls `dsyrk_` (`routine = "syrk"`) or `dsyr2k_` on one fixture case and checks the
+/// `uplo` triangle of `C` against SciPy, the other triangle and the padding unchanged.
+fn check_rank_update(c: &Value, routine: &str) {
+    let (a, lda, ..) = padded(&c["a"]);
+    let (mut cc, ldc, n, _) = padded(&c["c"]);
+    let (ul, tr) = (ch(&c["uplo"]), ch(&c["trans"]));
+    let (ni, ki) = (int(&c["n"]) as c_int, int(&c["k"]) as c_int);
+    let (al, be) = (num(&c["alpha"]), num(&c["beta"]));
+    let (lda, ldc_i) = (lda as c_int, ldc as c_int);
+    let (pa, pc) = (a.as_ptr(), cc.as_mut_ptr());
+    if routine == "syrk" {
+        unsafe { dsyrk_(&ul, &tr, &ni, &ki, &al, pa, &lda, &be, pc, &ldc_i) };
+    } else {
+        let (b, ldb, ..) = padded(&c["b"]);
+        let (pb, ldb) = (b.as_ptr(), ldb as c_int);
+        unsafe { dsyr2k_(&ul, &tr, &ni, &ki, &al, pa, &lda, pb, &ldb, &be, pc, &ldc_i) };
+    }
+    let out = unpad(&cc, ldc, n, n);
+    check_triangle(&out, &rows(&c["out"]).2, &rows(&c["c"]).2, c["uplo"] == "U");
+    assert_padding_intact(&cc, ldc, n, &format!("d{routine} C"));
+}
+
 #[test]
 fn syrk_and_syr2k_match_scipy_and_keep_the_other_triangle() {
     let f = fixture();
-    for c in f["cases"]["syrk"].as_array().unwrap() {
-        let (a, lda, ..) = padded(&c["a"]);
-        let (mut cc, ldc, n, _) = padded(&c["c"]);
-        let (ni, ki, lda, ldc_i) = (
-            int(&c["n"]) as c_int,
-            int(&c["k"]) as c_int,
-            lda as c_int,
-            ldc as c_int,
-        );
-        unsafe {
-            dsyrk_(
-                &ch(&c["uplo"]),
-                &ch(&c["trans"]),
-                &ni,
-                &ki,
-                &num(&c["alpha"]),
-                a.as_ptr(),
-                &lda,
-                &num(&c["beta"]),
-                cc.as_mut_ptr(),
-                &ldc_i,
-            )
-        };
-        let out = unpad(&cc, ldc, n, n);
-        check_triangle(&out, &rows(&c["out"]).2, &rows(&c["c"]).2, c["uplo"] == "U");
-        assert_padding_intact(&cc, ldc, n, "dsyrk C");
-    }
-    for c in f["cases"]["syr2k"].as_array().unwrap() {
-        let (a, lda, ..) = padded(&c["a"]);
-        let (b, ldb, ..) = padded(&c["b"]);
-        let (mut cc, ldc, n, _) = padded(&c["c"]);
-        let (ni, ki, lda, ldb, ldc_i) = (
-            int(&c["n"]) as c_int,
-            int(&c["k"]) as c_int,
-            lda as c_int,
-            ldb as c_int,
-            ldc as c_int,
-        );
-        unsafe {
-            dsyr2k_(
-                &ch(&c["uplo"]),
-                &ch(&c["trans"]),
-                &ni,
-                &ki,
-                &num(&c["alpha"]),
-                a.as_ptr(),
-                &lda,
-                b.as_ptr(),
-                &ldb,
-                &num(&c["beta"]),
-                cc.as_mut_ptr(),
-                &ldc_i,
-            )
-        };
-        let out = unpad(&cc, ldc, n, n);
-        check_triangle(&out, &rows(&c["out"]).2, &rows(&c["c"]).2, c["uplo"] == "U");
-        assert_padding_intact(&cc, ldc, n, "dsyr2k C");
+    for routine in ["syrk", "syr2k"] {
+        for c in f["cases"][routine].as_array().unwrap() {
+            check_rank_update(c, routine);
+        }
     }
 }
 
@@ -382,18 +351,13 @@ fn potrf_and_potrs_match_scipy() {
     for c in f["cases"]["potrs"].as_array().unwrap() {
         let (fac, lda, n, _) = padded(&c["factor"]);
         let (mut b, ldb, _, nrhs) = padded(&c["b"]);
-        let mut info: c_int = -77;
         let (ni, nr, lda, ldb_i) = (n as c_int, nrhs as c_int, lda as c_int, ldb as c_int);
-        unsafe {
-            dpotrs_(
-                &ch(&c["uplo"]),
-                &ni,
-                &nr,
-                fac.as_ptr(),
-                &lda,
-                b.as_mut_ptr(),
-                &ldb_i,
-                &mut info,
+        let info = unsafe {
+            common::potrs(
+                dpotrs_,
+                ch(&c["uplo"]),
+                (ni, &fac, lda),
+                (nr, &mut b, ldb_i),
             )
         };
         assert_eq!(info, 0);
@@ -708,17 +672,12 @@ fn single_precision_symbols_agree_with_the_double_reference() {
     let (b, ldb, _, nrhs) = padded(&c["b"]);
     let (fac, mut b) = (to32(&fac), to32(&b));
     let (ni, nr, lda, ldb_i) = (n as c_int, nrhs as c_int, lda as c_int, ldb as c_int);
-    let mut info: c_int = -77;
-    unsafe {
-        spotrs_(
-            &ch(&c["uplo"]),
-            &ni,
-            &nr,
-            fac.as_ptr(),
-            &lda,
-            b.as_mut_ptr(),
-            &ldb_i,
-            &mut info,
+    let info = unsafe {
+        common::potrs(
+            spotrs_,
+            ch(&c["uplo"]),
+            (ni, &fac, lda),
+            (nr, &mut b, ldb_i),
         )
     };
     assert_eq!(info, 0);

@@ -12,109 +12,169 @@ use crate::blas::{Trans, Uplo, matrix_len, strided_len};
 use crate::{Real, blas};
 use core::ffi::{c_char, c_int};
 
+/// How one array argument of a BLAS routine is laid out: a column-major `rows × columns`
+/// matrix with a leading dimension ([`Matrix`]) or a vector of `len` elements with an
+/// increment ([`Vector`]).
+trait Layout: Copy {
+    /// The leading dimension (`usize`) or the increment (`isize`).
+    type Stride: Copy;
+    /// Reads and validates the stride argument at `position`: `LD ≥ max(1, rows)` for a
+    /// matrix, `INC ≠ 0` for a vector.
+    ///
+    /// # Safety
+    /// As [`read`].
+    unsafe fn stride(self, p: *const c_int, position: c_int) -> Result<Self::Stride, c_int>;
+    /// How many elements the array spans with that stride.
+    fn len(self, stride: Self::Stride) -> usize;
+}
+
+/// A column-major `rows × columns` matrix argument.
+#[derive(Clone, Copy)]
+struct Matrix(usize, usize);
+
+/// A strided vector argument of `len` elements.
+#[derive(Clone, Copy)]
+struct Vector(usize);
+
+impl Layout for Matrix {
+    type Stride = usize;
+    unsafe fn stride(self, p: *const c_int, position: c_int) -> Result<usize, c_int> {
+        // SAFETY: forwarded caller contract.
+        unsafe { leading(p, self.0, position) }
+    }
+    fn len(self, ld: usize) -> usize {
+        matrix_len(self.0, self.1, ld)
+    }
+}
+
+impl Layout for Vector {
+    type Stride = isize;
+    unsafe fn stride(self, p: *const c_int, position: c_int) -> Result<isize, c_int> {
+        // SAFETY: forwarded caller contract.
+        unsafe { increment(p, position) }
+    }
+    fn len(self, inc: isize) -> usize {
+        strided_len(self.0, inc)
+    }
+}
+
+/// The trailing arguments of the BLAS routines of the form `C ← α·(products of A and B) + β·C`,
+/// in their common order: `ALPHA`, `A`, `LDA`, `B`, `LDB`, `BETA`, `C`, `LDC` for xGEMM and
+/// xSYR2K, and `ALPHA`, `A`, `LDA`, `X`, `INCX`, `BETA`, `Y`, `INCY` for xGEMV and xSYMV
+/// (`B`, `C` hold `X`, `Y`). The raw Fortran pointers, numbered consecutively from `ALPHA`
+/// (6 in xGEMM, 5 in xSYR2K, 4 in xGEMV, 3 in xSYMV); [`ScaledArgs::borrow`] reads them.
+pub(super) struct ScaledArgs<T> {
+    pub(super) alpha: *const T,
+    pub(super) a: *const T,
+    pub(super) lda: *const c_int,
+    pub(super) b: *const T,
+    pub(super) ldb: *const c_int,
+    pub(super) beta: *const T,
+    pub(super) c: *mut T,
+    pub(super) ldc: *const c_int,
+}
+
+/// [`ScaledArgs`] read: `α`, `(A, LDA)`, `(B, stride)`, `β`, `(C, stride)`.
+struct Scaled<'a, T, B: Layout, C: Layout> {
+    alpha: T,
+    a: (&'a [T], usize),
+    b: (&'a [T], B::Stride),
+    beta: T,
+    c: (&'a mut [T], C::Stride),
+}
+
+impl<T: Real> ScaledArgs<T> {
+    /// Validates the arguments in the reference order — the strides of `A`, `B`, `C` against
+    /// their layouts `a`, `b`, `c`, then `ALPHA` and `BETA` — and borrows the three arrays.
+    /// `Ok(None)` if `quick_return` (the routine's empty case, decided from its dimensions
+    /// by the caller; no array is read); `Err(i)`: argument `i` invalid, numbered from
+    /// `ALPHA = alpha_at`.
+    ///
+    /// # Safety
+    /// The pointers satisfy the Fortran contract of the routine for these layouts.
+    unsafe fn borrow<'a, B: Layout, C: Layout>(
+        self,
+        alpha_at: c_int,
+        (a, b, c): (Matrix, B, C),
+        quick_return: bool,
+    ) -> Result<Option<Scaled<'a, T, B, C>>, c_int> {
+        // SAFETY: forwarded caller contract.
+        unsafe {
+            let lda = a.stride(self.lda, alpha_at + 2)?;
+            let sb = b.stride(self.ldb, alpha_at + 4)?;
+            let sc = c.stride(self.ldc, alpha_at + 7)?;
+            let (alpha, beta) = (read(self.alpha, alpha_at)?, read(self.beta, alpha_at + 5)?);
+            if quick_return {
+                return Ok(None);
+            }
+            Ok(Some(Scaled {
+                alpha,
+                a: (slice(self.a, a.len(lda), alpha_at + 1)?, lda),
+                b: (slice(self.b, b.len(sb), alpha_at + 3)?, sb),
+                beta,
+                c: (slice_mut(self.c, c.len(sc), alpha_at + 6)?, sc),
+            }))
+        }
+    }
+}
+
+/// xGEMM's leading arguments: `TRANSA`, `TRANSB`, `M`, `N`, `K`.
+pub(super) type GemmHead = (
+    *const c_char,
+    *const c_char,
+    *const c_int,
+    *const c_int,
+    *const c_int,
+);
+
 /// # Safety
 /// See [`dgemm_`](super::dgemm_).
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn gemm_impl<T: Real>(
-    transa: *const c_char,
-    transb: *const c_char,
-    m: *const c_int,
-    n: *const c_int,
-    k: *const c_int,
-    alpha: *const T,
-    a: *const T,
-    lda: *const c_int,
-    b: *const T,
-    ldb: *const c_int,
-    beta: *const T,
-    c: *mut T,
-    ldc: *const c_int,
-) {
+pub(super) unsafe fn gemm_impl<T: Real>((transa, transb, m, n, k): GemmHead, args: ScaledArgs<T>) {
     run_blas(|| unsafe {
         let ta = trans_flag(flag(transa, 1)?, 1)?;
         let tb = trans_flag(flag(transb, 2)?, 2)?;
         let (m, n, k) = (dim(m, 3)?, dim(n, 4)?, dim(k, 5)?);
-        let (nrowa, ncola) = if ta == Trans::No { (m, k) } else { (k, m) };
-        let (nrowb, ncolb) = if tb == Trans::No { (k, n) } else { (n, k) };
-        let lda = leading(lda, nrowa, 8)?;
-        let ldb = leading(ldb, nrowb, 10)?;
-        let ldc = leading(ldc, m, 13)?;
-        let (alpha, beta) = (read(alpha, 6)?, read(beta, 11)?);
-        if m == 0 || n == 0 {
-            return Ok(());
+        let (ra, ca) = if ta == Trans::No { (m, k) } else { (k, m) };
+        let (rb, cb) = if tb == Trans::No { (k, n) } else { (n, k) };
+        let layouts = (Matrix(ra, ca), Matrix(rb, cb), Matrix(m, n));
+        if let Some(x) = args.borrow(6, layouts, m == 0 || n == 0)? {
+            blas::gemm(ta, tb, (m, n, k), x.alpha, x.a, x.b, x.beta, x.c);
         }
-        let a = slice(a, matrix_len(nrowa, ncola, lda), 7)?;
-        let b = slice(b, matrix_len(nrowb, ncolb, ldb), 9)?;
-        let c = slice_mut(c, matrix_len(m, n, ldc), 12)?;
-        blas::gemm(ta, tb, (m, n, k), alpha, (a, lda), (b, ldb), beta, (c, ldc));
         Ok(())
     })
 }
+
+/// xGEMV's leading arguments: `TRANS`, `M`, `N`.
+pub(super) type GemvHead = (*const c_char, *const c_int, *const c_int);
 
 /// # Safety
 /// See [`dgemv_`](super::dgemv_).
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn gemv_impl<T: Real>(
-    trans: *const c_char,
-    m: *const c_int,
-    n: *const c_int,
-    alpha: *const T,
-    a: *const T,
-    lda: *const c_int,
-    x: *const T,
-    incx: *const c_int,
-    beta: *const T,
-    y: *mut T,
-    incy: *const c_int,
-) {
+pub(super) unsafe fn gemv_impl<T: Real>((trans, m, n): GemvHead, args: ScaledArgs<T>) {
     run_blas(|| unsafe {
         let t = trans_flag(flag(trans, 1)?, 1)?;
         let (m, n) = (dim(m, 2)?, dim(n, 3)?);
-        let lda = leading(lda, m, 6)?;
-        let incx = increment(incx, 8)?;
-        let incy = increment(incy, 11)?;
-        let (alpha, beta) = (read(alpha, 4)?, read(beta, 9)?);
-        if m == 0 || n == 0 {
-            return Ok(());
-        }
         let (lenx, leny) = if t == Trans::No { (n, m) } else { (m, n) };
-        let a = slice(a, matrix_len(m, n, lda), 5)?;
-        let x = slice(x, strided_len(lenx, incx), 7)?;
-        let y = slice_mut(y, strided_len(leny, incy), 10)?;
-        blas::gemv(t, (m, n), alpha, (a, lda), (x, incx), beta, (y, incy));
+        let layouts = (Matrix(m, n), Vector(lenx), Vector(leny));
+        if let Some(v) = args.borrow(4, layouts, m == 0 || n == 0)? {
+            blas::gemv(t, (m, n), v.alpha, v.a, v.b, v.beta, v.c);
+        }
         Ok(())
     })
 }
 
+/// xSYMV's leading arguments: `UPLO`, `N`.
+pub(super) type SymvHead = (*const c_char, *const c_int);
+
 /// # Safety
 /// See [`dsymv_`](super::dsymv_).
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn symv_impl<T: Real>(
-    uplo: *const c_char,
-    n: *const c_int,
-    alpha: *const T,
-    a: *const T,
-    lda: *const c_int,
-    x: *const T,
-    incx: *const c_int,
-    beta: *const T,
-    y: *mut T,
-    incy: *const c_int,
-) {
+pub(super) unsafe fn symv_impl<T: Real>((uplo, n): SymvHead, args: ScaledArgs<T>) {
     run_blas(|| unsafe {
         let ul = uplo_flag(flag(uplo, 1)?, 1)?;
         let n = dim(n, 2)?;
-        let lda = leading(lda, n, 5)?;
-        let incx = increment(incx, 7)?;
-        let incy = increment(incy, 10)?;
-        let (alpha, beta) = (read(alpha, 3)?, read(beta, 8)?);
-        if n == 0 {
-            return Ok(());
+        let layouts = (Matrix(n, n), Vector(n), Vector(n));
+        if let Some(v) = args.borrow(3, layouts, n == 0)? {
+            blas::symv(ul, n, v.alpha, v.a, v.b, v.beta, v.c);
         }
-        let a = slice(a, matrix_len(n, n, lda), 4)?;
-        let x = slice(x, strided_len(n, incx), 6)?;
-        let y = slice_mut(y, strided_len(n, incy), 9)?;
-        blas::symv(ul, n, alpha, (a, lda), (x, incx), beta, (y, incy));
         Ok(())
     })
 }
@@ -174,36 +234,18 @@ pub(super) unsafe fn syrk_impl<T: Real>(
     })
 }
 
+/// xSYR2K's leading arguments: `UPLO`, `TRANS`, `N`, `K`.
+pub(super) type Syr2kHead = (*const c_char, *const c_char, *const c_int, *const c_int);
+
 /// # Safety
 /// See [`dsyr2k_`](super::dsyr2k_).
-#[allow(clippy::too_many_arguments)]
-pub(super) unsafe fn syr2k_impl<T: Real>(
-    uplo: *const c_char,
-    trans: *const c_char,
-    n: *const c_int,
-    k: *const c_int,
-    alpha: *const T,
-    a: *const T,
-    lda: *const c_int,
-    b: *const T,
-    ldb: *const c_int,
-    beta: *const T,
-    c: *mut T,
-    ldc: *const c_int,
-) {
+pub(super) unsafe fn syr2k_impl<T: Real>((uplo, trans, n, k): Syr2kHead, args: ScaledArgs<T>) {
     run_blas(|| unsafe {
-        let (ul, t, (n, k), (nrow, ncol)) = rank_update_head(uplo, trans, n, k)?;
-        let lda = leading(lda, nrow, 7)?;
-        let ldb = leading(ldb, nrow, 9)?;
-        let ldc = leading(ldc, n, 12)?;
-        let (alpha, beta) = (read(alpha, 5)?, read(beta, 10)?);
-        if n == 0 {
-            return Ok(());
+        let (ul, t, (n, k), (rows, cols)) = rank_update_head(uplo, trans, n, k)?;
+        let layouts = (Matrix(rows, cols), Matrix(rows, cols), Matrix(n, n));
+        if let Some(x) = args.borrow(5, layouts, n == 0)? {
+            blas::syr2k(ul, t, (n, k), x.alpha, x.a, x.b, x.beta, x.c);
         }
-        let a = slice(a, matrix_len(nrow, ncol, lda), 6)?;
-        let b = slice(b, matrix_len(nrow, ncol, ldb), 8)?;
-        let c = slice_mut(c, matrix_len(n, n, ldc), 11)?;
-        blas::syr2k(ul, t, (n, k), alpha, (a, lda), (b, ldb), beta, (c, ldc));
         Ok(())
     })
 }

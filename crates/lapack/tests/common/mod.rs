@@ -192,3 +192,44 @@ pub unsafe fn gesvd<T: Copy>(
     };
     info
 }
+
+/// The Fortran signature of xPOTRS (`dpotrs_`, `spotrs_`), in LAPACK's argument order.
+pub type PotrsFn<T> = unsafe extern "C" fn(
+    *const c_char,
+    *const c_int,
+    *const c_int,
+    *const T,
+    *const c_int,
+    *mut T,
+    *const c_int,
+    *mut c_int,
+);
+
+/// Calls xPOTRS `f` with `UPLO`, the factor (`N`, `A`, `LDA`) and the right-hand sides
+/// (`NRHS`, `B`, `LDB`), grouped as LAPACK documents them; returns `INFO`.
+///
+/// # Safety
+/// As for [`syevr`]: the dimensions passed fit the slices, unless the routine rejects them
+/// before touching the arrays.
+pub unsafe fn potrs<T: Copy>(
+    f: PotrsFn<T>,
+    uplo: c_char,
+    (n, a, lda): (c_int, &[T], c_int),
+    (nrhs, b, ldb): (c_int, &mut [T], c_int),
+) -> c_int {
+    let mut info: c_int = -77;
+    // SAFETY: forwarded caller contract.
+    unsafe {
+        f(
+            &uplo,
+            &n,
+            &nrhs,
+            a.as_ptr(),
+            &lda,
+            b.as_mut_ptr(),
+            &ldb,
+            &mut info,
+        )
+    };
+    info
+}
