@@ -5,9 +5,9 @@
 //! References: closed forms derived beside each case; SciPy 1.17.1's verdicts on the same data
 //! (`tools/reference/lq_checks_scipy.py`, fixture `lq_checks_scipy.json`).
 
-use pendulab_lti::design::{LQ_WEIGHT_TOLERANCE, lqe, lqr};
+use pendulab_lti::design::{LQ_WEIGHT_TOLERANCE, Lqr, lqe, lqr};
 use pendulab_lti::equations::{RiccatiOptions, care};
-use pendulab_lti::{Complex64, LtiError, Mat, StateSpace};
+use pendulab_lti::{Complex64, LtiError, Mat, StateSpace, TimeDomain};
 
 fn m(r: usize, c: usize, v: &[f64]) -> Mat {
     Mat::from_row_slice(r, c, v)
@@ -215,6 +215,27 @@ fn assert_no_stabilising_solution(e: &LtiError, target: Complex64, tol: f64) {
     }
 }
 
+/// A pair of fixture cases on and near the stability boundary: SciPy's verdicts are "not
+/// stabilising" for `on` and "stabilising" for `near`; `lqr` on `system(A, B)` refuses `on`
+/// (naming the boundary eigenvalue ±j within `tol`) and solves `near`. Returns `near`'s
+/// solution, its weight `q = Q₁₁` and SciPy's `X` for it.
+fn on_and_near_the_boundary<D: TimeDomain>(
+    on: &str,
+    near: &str,
+    system: fn(&Mat, &Mat) -> StateSpace<D>,
+    tol: f64,
+) -> (Lqr, f64, Mat) {
+    let (a, b, q, r, fx) = case(on);
+    assert_eq!(fx["verdict"], "not stabilising");
+    let e = lqr(&system(&a, &b), &q, &r, None).unwrap_err();
+    assert_no_stabilising_solution(&e, Complex64::new(0.0, 1.0), tol);
+
+    let (a, b, q, r, fx) = case(near);
+    assert_eq!(fx["verdict"], "stabilising");
+    let sol = lqr(&system(&a, &b), &q, &r, None).unwrap();
+    (sol, q[(0, 0)], fx_mat(&fx["x"]))
+}
+
 /// Oscillator ẋ₁ = x₂, ẋ₂ = −x₁ + u with Q = 0, R = 1: the Hamiltonian
 /// [[A, −BBᵀ], [−Q, −Aᵀ]] is block upper triangular, so its eigenvalues are those of A and of
 /// −Aᵀ — ±j, each twice, on the imaginary axis: no stabilising solution. SciPy 1.17.1 returns
@@ -272,15 +293,8 @@ fn rounding_split_boundary_eigenvalue_is_refused() {
 /// SciPy's.
 #[test]
 fn weakly_observed_oscillator_near_and_on_the_axis() {
-    let (a, b, q, r, fx) = case("oscillator_q1e-30");
-    assert_eq!(fx["verdict"], "not stabilising");
-    let e = lqr(&cont(&a, &b), &q, &r, None).unwrap_err();
-    assert_no_stabilising_solution(&e, Complex64::new(0.0, 1.0), 1e-6);
-
-    let (a, b, q, r, fx) = case("oscillator_q1e-6");
-    assert_eq!(fx["verdict"], "stabilising");
-    let sol = lqr(&cont(&a, &b), &q, &r, None).unwrap();
-    let qq = q[(0, 0)];
+    let (sol, qq, xs) =
+        on_and_near_the_boundary("oscillator_q1e-30", "oscillator_q1e-6", cont, 1e-6);
     for sign in [1.0, -1.0] {
         let s = (Complex64::new(-1.0, sign * qq.sqrt())).sqrt();
         let s = if s.re < 0.0 { s } else { -s };
@@ -295,7 +309,6 @@ fn weakly_observed_oscillator_near_and_on_the_axis() {
     }
     // Against SciPy: κ_CARE ≈ ‖X‖/sep ≈ 1e3–1e4 times the backward errors (ours ≈ 1e-16,
     // SciPy's 1.5e-13): 1e-8 relative.
-    let xs = fx_mat(&fx["x"]);
     let d = (&sol.riccati - &xs).norm() / xs.norm();
     assert!(d <= 1e-8, "{d:e}");
 }
@@ -308,15 +321,7 @@ fn weakly_observed_oscillator_near_and_on_the_axis() {
 /// z = ±j(√(q + 4) − √q)/2 (|z| ≈ 1 − √q/2): kept and equal to SciPy's X.
 #[test]
 fn discrete_rotation_on_and_near_the_unit_circle() {
-    let (a, b, q, r, fx) = case("rotation_q0");
-    assert_eq!(fx["verdict"], "not stabilising");
-    let e = lqr(&disc(&a, &b), &q, &r, None).unwrap_err();
-    assert_no_stabilising_solution(&e, Complex64::new(0.0, 1.0), 1e-12);
-
-    let (a, b, q, r, fx) = case("rotation_q1e-6");
-    assert_eq!(fx["verdict"], "stabilising");
-    let sol = lqr(&disc(&a, &b), &q, &r, None).unwrap();
-    let qq = q[(0, 0)];
+    let (sol, qq, xs) = on_and_near_the_boundary("rotation_q0", "rotation_q1e-6", disc, 1e-12);
     let mag = ((qq + 4.0).sqrt() - qq.sqrt()) / 2.0;
     for p in &sol.closed_loop_poles {
         // κ ≈ 1/(2·5e-4) again: 1e-11.
@@ -325,7 +330,6 @@ fn discrete_rotation_on_and_near_the_unit_circle() {
             "{p}"
         );
     }
-    let xs = fx_mat(&fx["x"]);
     let d = (&sol.riccati - &xs).norm() / xs.norm();
     assert!(d <= 1e-8, "{d:e}");
 }

@@ -26,7 +26,7 @@ mod riccati_support;
 use pendulab_lti::equations::riccati::{care_residual, dare_residual};
 use pendulab_lti::equations::{RiccatiOptions, care, dare};
 use pendulab_lti::{LtiError, Mat};
-use riccati_benchmarks_support::{Example, carex, darex};
+use riccati_benchmarks_support::{Example, Sweep, carex, darex, sweep};
 use riccati_support::inverse_operator_norm;
 
 const EPS: f64 = f64::EPSILON;
@@ -181,141 +181,96 @@ fn same_data(e: &Example, entry: &serde_json::Value) {
     }
 }
 
-// Residual tolerances: 1e-12 for well-conditioned data (a backward-stable solver reaches
-// ≈ 1e-15); a looser bound only where the data make it impossible, said next to it.
+// Residual tolerance: 1e-12 for well-conditioned data (a backward-stable solver reaches
+// ≈ 1e-15); every example below meets it.
 const RES: f64 = 1e-12;
+
+/// Solves each example of a collection (`continuous`: CAREX, else DAREX) and checks it
+/// against its closed-form solution, after checking that the closed form itself satisfies
+/// the equation (guards the transcription); prints the table under `title`.
+fn against_closed_forms(title: &str, continuous: bool, examples: &[Example]) {
+    let mut rows = Vec::new();
+    for e in examples {
+        let x = e.x.as_ref().unwrap();
+        let r = if continuous {
+            care_residual(&e.a, &e.b, &e.q, &e.r, e.n.as_ref(), x)
+        } else {
+            dare_residual(&e.a, &e.b, &e.q, &e.r, e.n.as_ref(), x)
+        };
+        assert!(r <= 1e-13, "{}: closed form residual {r:e}", e.id);
+        rows.push(check(e, continuous, None, RES));
+    }
+    print_table(title, &rows);
+}
+
+/// Solves each example of a collection (`continuous`: CAREX, else DAREX) and checks it
+/// against SciPy's solution in the fixture's `care`/`dare` entry, after checking that the
+/// fixture's data are the example's; prints the table under `title`.
+fn against_scipy(title: &str, continuous: bool, examples: &[Example]) {
+    let fx = fixture();
+    let entries = fx[if continuous { "care" } else { "dare" }]
+        .as_object()
+        .unwrap();
+    let mut rows = Vec::new();
+    for e in examples {
+        let entry = entries
+            .get(&e.id)
+            .unwrap_or_else(|| panic!("fixture has no {}", e.id));
+        same_data(e, entry);
+        let x = mat(&entry["x"]);
+        let r = entry["scipy_residual"].as_f64().unwrap();
+        rows.push(check(e, continuous, Some((&x, r)), RES));
+    }
+    print_table(title, &rows);
+}
 
 #[test]
 fn carex_closed_forms() {
-    let mut rows = Vec::new();
-    let cases: Vec<(Example, f64)> = vec![
-        (carex(1, 1, 0.0, None), RES),
-        (carex(1, 2, 0.0, None), RES),
-        (carex(2, 1, 1.0, None), RES),
-        (carex(2, 1, 1e-2, None), RES),
-        (carex(2, 1, 1e-4, None), RES),
-        (carex(2, 1, 1e-6, None), RES),
-        (carex(2, 3, 1.0, None), RES),
-        (carex(2, 3, 1e3, None), RES),
-        (carex(2, 3, 1e7, None), RES),
-        (carex(2, 4, 1.0, None), RES),
-        (carex(2, 4, 1e-3, None), RES),
-        (carex(2, 4, 1e-6, None), RES),
-        (carex(2, 4, 1e-7, None), RES),
-        (carex(2, 5, 1.0, None), RES),
-        (carex(2, 5, 1e-2, None), RES),
-        (carex(2, 5, 1e-4, None), RES),
-        (carex(2, 5, 1e-6, None), RES),
-        (carex(2, 6, 1.0, None), RES),
-        (carex(2, 6, 1e3, None), RES),
-        (carex(2, 6, 1e6, None), RES),
-        (carex(2, 6, 1e7, None), RES),
-        (carex(3, 2, 0.0, Some(64)), RES),
+    let table: Sweep<'_> = &[
+        (1, &[1, 2], &[0.0], None),
+        (2, &[1], &[1.0, 1e-2, 1e-4, 1e-6], None),
+        (2, &[3], &[1.0, 1e3, 1e7], None),
+        (2, &[4], &[1.0, 1e-3, 1e-6, 1e-7], None),
+        (2, &[5], &[1.0, 1e-2, 1e-4, 1e-6], None),
+        (2, &[6], &[1.0, 1e3, 1e6, 1e7], None),
+        (3, &[2], &[0.0], Some(64)),
     ];
-    for (e, tol) in &cases {
-        // The closed form itself satisfies the equation (guards the transcription).
-        let x = e.x.as_ref().unwrap();
-        let r = care_residual(&e.a, &e.b, &e.q, &e.r, None, x);
-        assert!(r <= 1e-13, "{}: closed form residual {r:e}", e.id);
-        rows.push(check(e, true, None, *tol));
-    }
-    print_table("CAREX, closed-form solutions", &rows);
+    against_closed_forms("CAREX, closed-form solutions", true, &sweep(carex, table));
 }
 
 #[test]
 fn carex_against_scipy() {
-    let fx = fixture();
-    let care_fx = fx["care"].as_object().unwrap();
-    let cases: Vec<(Example, f64)> = vec![
-        (carex(1, 3, 0.0, None), RES),
-        (carex(1, 4, 0.0, None), RES),
-        (carex(1, 5, 0.0, None), RES),
-        (carex(1, 6, 0.0, None), RES),
-        (carex(2, 2, 1.0, None), RES),
-        (carex(2, 2, 1e-4, None), RES),
-        (carex(2, 2, 1e-8, None), RES),
-        (carex(2, 7, 1e-2, None), RES),
-        (carex(2, 7, 1e-6, None), RES),
-        (carex(2, 8, 1.0, None), RES),
-        (carex(2, 8, 1e-3, None), RES),
-        (carex(2, 8, 1e-6, None), RES),
-        (carex(3, 1, 0.0, Some(20)), RES),
-        (carex(4, 1, 1.0, Some(21)), RES),
-        (carex(4, 2, 1e-2, Some(100)), RES),
-        (carex(4, 3, 4.0, Some(30)), RES),
+    let table: Sweep<'_> = &[
+        (1, &[3, 4, 5, 6], &[0.0], None),
+        (2, &[2], &[1.0, 1e-4, 1e-8], None),
+        (2, &[7], &[1e-2, 1e-6], None),
+        (2, &[8], &[1.0, 1e-3, 1e-6], None),
+        (3, &[1], &[0.0], Some(20)),
+        (4, &[1], &[1.0], Some(21)),
+        (4, &[2], &[1e-2], Some(100)),
+        (4, &[3], &[4.0], Some(30)),
     ];
-    let mut rows = Vec::new();
-    for (e, tol) in &cases {
-        let entry = care_fx
-            .get(&e.id)
-            .unwrap_or_else(|| panic!("fixture has no {}", e.id));
-        same_data(e, entry);
-        let x = mat(&entry["x"]);
-        let r = entry["scipy_residual"].as_f64().unwrap();
-        rows.push(check(e, true, Some((&x, r)), *tol));
-    }
-    print_table("CAREX, against SciPy", &rows);
+    against_scipy("CAREX, against SciPy", true, &sweep(carex, table));
 }
 
 #[test]
 fn darex_closed_forms() {
-    let cases: Vec<(Example, f64)> = vec![
-        (darex(1, 1, 0.0, None), RES),
-        (darex(1, 3, 0.0, None), RES),
-        (darex(1, 4, 0.0, None), RES),
-        (darex(2, 1, 1.0, None), RES),
-        (darex(2, 1, 1e3, None), RES),
-        (darex(2, 1, 1e6, None), RES),
-        (darex(2, 3, 1.0, None), RES),
-        (darex(2, 3, 1e3, None), RES),
-        (darex(2, 3, 1e6, None), RES),
-        (darex(2, 4, 1.0, None), RES),
-        (darex(2, 4, 1e3, None), RES),
-        (darex(2, 4, 1e6, None), RES),
-        (darex(2, 5, 1e2, None), RES),
-        (darex(2, 5, 1e5, None), RES),
-        (darex(2, 5, 1e8, None), RES),
-        (darex(4, 1, 1.0, Some(100)), RES),
+    let table: Sweep<'_> = &[
+        (1, &[1, 3, 4], &[0.0], None),
+        (2, &[1, 3, 4], &[1.0, 1e3, 1e6], None),
+        (2, &[5], &[1e2, 1e5, 1e8], None),
+        (4, &[1], &[1.0], Some(100)),
     ];
-    let mut rows = Vec::new();
-    for (e, tol) in &cases {
-        let x = e.x.as_ref().unwrap();
-        let r = dare_residual(&e.a, &e.b, &e.q, &e.r, e.n.as_ref(), x);
-        assert!(r <= 1e-13, "{}: closed form residual {r:e}", e.id);
-        rows.push(check(e, false, None, *tol));
-    }
-    print_table("DAREX, closed-form solutions", &rows);
+    against_closed_forms("DAREX, closed-form solutions", false, &sweep(darex, table));
 }
 
 #[test]
 fn darex_against_scipy() {
-    let fx = fixture();
-    let dare_fx = fx["dare"].as_object().unwrap();
-    let cases: Vec<(Example, f64)> = vec![
-        (darex(1, 2, 0.0, None), RES),
-        (darex(1, 5, 0.0, None), RES),
-        (darex(1, 6, 0.0, None), RES),
-        (darex(1, 7, 0.0, None), RES),
-        (darex(1, 8, 0.0, None), RES),
-        (darex(1, 9, 0.0, None), RES),
-        (darex(1, 10, 0.0, None), RES),
-        (darex(1, 11, 0.0, None), RES),
-        (darex(1, 12, 0.0, None), RES),
-        (darex(2, 2, 1.0, None), RES),
-        (darex(2, 2, 1e3, None), RES),
-        (darex(2, 2, 1e6, None), RES),
+    let table: Sweep<'_> = &[
+        (1, &[2, 5, 6, 7, 8, 9, 10, 11, 12], &[0.0], None),
+        (2, &[2], &[1.0, 1e3, 1e6], None),
     ];
-    let mut rows = Vec::new();
-    for (e, tol) in &cases {
-        let entry = dare_fx
-            .get(&e.id)
-            .unwrap_or_else(|| panic!("fixture has no {}", e.id));
-        same_data(e, entry);
-        let x = mat(&entry["x"]);
-        let r = entry["scipy_residual"].as_f64().unwrap();
-        rows.push(check(e, false, Some((&x, r)), *tol));
-    }
-    print_table("DAREX, against SciPy", &rows);
+    against_scipy("DAREX, against SciPy", false, &sweep(darex, table));
 }
 
 /// CAREX 2.5 at its default eps = 0: the Hamiltonian has the double eigenvalues ±j, so no

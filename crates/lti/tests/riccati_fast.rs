@@ -29,7 +29,7 @@ use equations_support::lq_data;
 use pendulab_lti::Mat;
 use pendulab_lti::equations::riccati::care_residual;
 use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, RiccatiSolution, care};
-use riccati_benchmarks_support::{Example, carex};
+use riccati_benchmarks_support::{Example, Sweep, carex, sweep};
 use riccati_support::care_condition as condition;
 
 const EPS: f64 = f64::EPSILON;
@@ -159,39 +159,18 @@ fn random_small_problems_match_schur() {
 /// The CAREX examples of `riccati_benchmarks` with `n ≤ 8` (the rest never reach the fast
 /// path).
 fn carex_small() -> Vec<Example> {
-    let all = [
-        carex(1, 1, 0.0, None),
-        carex(1, 2, 0.0, None),
-        carex(1, 3, 0.0, None),
-        carex(1, 4, 0.0, None),
-        carex(2, 1, 1.0, None),
-        carex(2, 1, 1e-2, None),
-        carex(2, 1, 1e-4, None),
-        carex(2, 1, 1e-6, None),
-        carex(2, 2, 1.0, None),
-        carex(2, 2, 1e-4, None),
-        carex(2, 2, 1e-8, None),
-        carex(2, 3, 1.0, None),
-        carex(2, 3, 1e3, None),
-        carex(2, 3, 1e7, None),
-        carex(2, 4, 1.0, None),
-        carex(2, 4, 1e-3, None),
-        carex(2, 4, 1e-6, None),
-        carex(2, 4, 1e-7, None),
-        carex(2, 5, 1.0, None),
-        carex(2, 5, 1e-2, None),
-        carex(2, 5, 1e-4, None),
-        carex(2, 5, 1e-6, None),
-        carex(2, 6, 1.0, None),
-        carex(2, 6, 1e3, None),
-        carex(2, 6, 1e6, None),
-        carex(2, 6, 1e7, None),
-        carex(2, 7, 1e-2, None),
-        carex(2, 7, 1e-6, None),
-        carex(2, 8, 1.0, None),
-        carex(2, 8, 1e-3, None),
-        carex(2, 8, 1e-6, None),
+    let table: Sweep<'_> = &[
+        (1, &[1, 2, 3, 4], &[0.0], None),
+        (2, &[1], &[1.0, 1e-2, 1e-4, 1e-6], None),
+        (2, &[2], &[1.0, 1e-4, 1e-8], None),
+        (2, &[3], &[1.0, 1e3, 1e7], None),
+        (2, &[4], &[1.0, 1e-3, 1e-6, 1e-7], None),
+        (2, &[5], &[1.0, 1e-2, 1e-4, 1e-6], None),
+        (2, &[6], &[1.0, 1e3, 1e6, 1e7], None),
+        (2, &[7], &[1e-2, 1e-6], None),
+        (2, &[8], &[1.0, 1e-3, 1e-6], None),
     ];
+    let all = sweep(carex, table);
     all.into_iter().filter(|e| e.a.nrows() <= 8).collect()
 }
 

@@ -3,6 +3,7 @@
 use super::MatrixEquationSolution;
 use super::sylvester::check_sum_collisions;
 use super::triangular::{RightCoef, solve_quasi_stein, solve_quasi_sylvester};
+use crate::Complex64;
 use crate::error::{LtiError, Result};
 use crate::linalg::schur::real_schur;
 use crate::linalg::{Mat, check_finite, check_shape, check_square, symmetrize};
@@ -24,37 +25,20 @@ use crate::linalg::{Mat, check_finite, check_shape, check_square, symmetrize};
 /// input; [`LtiError::NoUniqueSolution`] naming the eigenvalues with
 /// `|λ_i + λ_j| ≤ 100·ε·‖A‖_F`; [`LtiError::NoConvergence`] if the Schur decomposition fails.
 pub fn lyap(a: &Mat, q: &Mat) -> Result<MatrixEquationSolution> {
-    check_square("A", a)?;
-    let n = a.nrows();
-    check_shape("Q", q, n, n)?;
-    check_finite("A", a)?;
-    check_finite("Q", q)?;
-    if n == 0 {
-        return Ok(MatrixEquationSolution {
-            x: Mat::zeros(0, 0),
-            residual: 0.0,
-        });
-    }
-    let sa = real_schur(a)?;
-    let ev = sa.eigenvalues();
+    let what = "Lyapunov equation AX + XAᵀ + Q = 0";
     let tol = 100.0 * f64::EPSILON * 2.0 * a.norm();
-    check_sum_collisions("Lyapunov equation AX + XAᵀ + Q = 0", &ev, &ev, tol)?;
-    let (s, u) = sa.into_parts();
-    let mut f = -(u.transpose() * q * &u);
-    let symmetric = q == &q.transpose();
-    if symmetric {
-        f = symmetrize(&f);
-    }
-    solve_quasi_sylvester(&s, &s, RightCoef::TransposeOfUpper, &mut f);
-    let mut x = &u * f * u.transpose();
-    if symmetric {
-        x = symmetrize(&x);
-    }
-    let ax = a * &x;
-    let xat = &x * a.transpose();
-    let res = &ax + &xat + q;
-    let residual = super::relative_residual(&res, &[ax.norm(), xat.norm(), q.norm()]);
-    Ok(MatrixEquationSolution { x, residual })
+    schur_frame(
+        a,
+        q,
+        |ev| check_sum_collisions(what, ev, ev, tol),
+        |s, f| solve_quasi_sylvester(s, s, RightCoef::TransposeOfUpper, f),
+        |x| {
+            let ax = a * x;
+            let xat = x * a.transpose();
+            let res = &ax + &xat + q;
+            super::relative_residual(&res, &[ax.norm(), xat.norm(), q.norm()])
+        },
+    )
 }
 
 /// Solves the discrete Lyapunov (Stein) equation `A X Aᵀ − X + Q = 0` (MATLAB `dlyap(A, Q)`).
@@ -75,20 +59,23 @@ pub fn lyap(a: &Mat, q: &Mat) -> Result<MatrixEquationSolution> {
 /// decomposition fails.
 #[doc(alias = "stein")]
 pub fn dlyap(a: &Mat, q: &Mat) -> Result<MatrixEquationSolution> {
-    check_square("A", a)?;
-    let n = a.nrows();
-    check_shape("Q", q, n, n)?;
-    check_finite("A", a)?;
-    check_finite("Q", q)?;
-    if n == 0 {
-        return Ok(MatrixEquationSolution {
-            x: Mat::zeros(0, 0),
-            residual: 0.0,
-        });
-    }
-    let sa = real_schur(a)?;
-    let ev = sa.eigenvalues();
     let tol = 100.0 * f64::EPSILON * a.norm().powi(2).max(1.0);
+    schur_frame(
+        a,
+        q,
+        |ev| check_unit_products(ev, tol),
+        solve_quasi_stein,
+        |x| {
+            let axa = a * x * a.transpose();
+            let res = &axa - x + q;
+            super::relative_residual(&res, &[axa.norm(), x.norm(), q.norm()])
+        },
+    )
+}
+
+/// Returns [`LtiError::NoUniqueSolution`] for the discrete Lyapunov equation if some
+/// `|λ_i λ_j − 1| ≤ tol` (the eigenvalues `ev` of `A`), naming the closest pair.
+fn check_unit_products(ev: &[Complex64], tol: f64) -> Result<()> {
     let mut worst: Option<(f64, usize, usize)> = None;
     for (i, x) in ev.iter().enumerate() {
         for (j, y) in ev.iter().enumerate() {
@@ -107,19 +94,46 @@ pub fn dlyap(a: &Mat, q: &Mat) -> Result<MatrixEquationSolution> {
             ),
         });
     }
+    Ok(())
+}
+
+/// The frame [`lyap`] and [`dlyap`] share: checks `A` (square) and `Q` (`n × n`), both finite;
+/// returns the empty solution for `n = 0`; otherwise computes the real Schur form
+/// `A = U S Uᵀ`, lets `check` refuse the eigenvalues of `A`, solves the reduced equation in
+/// place by `solve(S, F)` from `F = −Uᵀ Q U` (its flag, whether a near-singular block was
+/// perturbed, is not used), and returns `X = U F Uᵀ` (`F` and `X`
+/// symmetrised when `Q` is exactly symmetric) with the relative residual `residual(X)`.
+fn schur_frame(
+    a: &Mat,
+    q: &Mat,
+    check: impl FnOnce(&[Complex64]) -> Result<()>,
+    solve: impl FnOnce(&Mat, &mut Mat) -> bool,
+    residual: impl FnOnce(&Mat) -> f64,
+) -> Result<MatrixEquationSolution> {
+    check_square("A", a)?;
+    let n = a.nrows();
+    check_shape("Q", q, n, n)?;
+    check_finite("A", a)?;
+    check_finite("Q", q)?;
+    if n == 0 {
+        return Ok(MatrixEquationSolution {
+            x: Mat::zeros(0, 0),
+            residual: 0.0,
+        });
+    }
+    let sa = real_schur(a)?;
+    check(&sa.eigenvalues())?;
     let (s, u) = sa.into_parts();
     let mut f = -(u.transpose() * q * &u);
     let symmetric = q == &q.transpose();
     if symmetric {
         f = symmetrize(&f);
     }
-    solve_quasi_stein(&s, &mut f);
+    solve(&s, &mut f);
     let mut x = &u * f * u.transpose();
     if symmetric {
         x = symmetrize(&x);
     }
-    let axa = a * &x * a.transpose();
-    let res = &axa - &x + q;
-    let residual = super::relative_residual(&res, &[axa.norm(), x.norm(), q.norm()]);
+    let residual = residual(&x);
     Ok(MatrixEquationSolution { x, residual })
 }

@@ -511,12 +511,19 @@ mod tests {
         move |l| 2.0 * kappa(a, l) * e
     }
 
+    /// Checks the eigenvalues of the companion matrix of `roots` ([`check_basic`]) and that
+    /// they match the roots within the simple-root bound; returns them.
+    fn check_simple_roots<const N: usize>(roots: &[Complex64; N]) -> [Complex64; N] {
+        let a = companion(roots);
+        let ev = check_basic(&a);
+        assert_match(&ev, roots, simple_root_tol(&mat(&a)));
+        ev
+    }
+
     #[test]
     fn companion_real_and_complex_roots() {
         let roots = [cx(1.0, 0.0), cx(-2.0, 0.0), cx(3.0, 0.0), cx(-4.0, 0.0)];
-        let a = companion(&roots);
-        let ev = check_basic(&a);
-        assert_match(&ev, &roots, simple_root_tol(&mat(&a)));
+        check_simple_roots(&roots);
 
         let roots = [
             cx(-1.0, 2.0),
@@ -527,10 +534,8 @@ mod tests {
             cx(2.0, 0.25),
             cx(2.0, -0.25),
         ];
-        let a = companion(&roots);
-        let ev = check_basic(&a);
+        let ev = check_simple_roots(&roots);
         assert_eq!(ev.iter().filter(|e| e.im != 0.0).count(), 6);
-        assert_match(&ev, &roots, simple_root_tol(&mat(&a)));
 
         // Purely imaginary pairs (an undamped oscillator's poles) and a zero root.
         let roots = [
@@ -540,9 +545,7 @@ mod tests {
             cx(0.0, -3.0),
             cx(0.0, 0.0),
         ];
-        let a = companion(&roots);
-        let ev = check_basic(&a);
-        assert_match(&ev, &roots, simple_root_tol(&mat(&a)));
+        check_simple_roots(&roots);
     }
 
     #[test]
@@ -556,9 +559,7 @@ mod tests {
             cx(-2.0, -1.0),
             cx(0.5, 0.0),
         ];
-        let a = companion(&roots);
-        let ev = check_basic(&a);
-        assert_match(&ev, &roots, simple_root_tol(&mat(&a)));
+        check_simple_roots(&roots);
     }
 
     #[test]

@@ -70,6 +70,43 @@ fn weight(c: &Mat, w: &Mat) -> Mat {
     (&q + q.transpose()) * 0.5
 }
 
+/// The weights of Sima's paper machine models (DAREX 1.11 and 1.12): `C` has the two quality
+/// outputs in its first two rows (`quality`: entries `(row, column, value)`) and picks the
+/// last two states (integrating: the error integrators of 1.11, the disturbance states of
+/// 1.12) in rows 3 and 4; `Q₀ = diag(0.5, 5, 0.5, 5)`, `R = diag(400, 700)`.
+fn paper_machine(id: String, a: Mat, b: Mat, quality: &[(usize, usize, f64)]) -> Example {
+    let n = a.nrows();
+    let mut c = Mat::zeros(4, n);
+    for &(i, j, v) in quality {
+        c[(i, j)] = v;
+    }
+    c[(2, n - 2)] = 1.0;
+    c[(3, n - 1)] = 1.0;
+    let q = weight(&c, &diag(&[0.5, 5.0, 0.5, 5.0]));
+    example(id, a, b, q, diag(&[400.0, 700.0]), None)
+}
+
+/// A list of benchmark examples: `(group, numbers, parameter values, size)` stands for the
+/// examples `group.number` for each of `numbers`, each at every parameter value (`eps` of the
+/// collection; `0.0` for the examples without one), in that order.
+pub type Sweep<'a> = &'a [(u32, &'a [u32], &'a [f64], Option<usize>)];
+
+/// The examples of `table` from `collection` ([`carex`] or [`darex`]), in the table's order.
+pub fn sweep(
+    collection: fn(u32, u32, f64, Option<usize>) -> Example,
+    table: Sweep<'_>,
+) -> Vec<Example> {
+    let mut examples = Vec::new();
+    for &(group, numbers, values, size) in table {
+        for &number in numbers {
+            for &eps in values {
+                examples.push(collection(group, number, eps, size));
+            }
+        }
+    }
+    examples
+}
+
 fn example(id: String, a: Mat, b: Mat, q: Mat, r: Mat, x: Option<Mat>) -> Example {
     Example {
         id,
@@ -679,21 +716,8 @@ pub fn darex(group: u32, number: u32, eps: f64, size: Option<usize>) -> Example 
             let b = f.matrix(11, 2);
             a[(9, 9)] = 1.0;
             a[(10, 10)] = 1.0;
-            let mut c = Mat::zeros(4, 11);
-            c[(0, 5)] = 15.0;
-            c[(1, 6)] = 7.0;
-            c[(1, 7)] = -5.357;
-            c[(1, 8)] = -3.943;
-            c[(2, 9)] = 1.0;
-            c[(3, 10)] = 1.0;
-            example(
-                id,
-                a,
-                b,
-                weight(&c, &diag(&[0.5, 5.0, 0.5, 5.0])),
-                diag(&[400.0, 700.0]),
-                None,
-            )
+            let quality = [(0, 5, 15.0), (1, 6, 7.0), (1, 7, -5.357), (1, 8, -3.943)];
+            paper_machine(id, a, b, &quality)
         }
         // Sima 1996, Ex. 2.6: paper machine model with disturbances.
         (1, 12) => {
@@ -717,22 +741,14 @@ pub fn darex(group: u32, number: u32, eps: f64, size: Option<usize>) -> Example 
             let mut b = Mat::zeros(13, 2);
             b[(5, 0)] = 1.0;
             b[(7, 1)] = 1.0;
-            let mut c = Mat::zeros(4, 13);
-            c[(0, 0)] = 3.318;
-            c[(1, 0)] = 1.5484;
-            c[(1, 6)] = -0.3981;
-            c[(1, 7)] = -0.5113;
-            c[(1, 8)] = -5.7865;
-            c[(2, 11)] = 1.0;
-            c[(3, 12)] = 1.0;
-            example(
-                id,
-                a,
-                b,
-                weight(&c, &diag(&[0.5, 5.0, 0.5, 5.0])),
-                diag(&[400.0, 700.0]),
-                None,
-            )
+            let quality = [
+                (0, 0, 3.318),
+                (1, 0, 1.5484),
+                (1, 6, -0.3981),
+                (1, 7, -0.5113),
+                (1, 8, -5.7865),
+            ];
+            paper_machine(id, a, b, &quality)
         }
         // Laub 1979, Ex. 2 (discrete): X = t·Q₀ with t = (1 + sqrt(1 + 4 eps))/2, R = eps.
         (2, 1) => {

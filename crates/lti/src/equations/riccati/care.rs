@@ -37,9 +37,9 @@ use crate::linalg::{Mat, symmetrize_in_place};
 /// - `n ≤ 8` states and `m ≤ n` inputs: a fixed-size (stack-allocated) doubling + Newton path.
 /// - `n > 8`: the doubling method above with at most 11 doubling steps (enough for a
 ///   convergence rate up to `1 − 0.018`; a slower one — a Hamiltonian eigenvalue near the
-///   imaginary axis relative to the shift — stops the attempt early: on the CAREX examples
-///   that decline, the attempt added 16–37 % to the instruction count of the Schur solve),
-///   then the same refinement and checks as every method.
+///   imaginary axis relative to the shift — stops the attempt early, so that a declined
+///   attempt costs a fraction of the Schur solve that follows), then the same refinement and
+///   checks as every method.
 ///
 /// When the attempt declines, the general path runs: Schur, then doubling (the first result
 /// with residual ≤ [`GOOD_RESIDUAL`](super::GOOD_RESIDUAL), else the most accurate; a finished
