@@ -1,0 +1,117 @@
+// The loader of the pendulab browser lab (docs/web.md, "Interface"): instantiates the
+// WebAssembly module built from crates/web and wraps its C ABI (crates/web/src/ffi.rs) in a
+// small object. No generated glue; numbers go through one f64
+// buffer in its linear memory, text through a byte buffer.
+//
+// The module's bytes come from `pendulab_web.wasm.js` (the .wasm as base64, written by
+// tools/build-web), so the page also works from file://, where fetch() of a .wasm is refused.
+"use strict";
+
+(function () {
+  const IO_LEN = 16384;
+  const RECORD = 6; // [t, q0, q1, q0', q1', u]  (crates/web/src/lab.rs, RECORD)
+  const STATE = 16; // the state block of pl_advance (crates/web/src/ffi.rs, STATE)
+
+  function decodeBase64(text) {
+    const bin = atob(text);
+    const bytes = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    return bytes;
+  }
+
+  async function load(bytes) {
+    const module = await WebAssembly.compile(bytes || decodeBase64(window.PENDULAB_WASM));
+    // tools/build-web's module imports nothing; a plain cargo build carries getrandom's unused
+    // wasm-bindgen imports (docs/web.md, "Randomness"), answered here by functions that throw.
+    const imports = {};
+    for (const imp of WebAssembly.Module.imports(module)) {
+      (imports[imp.module] = imports[imp.module] || {})[imp.name] = () => {
+        throw new Error(`${imp.module}.${imp.name} is not available in the lab`);
+      };
+    }
+    const instance = await WebAssembly.instantiate(module, imports);
+    const x = instance.exports;
+    const mem = () => x.memory.buffer;
+    const io = () => new Float64Array(mem(), x.pl_io(), IO_LEN);
+    const utf8 = new TextDecoder();
+    const textOut = () => utf8.decode(new Uint8Array(mem(), x.pl_text_out(), x.pl_text_out_len()));
+    const check = (rc) => {
+      if (rc < 0) throw new Error(textOut());
+      return rc;
+    };
+
+    const lab = {
+      exports: x,
+      init(kind) { check(x.pl_init(kind === "arm" ? 1 : 0)); },
+      loadPlant(text) {
+        const bytes = new TextEncoder().encode(text);
+        new Uint8Array(mem(), x.pl_text_in(bytes.length), bytes.length).set(bytes);
+        check(x.pl_load_plant());
+      },
+      // method: "lqr" (q: 4), "servo" (q: 5), "place" (poles: [[re, im] x 4]).
+      design(method, args) {
+        const b = io();
+        let m = 0;
+        if (method === "lqr" || method === "servo") {
+          m = method === "lqr" ? 0 : 1;
+          args.q.forEach((v, i) => { b[i] = v; });
+        } else {
+          m = 2;
+          args.poles.forEach(([re, im], i) => { b[2 * i] = re; b[2 * i + 1] = im; });
+        }
+        check(x.pl_design(m, method === "place" ? 0 : args.r));
+        const o = io();
+        const n = o[5];
+        const poles = [];
+        for (let i = 0; i < n; i++) poles.push([o[6 + 2 * i], o[7 + 2 * i]]);
+        return {
+          gain: Array.from(o.subarray(0, n)),
+          poles,
+          a: Array.from(o.subarray(16, 32)),
+          b: Array.from(o.subarray(32, 36)),
+          open: [0, 1, 2, 3].map((i) => [o[36 + 2 * i], o[37 + 2 * i]]),
+        };
+      },
+      mode(swingUp) { check(x.pl_mode(swingUp ? 1 : 0)); },
+      reset(q0, q1) { check(x.pl_reset(q0, q1)); },
+      poke(dq0, dq1) { check(x.pl_poke(dq0, dq1)); },
+      hold(q1) { check(x.pl_hold(q1 === null ? 0 : q1, q1 === null ? 0 : 1)); },
+      reference(r) { check(x.pl_reference(r)); },
+      effect(which, on) { check(x.pl_effect(which, on ? 1 : 0)); },
+      delay(samples) { check(x.pl_delay(samples)); },
+      // Runs `samples` samples; calls onRecord(t, q0, q1, v0, v1, u) for every `every`-th.
+      advance(samples, every, onRecord) {
+        const n = check(x.pl_advance(samples, every));
+        const o = io();
+        if (onRecord) {
+          for (let i = 0; i < n; i++) {
+            const k = STATE + RECORD * i;
+            onRecord(o[k], o[k + 1], o[k + 2], o[k + 3], o[k + 4], o[k + 5]);
+          }
+        }
+        return {
+          t: o[0], x: [o[1], o[2], o[3], o[4]], u: o[5], angle: o[6],
+          pose: [[o[7], o[8]], [o[9], o[10]]],
+        };
+      },
+      // kind: "initial" (pendulum at `amplitude` rad) or "step" (reference to `amplitude`).
+      response(kind, amplitude, duration, every) {
+        const n = check(x.pl_response(kind === "initial" ? 0 : 1, amplitude, duration, every));
+        const o = io();
+        const t = [], q0 = [], q1 = [], u = [];
+        for (let i = 0; i < n; i++) {
+          t.push(o[4 * i]); q0.push(o[4 * i + 1]); q1.push(o[4 * i + 2]); u.push(o[4 * i + 3]);
+        }
+        return { t, q0, q1, u };
+      },
+      controllerToml() { check(x.pl_controller_toml()); return textOut(); },
+      plantToml() { check(x.pl_plant_toml()); return textOut(); },
+    };
+    return lab;
+  }
+
+  window.PendulabLab = { load, EFFECTS: {
+    quantization: 0, pseudoDifferentiator: 1, saturation: 2, dac: 3,
+    driveFriction: 4, pivotFriction: 5, noise: 6,
+  } };
+})();
