@@ -526,20 +526,7 @@ pub fn lq_state_feedback(
     r: &Mat,
     options: &SolveOptions,
 ) -> Result<StateFeedbackDesign> {
-    state_feedback(
-        &[Vertex {
-            a: a.clone(),
-            b: b.clone(),
-        }],
-        &StateFeedbackSpec {
-            lq: Some(LqWeights {
-                q: q.clone(),
-                r: r.clone(),
-            }),
-            ..StateFeedbackSpec::default()
-        },
-        options,
-    )
+    state_feedback(&one_model(a, b), &lq_spec(q, r), options)
 }
 
 /// Multi-objective design: the LQ guaranteed cost plus pole regions (e.g. decay rate,
@@ -555,16 +542,7 @@ pub fn multiobjective_state_feedback(
     regions: &[Region],
     options: &SolveOptions,
 ) -> Result<StateFeedbackDesign> {
-    robust_state_feedback(
-        &[Vertex {
-            a: a.clone(),
-            b: b.clone(),
-        }],
-        q,
-        r,
-        regions,
-        options,
-    )
+    robust_state_feedback(&one_model(a, b), q, r, regions, options)
 }
 
 /// Robust design over a polytope of plant models given by its vertices: the LQ guaranteed
@@ -584,12 +562,8 @@ pub fn robust_state_feedback(
     state_feedback(
         vertices,
         &StateFeedbackSpec {
-            lq: Some(LqWeights {
-                q: q.clone(),
-                r: r.clone(),
-            }),
             regions: regions.to_vec(),
-            ..StateFeedbackSpec::default()
+            ..lq_spec(q, r)
         },
         options,
     )
@@ -612,19 +586,32 @@ pub fn saturated_state_feedback(
     options: &SolveOptions,
 ) -> Result<StateFeedbackDesign> {
     state_feedback(
-        &[Vertex {
-            a: a.clone(),
-            b: b.clone(),
-        }],
+        &one_model(a, b),
         &StateFeedbackSpec {
-            lq: Some(LqWeights {
-                q: q.clone(),
-                r: r.clone(),
-            }),
             input_bound: Some(bound.clone()),
             refinement: Refinement::Feasibility { relax: 0.06 },
-            ..StateFeedbackSpec::default()
+            ..lq_spec(q, r)
         },
         options,
     )
+}
+
+/// The polytope of one plant model `ẋ = Ax + Bu`: the single vertex `(A, B)`.
+fn one_model(a: &Mat, b: &Mat) -> [Vertex; 1] {
+    [Vertex {
+        a: a.clone(),
+        b: b.clone(),
+    }]
+}
+
+/// The specification with the LQ guaranteed-cost condition of weights `(Q, R)` only (the
+/// defaults of [`StateFeedbackSpec`] otherwise).
+fn lq_spec(q: &Mat, r: &Mat) -> StateFeedbackSpec {
+    StateFeedbackSpec {
+        lq: Some(LqWeights {
+            q: q.clone(),
+            r: r.clone(),
+        }),
+        ..StateFeedbackSpec::default()
+    }
 }
