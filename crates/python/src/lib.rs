@@ -33,6 +33,7 @@ pub mod lmi;
 pub mod lti;
 pub mod plants;
 pub mod render;
+pub mod study;
 
 use pyo3::prelude::*;
 
@@ -50,5 +51,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     book::register(m)?;
     batch::register(m)?;
     render::register(m)?;
+    study::register(m)?;
     Ok(())
 }
