@@ -39,9 +39,13 @@ use pendulab_ident::{
     pendulum_from_oscillation, validate_arm_pendulum, validate_cart_pendulum, validate_drive,
     validate_free_pendulum, validate_oscillation, validate_p_step,
 };
+use pendulab_plants::rig::PlantKind;
+use pendulab_plants::spec::{PlantParameters, PlantSpec, Provenance};
+use pendulab_plants::{ArmPendulumParams, CartPendulumParams};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
-use std::path::PathBuf;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
 /// Identification methods.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -65,6 +69,28 @@ pub enum Method {
 }
 
 impl Method {
+    /// The plant the method identifies.
+    fn plant(self) -> PlantKind {
+        match self {
+            Method::CartLs | Method::PendLs | Method::CartStep | Method::PendFree => {
+                PlantKind::Cart
+            }
+            Method::ArmLs | Method::ArmPendLs | Method::ArmStep | Method::ArmPendFree => {
+                PlantKind::Arm
+            }
+        }
+    }
+
+    /// The estimates that are plant parameters, as `(estimate name, plant file key)`.
+    fn parameters(self) -> [(&'static str, &'static str); 2] {
+        match self {
+            Method::CartLs | Method::CartStep => [("ac", "a_c"), ("bc", "b_c")],
+            Method::PendLs | Method::PendFree => [("Jp", "J_p"), ("mup", "mu_p")],
+            Method::ArmLs | Method::ArmStep => [("a1", "a1"), ("b1", "b1")],
+            Method::ArmPendLs | Method::ArmPendFree => [("J2", "J2"), ("mu2", "mu2")],
+        }
+    }
+
     fn name(self) -> &'static str {
         match self {
             Method::CartLs => "cart-ls",
@@ -136,24 +162,24 @@ pub struct IdentifyArgs {
     /// Polynomial order of the Savitzky–Golay derivatives.
     #[arg(long, default_value_t = 3)]
     pub savgol_order: usize,
-    /// Cart pendulum mass m_p, kg.
-    #[arg(long, default_value_t = 0.107)]
-    pub mp: f64,
-    /// Cart pendulum pivot to centre of mass l_p, m.
-    #[arg(long, default_value_t = 0.230)]
-    pub lp: f64,
-    /// Gravitational acceleration g, m/s².
-    #[arg(long, default_value_t = 9.81)]
-    pub g: f64,
-    /// Arm length L1, m.
-    #[arg(long = "L1", alias = "arm-length", default_value_t = 0.227)]
-    pub l1: f64,
-    /// Arm pendulum mass m2, kg.
-    #[arg(long, default_value_t = 0.096)]
-    pub m2: f64,
-    /// Arm pendulum joint to centre of mass l2, m.
-    #[arg(long, default_value_t = 0.195)]
-    pub l2: f64,
+    /// Cart pendulum mass m_p, kg (default: the lab's with --save, else the book's 0.107).
+    #[arg(long)]
+    pub mp: Option<f64>,
+    /// Cart pendulum pivot to centre of mass l_p, m (default: the lab's with --save, else the book's 0.230).
+    #[arg(long)]
+    pub lp: Option<f64>,
+    /// Gravitational acceleration g, m/s² (default: the lab's with --save, else the book's 9.81).
+    #[arg(long)]
+    pub g: Option<f64>,
+    /// Arm length L1, m (default: the lab's with --save, else the book's 0.227).
+    #[arg(long = "L1", alias = "arm-length")]
+    pub l1: Option<f64>,
+    /// Arm pendulum mass m2, kg (default: the lab's with --save, else the book's 0.096).
+    #[arg(long)]
+    pub m2: Option<f64>,
+    /// Arm pendulum joint to centre of mass l2, m (default: the lab's with --save, else the book's 0.195).
+    #[arg(long)]
+    pub l2: Option<f64>,
     /// P gain k_P of the step experiment (default: 10 for cart-step, 3 for arm-step).
     #[arg(long)]
     pub kp: Option<f64>,
@@ -174,6 +200,12 @@ pub struct IdentifyArgs {
     /// automatic).
     #[arg(long)]
     pub hysteresis: Option<f64>,
+    /// Write the estimated plant parameters into DIR/lab.toml (`docs/lab.md`), with their
+    /// provenance: the data file, its SHA-256, the window and the standard errors. The known
+    /// constants (m_p, l_p, g or L1, m2, l2, g) are then the lab's unless given. Refused for a
+    /// method of the other plant, and with --force when a check failed.
+    #[arg(long, value_name = "DIR")]
+    pub save: Option<PathBuf>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -402,16 +434,181 @@ fn options_json(o: &LsOptions) -> Value {
 /// data, too few samples, a rank-deficient regressor, absent features and implausible
 /// estimates — each naming the file, column or row.
 pub fn run(args: &IdentifyArgs) -> Result<()> {
+    if let Some(dir) = &args.save {
+        // Refused before any work: a lab of the other plant.
+        let lab = crate::lab::load(dir)?;
+        if lab.kind() != args.method.plant() {
+            bail!(
+                "--save {}: {} identifies the {} pendulum, but the lab's plant is the {} pendulum",
+                dir.display(),
+                args.method.name(),
+                args.method.plant().name(),
+                lab.kind().name()
+            );
+        }
+    }
     let report = identify(args)?;
     for w in &report.warnings {
         eprintln!("warning (--force): {w}");
     }
+    let saved = match &args.save {
+        Some(dir) => Some(save(args, dir, &report)?),
+        None => None,
+    };
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        let mut v = serde_json::to_value(&report)?;
+        if let (Some(s), Some(m)) = (&saved, v.as_object_mut()) {
+            m.insert("saved".into(), serde_json::to_value(s)?);
+        }
+        println!("{v}");
     } else {
         print_table(&report);
+        if let Some(s) = &saved {
+            println!();
+            let set: Vec<String> = s
+                .parameters
+                .iter()
+                .map(|(k, (old, new))| format!("{k} = {new:.6e} (was {old:.6e})"))
+                .collect();
+            println!("saved to {}: {}", s.file.display(), set.join(", "));
+        }
     }
     Ok(())
+}
+
+/// The known constants of the pendulum methods: the flags, else (with `--save`) the lab's
+/// parameters, else the book's (tables 3.5 and 3.7).
+fn known_constants(args: &IdentifyArgs) -> Result<(CartPendulumConstants, ArmPendulumConstants)> {
+    let params = match &args.save {
+        Some(dir) => *crate::lab::load(dir)?.parameters(),
+        None => PlantParameters::book(args.method.plant()),
+    };
+    let (cb, ab) = (CartPendulumParams::book(), ArmPendulumParams::book());
+    let (cp, ap) = match params {
+        PlantParameters::Cart(p) => (p, ab),
+        PlantParameters::Arm(p) => (cb, p),
+    };
+    let g = match params {
+        PlantParameters::Cart(p) => p.g,
+        PlantParameters::Arm(p) => p.g,
+    };
+    Ok((
+        CartPendulumConstants {
+            mp: args.mp.unwrap_or(cp.m_p),
+            lp: args.lp.unwrap_or(cp.l_p),
+            g: args.g.unwrap_or(g),
+        },
+        ArmPendulumConstants {
+            l1: args.l1.unwrap_or(ap.L1),
+            m2: args.m2.unwrap_or(ap.m2),
+            l2: args.l2.unwrap_or(ap.l2),
+            g: args.g.unwrap_or(g),
+        },
+    ))
+}
+
+/// Writes the method's parameter estimates into `DIR/lab.toml` (`--save`).
+///
+/// The provenance becomes `identified` with the data file as named, the SHA-256 of its bytes,
+/// the window of the report and the standard errors of the estimates. Parameters identified
+/// earlier from the **same** record (same SHA-256 and window) keep theirs, so `cart-ls` and
+/// `pend-ls` on one run both land in the file; a lab identified from another record or window
+/// is refused (its other parameters would be left with no provenance) unless
+/// `provenance.source` is first set back to "user" or "book" by hand.
+///
+/// # Errors
+/// A forced result (failed checks); an estimate that is not a number; the lab's validation of
+/// the new values (naming the key); a file that cannot be written. Nothing is written then.
+fn save(args: &IdentifyArgs, dir: &Path, report: &Report) -> Result<SavedOut> {
+    if !report.warnings.is_empty() {
+        bail!(
+            "--save {}: not saved, {} check(s) failed (see the warnings)",
+            dir.display(),
+            report.warnings.len()
+        );
+    }
+    let lab = crate::lab::load(dir)?;
+    let bytes = std::fs::read(&args.data)
+        .with_context(|| format!("cannot read {}", args.data.display()))?;
+    let sha = crate::lab::sha256_hex(&bytes);
+    let file = args.data.display().to_string();
+    let window = report.window;
+    let mut errors = BTreeMap::new();
+    let mut method = format!("pendulab identify {}", args.method.name());
+    match lab.provenance() {
+        Provenance::Identified {
+            sha256: old_sha,
+            window: old_window,
+            standard_errors,
+            method: old_method,
+            ..
+        } => {
+            if *old_sha != sha || *old_window != window {
+                bail!(
+                    "--save {}: the lab's parameters were identified from another record or window ({}); \
+                     identify from the same record and window, or set provenance.source = \"user\" in {} first",
+                    dir.display(),
+                    crate::lab::provenance_label(lab.provenance()),
+                    dir.join(crate::lab::LAB_FILE).display()
+                );
+            }
+            errors = standard_errors.clone();
+            if let Some(m) = old_method
+                && !m.contains(&method)
+            {
+                method = format!("{m}; {method}");
+            }
+        }
+        Provenance::Book {} | Provenance::User { .. } => {}
+    }
+    let mut entries = lab.parameters().entries();
+    let mut changed = Map::new();
+    for (est, key) in args.method.parameters() {
+        let value = report
+            .estimates
+            .get(est)
+            .and_then(Value::as_f64)
+            .with_context(|| format!("--save: the estimate {est} is not a number"))?;
+        let se = report.std_errors.get(est).and_then(Value::as_f64);
+        let entry = entries
+            .iter_mut()
+            .find(|(k, _)| k == key)
+            .with_context(|| format!("--save: the lab has no parameter {key}"))?;
+        changed.insert(key.into(), json!([entry.1, value]));
+        entry.1 = value;
+        match se {
+            Some(se) => errors.insert(key.to_string(), se),
+            None => errors.remove(key),
+        };
+    }
+    let parameters = PlantParameters::from_entries(lab.kind(), entries)?;
+    let provenance = Provenance::Identified {
+        file,
+        sha256: sha,
+        window,
+        standard_errors: errors,
+        method: Some(method),
+    };
+    let spec = PlantSpec::new(parameters, provenance, *lab.rig())
+        .with_context(|| format!("--save {}: the identified parameters", dir.display()))?;
+    let path = crate::lab::write_lab(dir, &spec)?;
+    Ok(SavedOut {
+        file: path,
+        parameters: changed
+            .into_iter()
+            .filter_map(|(k, v)| {
+                let a = v.as_array()?;
+                Some((k, (a[0].as_f64()?, a[1].as_f64()?)))
+            })
+            .collect(),
+    })
+}
+
+/// What `--save` wrote: the lab file and each parameter's `(old, new)` value.
+#[derive(Serialize)]
+struct SavedOut {
+    file: PathBuf,
+    parameters: BTreeMap<String, (f64, f64)>,
 }
 
 fn identify(args: &IdentifyArgs) -> Result<Report> {
@@ -437,17 +634,7 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
     let t = data.time()?;
     let span = [t[0], t[t.len() - 1]];
     let opts = ls_options(args);
-    let cart = CartPendulumConstants {
-        mp: args.mp,
-        lp: args.lp,
-        g: args.g,
-    };
-    let arm = ArmPendulumConstants {
-        l1: args.l1,
-        m2: args.m2,
-        l2: args.l2,
-        g: args.g,
-    };
+    let (cart, arm) = known_constants(args)?;
     let mut est = Map::new();
     let mut se = Map::new();
     let mut report = Report {

@@ -68,10 +68,12 @@ macro_rules! eprintln {
 
 mod bench;
 mod book;
+mod design;
 mod identify;
 mod lab;
 mod lqr;
 mod model;
+mod plot;
 mod report;
 mod rig;
 mod simulate;
@@ -179,6 +181,10 @@ enum Command {
     Model(model::ModelArgs),
     /// Simulate a controller file on a lab's plant with the rig's imperfections.
     Simulate(simulate::SimulateArgs),
+    /// Design a controller on a lab's plant (lqr, place, servo, p) and write its file.
+    Design(design::DesignArgs),
+    /// Plot a rig log or a simulation, and compare two with the fit per signal.
+    Plot(plot::PlotArgs),
     /// MATLAB's verbs for any linear system (ss, eig, ctrb, obsv, step, impulse, initial, lsim,
     /// bode, c2d, d2c, place, lqe).
     #[command(flatten)]
@@ -197,6 +203,8 @@ fn main() -> ExitCode {
         Command::Lab(args) => lab::run(&args),
         Command::Model(args) => model::run(&args),
         Command::Simulate(args) => simulate::run(&args),
+        Command::Design(args) => design::run(&args),
+        Command::Plot(args) => plot::run(&args),
         Command::Sys(cmd) => sys::run(&cmd),
     };
     let result = result.and_then(|()| match finish_stdout() {

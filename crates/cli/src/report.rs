@@ -15,9 +15,14 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 /// Arguments of `pendulab report`.
 #[derive(Debug, clap::Args)]
 pub struct ReportArgs {
-    /// Output directory (created if needed): index.html, figures/, results.jsonl.
-    #[arg(long)]
-    pub out: PathBuf,
+    /// Output directory (created if needed): index.html, figures/, results.jsonl (default
+    /// with --lab: LAB/report).
+    #[arg(long, required_unless_present = "lab")]
+    pub out: Option<PathBuf>,
+    /// The notebook of a lab directory instead of the book's (docs/lab.md): its plant and how
+    /// it was identified, its designs, their simulations and runs side by side.
+    #[arg(long, conflicts_with_all = ["data", "only"])]
+    pub lab: Option<PathBuf>,
     /// Measured data for an example that needs it, as ID=FILE.csv (repeatable).
     #[arg(long, value_name = "ID=FILE")]
     pub data: Vec<String>,
@@ -108,7 +113,16 @@ fn write_report(
 
 /// Runs `pendulab report`.
 pub fn run(args: &ReportArgs) -> Result<()> {
-    let r = generate(&args.out, &args.data, &args.only, true)?;
+    if let Some(lab) = &args.lab {
+        let out = args.out.clone().unwrap_or_else(|| lab.join("report"));
+        let index = write_lab_notebook(lab, &out)?;
+        println!("wrote {}", index.display());
+        return Ok(());
+    }
+    let Some(out) = &args.out else {
+        bail!("--out DIR is required (or --lab DIR)");
+    };
+    let r = generate(out, &args.data, &args.only, true)?;
     outcome(&r)
 }
 
@@ -301,4 +315,152 @@ mod tests {
         assert_eq!(civil_from_days(20_784), (2026, 11, 27));
         assert_eq!(civil_from_days(-1), (1969, 12, 31));
     }
+}
+
+/// The lab notebook's page (`pendulab report --lab DIR`, `docs/lab.md`): `OUT/index.html`
+/// with the lab's plant (each parameter beside the book's value, its standard error when
+/// identified, and the provenance: file, SHA-256, window, method), then one section per
+/// design (`DIR/designs/*.toml`: its file as written, with the model it was designed on in
+/// its header) with its simulation's figure (`DIR/runs/<design>/run.svg`, from `pendulab
+/// simulate`) beside the figures of its rig runs (`DIR/logs/<design>*.svg`, from `pendulab
+/// plot`). The figures are copied under `OUT/figures/` and linked by relative paths, so the
+/// directory can be moved whole. Self-contained: inline style, no scripts.
+///
+/// # Errors
+/// The lab file's errors; a design or figure that cannot be read; the page that cannot be
+/// written.
+fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
+    use pendulab_book::report::format::escape;
+    use pendulab_plants::spec::{PlantParameters, Provenance};
+    use std::fmt::Write as _;
+    let plant = crate::lab::load(lab)?;
+    let figs = out.join("figures");
+    std::fs::create_dir_all(&figs).with_context(|| format!("cannot create {}", figs.display()))?;
+    let mut s = String::new();
+    let title = format!("pendulab lab notebook: {}", lab.display());
+    let _ = write!(
+        s,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n\
+         <style>body{{font-family:system-ui,sans-serif;max-width:1100px;margin:24px auto;padding:0 16px;color:#1f2328}}\
+         table{{border-collapse:collapse}}td,th{{border:1px solid #d0d7de;padding:4px 10px;text-align:right}}\
+         th{{background:#f6f8fa}}pre{{background:#f6f8fa;padding:10px;overflow-x:auto;font-size:13px}}\
+         .pair{{display:flex;gap:12px;flex-wrap:wrap}}.pair figure{{flex:1 1 480px;margin:0}}img{{width:100%}}\
+         figcaption{{color:#57606a;font-size:13px}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n",
+        t = escape(&title)
+    );
+    let _ = writeln!(
+        s,
+        "<h2 id=\"plant\">The plant</h2>\n<p>The {} pendulum: {}.</p>",
+        plant.kind().name(),
+        escape(&crate::lab::provenance_label(plant.provenance()))
+    );
+    let errors = match plant.provenance() {
+        Provenance::Identified {
+            standard_errors, ..
+        } => standard_errors.clone(),
+        _ => Default::default(),
+    };
+    let book = PlantParameters::book(plant.kind()).entries();
+    s.push_str("<table><tr><th>parameter</th><th>value</th><th>standard error</th><th>book</th><th>value / book</th></tr>\n");
+    for ((k, v), (_, b)) in plant.parameters().entries().into_iter().zip(book) {
+        let se = errors
+            .get(&k)
+            .map_or("—".to_string(), |e| format!("{e:.3e}"));
+        let _ = writeln!(
+            s,
+            "<tr><td>{}</td><td>{v:.6e}</td><td>{se}</td><td>{b:.6e}</td><td>{:.4}</td></tr>",
+            escape(&k),
+            v / b
+        );
+    }
+    s.push_str("</table>\n");
+    if let Provenance::Identified {
+        file,
+        sha256,
+        window,
+        method,
+        ..
+    } = plant.provenance()
+    {
+        let _ = writeln!(
+            s,
+            "<p>Identified from <code>{}</code> (SHA-256 <code>{}</code>), t = {}–{} s, by {}.</p>",
+            escape(file),
+            escape(sha256),
+            window[0],
+            window[1],
+            escape(method.as_deref().unwrap_or("an unnamed method"))
+        );
+    }
+    let mut designs: Vec<PathBuf> = match std::fs::read_dir(lab.join("designs")) {
+        Ok(rd) => rd
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    designs.sort();
+    s.push_str("<h2 id=\"designs\">Designs, simulations and runs</h2>\n");
+    if designs.is_empty() {
+        s.push_str("<p>No design yet (<code>pendulab design … --lab DIR</code>).</p>\n");
+    }
+    let copy = |src: &Path, name: String| -> Result<String> {
+        std::fs::copy(src, figs.join(&name))
+            .with_context(|| format!("cannot copy {} into the report", src.display()))?;
+        Ok(format!("figures/{name}"))
+    };
+    for d in &designs {
+        let stem = d
+            .file_stem()
+            .map(|x| x.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let text =
+            std::fs::read_to_string(d).with_context(|| format!("cannot read {}", d.display()))?;
+        let _ = writeln!(
+            s,
+            "<h3 id=\"{0}\">{0}</h3>\n<pre>{1}</pre>\n<div class=\"pair\">",
+            escape(&stem),
+            escape(&text)
+        );
+        let sim = lab.join("runs").join(&stem).join("run.svg");
+        if sim.exists() {
+            let rel = copy(&sim, format!("{stem}-simulation.svg"))?;
+            let _ = writeln!(
+                s,
+                "<figure><img src=\"{rel}\" alt=\"simulation\"><figcaption>simulation (pendulab simulate)</figcaption></figure>"
+            );
+        }
+        let mut runs: Vec<PathBuf> = match std::fs::read_dir(lab.join("logs")) {
+            Ok(rd) => rd
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| {
+                    p.extension().is_some_and(|x| x == "svg")
+                        && p.file_stem()
+                            .is_some_and(|n| n.to_string_lossy().starts_with(stem.as_str()))
+                })
+                .collect(),
+            Err(_) => Vec::new(),
+        };
+        runs.sort();
+        for r in &runs {
+            let name = r
+                .file_name()
+                .map(|x| x.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let rel = copy(r, format!("run-{name}"))?;
+            let _ = writeln!(
+                s,
+                "<figure><img src=\"{rel}\" alt=\"run\"><figcaption>rig run {} (pendulab plot)</figcaption></figure>",
+                escape(&name)
+            );
+        }
+        if !sim.exists() && runs.is_empty() {
+            s.push_str("<p>Not simulated or run yet.</p>\n");
+        }
+        s.push_str("</div>\n");
+    }
+    s.push_str("</body>\n</html>\n");
+    let index = out.join("index.html");
+    crate::lab::write_whole(&index, s.as_bytes())?;
+    Ok(index)
 }

@@ -1,7 +1,8 @@
 //! `pendulab rig`: the rig emulator and the real-time controller runtime.
 //!
-//! - `pendulab rig emulate --plant cart|arm [--listen ADDR] [--preset quantized|ideal|noisy]`
-//!   runs the nonlinear plant in real time behind the wire protocol (docs/rig/protocol.md)
+//! - `pendulab rig emulate --plant cart|arm | --lab DIR [--listen ADDR] [--preset quantized|ideal|noisy]`
+//!   runs the nonlinear plant (the book's, or with `--lab` the lab's parameters, encoders, D/A,
+//!   amplifier limit, sample time and friction: `EmulatorConfig::for_plant`) in real time behind the wire protocol (docs/rig/protocol.md)
 //!   until Ctrl-C (or `--duration`); it prints `listening on ADDR` first. It holds the
 //!   pendulum at its initial angle until a controller's first command, and every new run
 //!   finds it put back there, so it serves run after run; `--free-run` integrates the plant
@@ -10,7 +11,12 @@
 //!   runs the controller loop against a rig, prints the stop reason and the loop's jitter,
 //!   latency and deadline statistics, and exits with the stop's status (0 completed,
 //!   2 interrupted, 3 watchdog, 4 travel limit, 5 angle window, 6 non-finite, 7 I/O; 1 for
-//!   errors before the loop starts).
+//!   errors before the loop starts). With `--lab DIR` the file's design requests are designed
+//!   on the lab's plant (`pendulab_control::spec::build_for`), a file of the other plant is
+//!   refused and its design record's differences from the lab are printed as warnings;
+//!   `--hanging` runs the controller about the hanging rest (`RunConfig::pendulum_centre = π`:
+//!   the controller and the angle window see the angle about it), for the identification
+//!   experiments (`pendulab design p`).
 //!
 //! Every number on the command line has a documented range, checked before anything runs, and
 //! an error names the flag, its value and the range (docs/rig/README.md, "Valid ranges"):
@@ -20,7 +26,7 @@
 //! imperfections (the `*_MAX` constants below).
 
 use anyhow::{Context, Result, anyhow, bail};
-use pendulab_control::spec::{Built, build};
+use pendulab_control::spec::{Built, build, build_for};
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind, PlantStart};
 use pendulab_rig::runtime::{RunConfig, StopReason, run as run_loop};
 use pendulab_rig::{ConfigError, Logger, RigError, Safety, config};
@@ -74,9 +80,13 @@ pub enum Preset {
 /// Arguments of `pendulab rig emulate`.
 #[derive(Debug, clap::Args)]
 pub struct EmulateArgs {
-    /// Which rig.
-    #[arg(long, value_parser = ["cart", "arm"])]
-    pub plant: String,
+    /// Which rig: the book's cart or arm (required unless --lab gives it).
+    #[arg(long, value_parser = ["cart", "arm"], required_unless_present = "lab")]
+    pub plant: Option<String>,
+    /// Emulate the rig of this lab directory (its lab.toml: the plant's parameters, encoders,
+    /// D/A, amplifier limit, sample time and drive friction) instead of the book's.
+    #[arg(long)]
+    pub lab: Option<PathBuf>,
     /// UDP address to listen on (port 0: any free port).
     #[arg(long, default_value = "127.0.0.1:5005")]
     pub listen: SocketAddr,
@@ -132,6 +142,15 @@ pub struct RunArgs {
     /// Controller file (TOML; see docs/rig/README.md).
     #[arg(long)]
     pub controller: PathBuf,
+    /// Design the controller file's `lqr` requests on this lab's plant (its lab.toml) rather
+    /// than the book's; the file's `plant` must be the lab's.
+    #[arg(long)]
+    pub lab: Option<PathBuf>,
+    /// The pendulum hangs (an identification experiment such as `pendulab design p`'s): the
+    /// controller and the angle window see the pendulum angle about the hanging rest (π)
+    /// instead of upright.
+    #[arg(long)]
+    pub hanging: bool,
     /// Log every sample to this CSV file.
     #[arg(long)]
     pub log: Option<PathBuf>,
@@ -188,7 +207,16 @@ fn check_range(flag: &str, v: f64, lo: f64, open_lo: bool, hi: f64, unit: &str) 
 }
 
 fn emulate(a: &EmulateArgs) -> Result<()> {
-    let plant = PlantKind::parse(&a.plant)?;
+    let lab = a.lab.as_deref().map(crate::lab::load).transpose()?;
+    let plant = match (&a.plant, &lab) {
+        (Some(p), Some(spec)) if PlantKind::parse(p)? != spec.kind() => bail!(
+            "--plant {p}, but the lab's plant is the {} pendulum",
+            spec.kind().name()
+        ),
+        (_, Some(spec)) => spec.kind(),
+        (Some(p), None) => PlantKind::parse(p)?,
+        (None, None) => bail!("--plant cart|arm or --lab DIR is required"),
+    };
     check_range(
         "--theta0-deg",
         a.theta0_deg,
@@ -206,7 +234,11 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
         ),
     };
     check_range("--q0", a.q0, -q0_max, false, q0_max, unit)?;
-    let mut c = EmulatorConfig::new(plant, [q0, a.theta0_deg.to_radians(), 0.0, 0.0]);
+    let x0 = [q0, a.theta0_deg.to_radians(), 0.0, 0.0];
+    let mut c = match &lab {
+        Some(spec) => EmulatorConfig::for_plant(spec, x0),
+        None => EmulatorConfig::new(plant, x0),
+    };
     c.listen = a.listen;
     c.seed = a.seed;
     if a.free_run {
@@ -228,7 +260,7 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
         c.encoder_noise_counts = v;
     }
     if let Some(v) = a.friction {
-        let amp = plant.spec().input_limit;
+        let amp = c.rig.input_limit;
         check_range(
             "--friction",
             v,
@@ -266,6 +298,14 @@ fn emulate(a: &EmulateArgs) -> Result<()> {
     let stop = stop_flag()?;
     let emu = Emulator::spawn(c)?;
     println!("listening on {}", emu.addr());
+    if let (Some(dir), Some(spec)) = (&a.lab, &lab) {
+        println!(
+            "emulating the {} rig of {} ({})",
+            spec.kind().name(),
+            dir.display(),
+            crate::lab::provenance_label(spec.provenance())
+        );
+    }
     if a.free_run {
         println!("free running: the plant is integrated from now on, across runs");
     } else {
@@ -355,8 +395,28 @@ pub(crate) fn load_and_build(text: &str) -> Result<(config::Loaded, Built)> {
 fn run_controller(a: &RunArgs) -> Result<()> {
     let text = std::fs::read_to_string(&a.controller)
         .with_context(|| format!("reading {}", a.controller.display()))?;
-    let (mut loaded, mut built) =
-        load_and_build(&text).with_context(|| format!("in {}", a.controller.display()))?;
+    let (mut loaded, mut built) = match &a.lab {
+        None => load_and_build(&text).with_context(|| format!("in {}", a.controller.display()))?,
+        Some(dir) => {
+            let plant = crate::lab::load(dir)?;
+            let loaded =
+                config::load(&text).with_context(|| format!("in {}", a.controller.display()))?;
+            crate::lab::check_controller_plant(&a.controller, loaded.plant, &plant)?;
+            let warnings = loaded
+                .spec
+                .check_plant(&plant)
+                .with_context(|| format!("in {}", a.controller.display()))?;
+            for w in &warnings {
+                eprintln!("warning: {}: {w}", a.controller.display());
+            }
+            let built = build_for(&loaded.spec, &plant, loaded.ts)
+                .with_context(|| format!("in {}", a.controller.display()))?;
+            (loaded, built)
+        }
+    };
+    if a.hanging {
+        built.pendulum_centre = std::f64::consts::PI;
+    }
     if !(a.duration.is_finite() && (0.0..=config::DURATION_MAX).contains(&a.duration)) {
         bail!(
             "--duration {}: must be in [0, {}] s (0: until Ctrl-C)",

@@ -18,7 +18,7 @@
 
 use crate::lab;
 use crate::model::state_names;
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use pendulab_control::scenario::{Run, SETTLING_FRACTION, simulate};
 use pendulab_lti::{Mat, Trajectory};
 use pendulab_plants::rig::PlantKind;
@@ -83,6 +83,8 @@ struct SummaryJson {
     left_angle_window: Option<bool>,
     left_travel: bool,
     final_state: Vec<f64>,
+    /// Differences between the controller's design record and the lab's plant.
+    design_warnings: Vec<String>,
 }
 
 /// The run as CSV text (module documentation).
@@ -148,14 +150,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let text = read(&args.controller, "controller")?;
     let loaded = pendulab_rig::config::load(&text)
         .with_context(|| format!("in {}", args.controller.display()))?;
-    if loaded.plant != kind {
-        bail!(
-            "{}: plant = \"{}\", but the lab's plant is the {} pendulum",
-            args.controller.display(),
-            loaded.plant.name(),
-            kind.name()
-        );
-    }
+    lab::check_controller_plant(&args.controller, loaded.plant, &plant)?;
     let mut scenario = match &args.scenario {
         Some(p) => ScenarioSpec::from_toml(&read(p, "scenario")?)
             .with_context(|| format!("in {}", p.display()))?,
@@ -163,6 +158,9 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     };
     scenario.sample_time.get_or_insert(loaded.ts);
     let run = simulate(&plant, &loaded.spec, &scenario).context("simulating")?;
+    for w in &run.design_warnings {
+        eprintln!("warning: {}: {w}", args.controller.display());
+    }
 
     let stem = args
         .controller
@@ -198,6 +196,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         left_angle_window: s.left_angle_window,
         left_travel: s.left_travel,
         final_state: s.final_state.clone(),
+        design_warnings: run.design_warnings.iter().map(|w| w.to_string()).collect(),
     };
     if args.json {
         println!("{}", serde_json::to_string(&out)?);

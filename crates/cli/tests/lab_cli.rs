@@ -322,3 +322,318 @@ fn bad_simulate_inputs_fail_without_writing() {
     assert!(!dir.join("out").join("run.csv").exists());
     assert!(!dir.join("out").join("run.svg").exists());
 }
+
+/// `lab init` into `dir/name`, then the cart's `a_c`, `b_c` scaled by `fa`, `fb` with
+/// `provenance.source = "user"`; the lab's path.
+fn own_cart(dir: &Dir, name: &str, fa: f64, fb: f64) -> String {
+    let lab = init(dir, name, "cart");
+    let file = format!("{lab}/lab.toml");
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("source = \"book\"", "source = \"user\"")
+        .replace("a_c = 6.25", &format!("a_c = {:?}", 6.25 * fa))
+        .replace("b_c = 4.36", &format!("b_c = {:?}", 4.36 * fb));
+    std::fs::write(&file, text).unwrap();
+    lab
+}
+
+fn lab_parameter(lab: &str, key: &str) -> f64 {
+    let t: toml::Table = std::fs::read_to_string(format!("{lab}/lab.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    t["plant"]["parameters"][key].as_float().unwrap()
+}
+
+#[test]
+fn identify_save_writes_the_drive_into_the_lab_with_its_provenance() {
+    // A simulated LQR run of a cart whose drive is 15 % off the book's, identified by
+    // `cart-ls` (columns t, z, v of run.csv) into a book lab.
+    let d = Dir::new("save");
+    let rig = own_cart(&d, "rig", 1.15, 0.85);
+    let o = simulate(&rig, &example("cart_lqr.toml"), &["--out", &d.path("sim")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let data = d.path("sim/run.csv");
+    let mine = init(&d, "mine", "cart");
+    let before = std::fs::read_to_string(format!("{mine}/lab.toml")).unwrap();
+    let o = pendulab(&[
+        "identify", "cart-ls", "--data", &data, "--save", &mine, "--json",
+    ]);
+    let v = json(&o);
+    for key in ["a_c", "b_c"] {
+        let (got, want) = (lab_parameter(&mine, key), lab_parameter(&rig, key));
+        assert!(((got - want) / want).abs() < 0.02, "{key}: {got} vs {want}");
+        assert_eq!(v["saved"]["parameters"][key][1].as_f64(), Some(got));
+    }
+    let t: toml::Table = std::fs::read_to_string(format!("{mine}/lab.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let p = &t["plant"]["provenance"];
+    assert_eq!(p["source"].as_str(), Some("identified"));
+    assert_eq!(p["file"].as_str(), Some(data.as_str()));
+    // The window is the report's; the standard errors are the report's.
+    let w: Vec<f64> = serde_json::from_value(v["window"].clone()).unwrap();
+    assert_eq!(p["window"][0].as_float(), Some(w[0]));
+    assert_eq!(p["window"][1].as_float(), Some(w[1]));
+    assert_eq!(
+        p["standard_errors"]["a_c"].as_float(),
+        v["std_errors"]["ac"].as_f64()
+    );
+    // SHA-256 as sha256sum prints it (when the tool is there).
+    if let Ok(o) = std::process::Command::new("sha256sum").arg(&data).output() {
+        let printed = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(printed.split_whitespace().next(), p["sha256"].as_str());
+    }
+    // The lab with identified parameters is read by the other commands.
+    let o = pendulab(&["model", "--lab", &mine, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    // Refused, nothing written: a method of the other plant; another record; a forced result.
+    let now = std::fs::read_to_string(format!("{mine}/lab.toml")).unwrap();
+    assert_ne!(now, before);
+    let o = pendulab(&["identify", "arm-ls", "--data", &data, "--save", &mine]);
+    fails_with(&o, &["arm-ls", "arm pendulum", "cart pendulum"]);
+    let o = pendulab(&[
+        "identify", "cart-ls", "--data", &data, "--window", "1:4", "--save", &mine,
+    ]);
+    fails_with(&o, &["another record or window"]);
+    let other = init(&d, "other", "cart");
+    let o = pendulab(&[
+        "identify", "cart-ls", "--data", &data, "--force", "--window", "0:0.02", "--save", &other,
+    ]);
+    fails_with(&o, &["not saved", "check(s) failed"]);
+    assert!(
+        !std::fs::read_to_string(format!("{other}/lab.toml"))
+            .unwrap()
+            .contains("identified")
+    );
+    assert_eq!(
+        std::fs::read_to_string(format!("{mine}/lab.toml")).unwrap(),
+        now
+    );
+}
+
+/// `eig(A − B K)` of the lab's linearisation (`model --json`) and `K` from `design --json`.
+fn closed_loop(lab: &str, k: &[f64]) -> Vec<(f64, f64)> {
+    let m = json(&pendulab(&["model", "--lab", lab, "--json"]));
+    let (a, b) = (matrix(&m["a"]), matrix(&m["b"]));
+    let k = Mat::from_row_slice(1, 4, k);
+    let mut e: Vec<(f64, f64)> = (a - b * k)
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| (z.re, z.im))
+        .collect();
+    e.sort_by(|x, y| x.partial_cmp(y).unwrap());
+    e
+}
+
+fn poles_of(v: &serde_json::Value) -> Vec<(f64, f64)> {
+    let p: Vec<[f64; 2]> = serde_json::from_value(v["closed_loop_poles"].clone()).unwrap();
+    let mut p: Vec<(f64, f64)> = p.into_iter().map(|[r, i]| (r, i)).collect();
+    p.sort_by(|x, y| x.partial_cmp(y).unwrap());
+    p
+}
+
+#[test]
+fn design_writes_a_controller_file_that_simulate_takes() {
+    let d = Dir::new("design");
+    let lab = own_cart(&d, "lab", 1.1, 0.9);
+    // LQR: the printed poles are eig(A − BK) of the lab's model; K_book = −K.
+    let v = json(&pendulab(&[
+        "design",
+        "lqr",
+        "--lab",
+        &lab,
+        "--q",
+        "10 10 0 0",
+        "--r",
+        "1",
+        "--json",
+    ]));
+    let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+    let kb: Vec<f64> = serde_json::from_value(v["k_book"].clone()).unwrap();
+    assert!(k.iter().zip(&kb).all(|(a, b)| *a == -b));
+    let (want, got) = (closed_loop(&lab, &k), poles_of(&v));
+    for (w, g) in want.iter().zip(&got) {
+        assert!(
+            (w.0 - g.0).abs() < 1e-8 && (w.1 - g.1).abs() < 1e-8,
+            "{want:?} {got:?}"
+        );
+    }
+    assert!(got.iter().all(|p| p.0 < 0.0));
+    assert!(v["margins"]["phase_margin_deg"].as_f64().is_some());
+    let file = v["file"].as_str().unwrap().to_string();
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(
+        text.contains("identified") || text.contains("user's parameters"),
+        "{text}"
+    );
+    let o = simulate(&lab, &file, &["--json"]);
+    let s = json(&o);
+    assert_eq!(s["left_angle_window"], false);
+
+    // place: eig(A − BK) are the requested poles.
+    let v = json(&pendulab(&[
+        "design",
+        "place",
+        "--lab",
+        &lab,
+        "--poles",
+        "-3+1j -3-1j -5 -6",
+        "--json",
+    ]));
+    let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+    let want = [(-6.0, 0.0), (-5.0, 0.0), (-3.0, -1.0), (-3.0, 1.0)];
+    for (w, g) in want.iter().zip(closed_loop(&lab, &k)) {
+        assert!(
+            (w.0 - g.0).abs() < 1e-6 && (w.1 - g.1).abs() < 1e-6,
+            "{g:?}"
+        );
+    }
+    // servo: a file of kind lq-servo that simulate takes.
+    let v = json(&pendulab(&[
+        "design",
+        "servo",
+        "--lab",
+        &lab,
+        "--q",
+        "10 10 0 0 20",
+        "--r",
+        "1",
+        "--reference",
+        "0.1",
+        "--json",
+    ]));
+    let text = std::fs::read_to_string(v["file"].as_str().unwrap()).unwrap();
+    assert!(text.contains("kind = \"lq-servo\""), "{text}");
+    assert!(poles_of(&v).iter().all(|p| p.0 < 0.0));
+}
+
+#[test]
+fn bad_design_requests_name_what_and_write_nothing() {
+    let d = Dir::new("design-bad");
+    let lab = init(&d, "lab", "cart");
+    let out = d.path("c.toml");
+    for (args, needles) in [
+        (
+            vec!["lqr", "--q", "1 1 1", "--r", "1"],
+            vec!["--q", "4 numbers"],
+        ),
+        (
+            vec!["lqr", "--q", "1 nan 1 1", "--r", "1"],
+            vec!["--q", "NaN"],
+        ),
+        (vec!["lqr", "--q", "1 1 1 1", "--r", "0"], vec!["--r 0"]),
+        (
+            vec!["lqr", "--q", "1 -1 1 1", "--r", "1"],
+            vec!["--q", "≥ 0"],
+        ),
+        (
+            vec!["place", "--poles", "-1 -2 -3 1"],
+            vec!["--poles", "left half-plane"],
+        ),
+        (
+            vec!["place", "--poles", "-1 -2 -3"],
+            vec!["--poles", "4 poles"],
+        ),
+        (
+            vec!["place", "--poles", "-1 -2 -3 x"],
+            vec!["--poles", "'x'"],
+        ),
+        (vec!["p", "--kp", "-1", "--target", "0.1"], vec!["--kp"]),
+    ] {
+        let mut a = vec!["design"];
+        a.push(args[0]);
+        a.extend(["--lab", &lab, "--out", &out]);
+        a.extend(&args[1..]);
+        fails_with(&pendulab(&a), &needles);
+        assert!(!std::path::Path::new(&out).exists(), "{args:?} wrote {out}");
+    }
+    // A design for the cart refused on an arm lab by simulate and rig run.
+    let v = json(&pendulab(&[
+        "design", "lqr", "--lab", &lab, "--q", "1 1 0 0", "--r", "1", "--out", &out, "--json",
+    ]));
+    assert!(v["file"].is_string());
+    let arm = init(&d, "arm", "arm");
+    fails_with(
+        &simulate(&arm, &out, &[]),
+        &["plant = \"cart\"", "arm pendulum"],
+    );
+    let o = pendulab(&[
+        "rig",
+        "run",
+        "--lab",
+        &arm,
+        "--connect",
+        "127.0.0.1:9",
+        "--controller",
+        &out,
+    ]);
+    fails_with(&o, &["plant = \"cart\"", "arm pendulum"]);
+}
+
+#[test]
+fn plot_compares_two_records_by_their_fit() {
+    let d = Dir::new("plot");
+    let lab = init(&d, "lab", "cart");
+    let o = simulate(&lab, &example("cart_lqr.toml"), &["--out", &d.path("a")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let run = d.path("a/run.csv");
+    // A record against itself: every fit is 100 % (‖y − ŷ‖ = 0).
+    let v = json(&pendulab(&[
+        "plot",
+        &run,
+        "--vs",
+        &run,
+        "--out",
+        &d.path("f.png"),
+        "--json",
+    ]));
+    let fits = v["fits"].as_array().unwrap();
+    assert!(fits.iter().any(|f| f["signal"] == "z"));
+    for f in fits {
+        assert_eq!(f["percent"].as_f64(), Some(100.0), "{f}");
+    }
+    assert!(
+        std::fs::read(d.path("f.png"))
+            .unwrap()
+            .starts_with(b"\x89PNG")
+    );
+    // The mean as the model: fit 0 % by the definition.
+    let text = std::fs::read_to_string(&run).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let z = header.split(',').position(|c| c == "z").unwrap();
+    let mean = rows.iter().map(|r| r[z]).sum::<f64>() / rows.len() as f64;
+    let mut flat = String::from("t,z,theta,v\n");
+    for r in &rows {
+        flat.push_str(&format!("{},{mean},{},{}\n", r[0], r[2], r[5]));
+    }
+    let flat_path = d.file("flat.csv", &flat);
+    let v = json(&pendulab(&["plot", &run, "--vs", &flat_path, "--json"]));
+    let fz = v["fits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["signal"] == "z")
+        .unwrap()["percent"]
+        .as_f64()
+        .unwrap();
+    assert!(fz.abs() < 1e-9, "{fz}");
+    // Bad input: NaN, a wrong extension, the other plant's columns.
+    let nan = d.file("nan.csv", "t,z,theta,v\n0,0,0,0\n0.001,NaN,0,0\n");
+    fails_with(&pendulab(&["plot", &nan]), &["nan.csv", "z"]);
+    fails_with(
+        &pendulab(&["plot", &run, "--out", &d.path("f.jpg")]),
+        &["--out", ".svg or .png"],
+    );
+    let arm = d.file("arm.csv", "t,theta1,theta2,v\n0,0,0,0\n0.001,0,0,0\n");
+    fails_with(
+        &pendulab(&["plot", &run, "--vs", &arm]),
+        &["different plants"],
+    );
+}

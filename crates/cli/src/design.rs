@@ -1,0 +1,601 @@
+//! `pendulab design lqr|place|servo|p --lab DIR …`: a controller designed on a lab's plant,
+//! written as a rig controller file that `pendulab simulate` and `pendulab rig run` take
+//! (`docs/lab.md`).
+//!
+//! Every design works on the lab plant's linearisation about the upright
+//! (`PlantParameters::linearize_upright`, `docs/model.md` §1–2; the arm at `θ₁ₑ = 0`), state
+//! `x = [q₀, q₁, q̇₀, q̇₁]`, input the motor voltage `v` \[V\]:
+//!
+//! - `lqr --q "q0 q1 q2 q3" --r R`: the continuous LQ regulator (`pendulab_lti::design::lqr`,
+//!   `Q = diag(q)`, book part 1 ch. 5), `u = −K x`;
+//! - `place --poles "p1 p2 p3 p4"`: pole placement (`pendulab_lti::design::place`, MATLAB
+//!   `place`); complex poles as `-3+2j` and `-3-2j`;
+//! - `servo --q "q0 q1 q2 q3 qw" --r R [--reference M --step-time S]`: the LQ integral servo
+//!   on the drive position (`pendulab_lti::design::lq_servo` on `[x; ∫(r − q₀)dt]`, book
+//!   part 1 ch. 7), `u = −K₁ x − K₂ w`;
+//! - `p --kp KP --target R`: the P-control step of the drive, `u = −k_P (q₀ − r)`, the book's
+//!   identification experiment (part 1 §3.2) to run with the pendulum hanging
+//!   (`pendulab rig run --hanging`).
+//!
+//! The file (default `DIR/designs/<method>.toml`) is a controller file
+//! (`pendulab_rig::config`): `plant`, `rate_hz`, `[controller]` with the gain in the
+//! library's sign (`k`, or `k1`, `k2`) and the design record `[controller.designed_for]`
+//! (`pendulab_control::spec::DesignRecord`: the plant kind, its parameters and their
+//! provenance, the upright operating point, the method and its inputs), which `simulate` and
+//! `rig run` check against the plant they run on (another plant kind is an error, other
+//! parameter values a warning); a comment header says the same in words, with the SHA-256 of
+//! the lab's plant table. The output prints the gain in both sign conventions,
+//! labelled — pendulab/MATLAB `u = −K x`, the book's `u = +K_book x` with `K_book = −K` — the
+//! closed-loop poles (eigenvalues of `A − BK`, of the augmented servo loop for `servo`), and
+//! the stability margins of the loop broken at the plant input, `L(s) = K (sI − A)⁻¹ B`
+//! (`pendulab_lti::margins::stability_margins`; for the servo the augmented loop
+//! `[K₁ K₂] (sI − A_aug)⁻¹ B_aug`; none for `p`, whose loop excludes the pendulum).
+//!
+//! A design request that does not give a stable closed loop (a pole not in the open left
+//! half-plane, a Riccati equation without a stabilising solution), or a weight, pole or gain
+//! that is not a finite number of the right count, is an error naming it; nothing is written.
+//! The file is checked by reading it back as the rig would (`pendulab_rig::config::load`) and
+//! building its controller on the lab's plant (`pendulab_control::spec::build_for`) before it
+//! is written whole.
+
+use crate::lab;
+use crate::lqr::fmt_row;
+use crate::model::state_names;
+use anyhow::{Context, Result, bail};
+use pendulab_control::spec::{ControllerSpec, DesignInput, DesignRecord, build_for};
+use pendulab_lti::design::{lq_servo, lqr, place};
+use pendulab_lti::margins::stability_margins;
+use pendulab_lti::{Complex64, Mat, StateSpace};
+use pendulab_plants::spec::PlantSpec;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `pendulab design`.
+#[derive(Debug, clap::Args)]
+pub struct DesignArgs {
+    #[command(subcommand)]
+    method: DesignMethod,
+}
+
+/// What every design takes.
+#[derive(Debug, clap::Args)]
+struct Common {
+    /// The lab directory (holding lab.toml): the plant designed on.
+    #[arg(long)]
+    lab: PathBuf,
+    /// Where to write the controller file (default: LAB/designs/<method>.toml).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Loop rate of the controller file [Hz] (default: 1/the lab's rig.sample_time).
+    #[arg(long)]
+    rate_hz: Option<f64>,
+    /// Print one JSON object instead of tables.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum DesignMethod {
+    /// LQ regulator: Q = diag(--q), R = --r (u = −K x).
+    Lqr {
+        #[command(flatten)]
+        common: Common,
+        /// Diagonal of Q, four weights for [q0, q1, dq0, dq1] (space or comma separated).
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// R (> 0).
+        #[arg(long)]
+        r: f64,
+    },
+    /// Pole placement: four closed-loop poles (complex as -3+2j, with its conjugate).
+    Place {
+        #[command(flatten)]
+        common: Common,
+        /// The poles [1/s], space or comma separated.
+        #[arg(long, allow_hyphen_values = true)]
+        poles: String,
+    },
+    /// LQ integral servo of the drive position: Q = diag(--q) on [x; w], R = --r.
+    Servo {
+        #[command(flatten)]
+        common: Common,
+        /// Diagonal of Q, five weights for [q0, q1, dq0, dq1, w], w = ∫(r − q0) dt.
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// R (> 0).
+        #[arg(long)]
+        r: f64,
+        /// The servo reference of q0 [m or rad] (default 0).
+        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+        reference: f64,
+        /// Time of the reference step [s] (default 0).
+        #[arg(long, default_value_t = 0.0)]
+        step_time: f64,
+    },
+    /// P control of the drive, u = −kP (q0 − target): the identification experiment, run
+    /// with the pendulum hanging (rig run --hanging).
+    P {
+        #[command(flatten)]
+        common: Common,
+        /// The P gain kP [V/m or V/rad] (> 0).
+        #[arg(long)]
+        kp: f64,
+        /// The drive's target [m or rad].
+        #[arg(long, allow_hyphen_values = true)]
+        target: f64,
+    },
+}
+
+/// Numbers separated by spaces or commas, each finite, `n` of them; errors name `flag`.
+fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>> {
+    let v = text
+        .split([' ', ',', ';'])
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| {
+            let x: f64 = s
+                .trim()
+                .parse()
+                .with_context(|| format!("{flag}: '{s}' is not a number"))?;
+            if !x.is_finite() {
+                bail!("{flag}: {x} is not a finite number");
+            }
+            Ok(x)
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    if v.len() != n {
+        bail!(
+            "{flag}: {n} numbers expected, found {} in '{text}'",
+            v.len()
+        );
+    }
+    Ok(v)
+}
+
+/// A pole `re`, `re+imj` or `re-imj` (also `i`).
+fn parse_pole(s: &str) -> Option<Complex64> {
+    let s = s.trim();
+    if let Some(body) = s.strip_suffix('j').or_else(|| s.strip_suffix('i')) {
+        // The sign of the imaginary part: the last + or − that is not an exponent's.
+        let b = body.as_bytes();
+        let at = (1..b.len())
+            .rev()
+            .find(|&i| (b[i] == b'+' || b[i] == b'-') && !matches!(b[i - 1], b'e' | b'E'))?;
+        let re: f64 = body[..at].parse().ok()?;
+        let im: f64 = body[at..].parse().ok()?;
+        return Some(Complex64::new(re, im));
+    }
+    s.parse().ok().map(|re| Complex64::new(re, 0.0))
+}
+
+#[derive(Serialize)]
+struct Margins {
+    /// The gain margin \[dB\] (`None`: infinite, no phase crossing).
+    gain_margin_db: Option<f64>,
+    gain_crossover_rad_s: Option<f64>,
+    /// The phase margin \[deg\] (`None`: infinite, no gain crossing).
+    phase_margin_deg: Option<f64>,
+    phase_crossover_rad_s: Option<f64>,
+    delay_margin_s: Option<f64>,
+    #[serde(rename = "loop")]
+    loop_: &'static str,
+}
+
+#[derive(Serialize)]
+struct DesignJson {
+    plant: &'static str,
+    method: &'static str,
+    file: PathBuf,
+    designed_on: String,
+    plant_sha256: String,
+    states: Vec<String>,
+    /// pendulab/MATLAB convention `u = −K x`.
+    k: Vec<f64>,
+    /// The book's convention `u = +K_book x`, `K_book = −K`.
+    k_book: Vec<f64>,
+    closed_loop_poles: Vec<[f64; 2]>,
+    margins: Option<Margins>,
+}
+
+/// Runs `pendulab design`.
+///
+/// # Errors
+/// The lab's errors; an argument that is not what it must be; a design without a stable
+/// closed loop; the file rejected when read back; a file that cannot be written.
+pub fn run(args: &DesignArgs) -> Result<()> {
+    let (common, method) = match &args.method {
+        DesignMethod::Lqr { common, .. } => (common, "lqr"),
+        DesignMethod::Place { common, .. } => (common, "place"),
+        DesignMethod::Servo { common, .. } => (common, "servo"),
+        DesignMethod::P { common, .. } => (common, "p"),
+    };
+    let plant = lab::load(&common.lab)?;
+    let kind = plant.kind();
+    let rate_hz = common.rate_hz.unwrap_or(1.0 / plant.rig().sample_time);
+    if !(rate_hz.is_finite() && rate_hz > 0.0) {
+        bail!("--rate-hz {rate_hz}: must be a positive number of Hz");
+    }
+    let ss = plant
+        .parameters()
+        .linearize_upright(0.0)
+        .context("linearising the lab's plant")?;
+    let (a, b) = (ss.a().clone(), ss.b().clone());
+    let fmt = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    // (the [controller] table, K as one row, closed-loop poles, the loop for the margins,
+    // the inputs as recorded, extra lines of the header)
+    let (table, k, poles, loop_ss, inputs, note, record): (
+        String,
+        Vec<f64>,
+        Vec<Complex64>,
+        Option<StateSpace<pendulab_lti::Continuous>>,
+        String,
+        &str,
+        Vec<(&str, DesignInput)>,
+    ) = match &args.method {
+        DesignMethod::Lqr { q, r, .. } => {
+            let qv = numbers("--q", q, 4)?;
+            if qv.iter().any(|&x| x < 0.0) {
+                bail!("--q {q}: the weights must be ≥ 0");
+            }
+            if !(r.is_finite() && *r > 0.0) {
+                bail!("--r {r}: must be a finite number > 0");
+            }
+            let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
+            let l = lqr(&ss, &qm, &Mat::from_element(1, 1, *r), None).with_context(|| {
+                format!(
+                    "lqr with Q = diag({}), R = {r}: no stabilising solution",
+                    fmt(&qv)
+                )
+            })?;
+            let k: Vec<f64> = l.gain.row(0).iter().copied().collect();
+            let loop_ss = StateSpace::new(
+                a.clone(),
+                b.clone(),
+                l.gain.clone(),
+                Mat::zeros(1, 1),
+                ss.domain(),
+            )?;
+            (
+                format!("kind = \"state-feedback\"\nk = [{}]\n", fmt(&k)),
+                k,
+                l.closed_loop_poles,
+                Some(loop_ss),
+                format!("Q = diag([{}]), R = {r}", fmt(&qv)),
+                "",
+                vec![("q", DesignInput::List(qv)), ("r", DesignInput::Number(*r))],
+            )
+        }
+        DesignMethod::Place { poles, .. } => {
+            let p: Vec<Complex64> = poles
+                .split([' ', ',', ';'])
+                .filter(|s| !s.trim().is_empty())
+                .map(|s| {
+                    parse_pole(s).with_context(|| {
+                        format!("--poles: '{s}' is not a pole (write -3, or -3+2j with -3-2j)")
+                    })
+                })
+                .collect::<Result<_>>()?;
+            if p.len() != 4 {
+                bail!("--poles: 4 poles expected, found {} in '{poles}'", p.len());
+            }
+            if let Some(bad) = p.iter().find(|z| !(z.re.is_finite() && z.im.is_finite())) {
+                bail!("--poles: {bad} is not finite");
+            }
+            if let Some(bad) = p.iter().find(|z| z.re >= 0.0) {
+                bail!(
+                    "--poles: {bad} is not in the open left half-plane: the closed loop would not be stable"
+                );
+            }
+            let pl = place(&a, &b, &p).with_context(|| format!("place with poles {poles}"))?;
+            let k: Vec<f64> = pl.gain.row(0).iter().copied().collect();
+            let loop_ss =
+                StateSpace::new(a.clone(), b.clone(), pl.gain, Mat::zeros(1, 1), ss.domain())?;
+            let listed: Vec<String> = p.iter().map(|z| format!("{z}")).collect();
+            (
+                format!("kind = \"state-feedback\"\nk = [{}]\n", fmt(&k)),
+                k,
+                pl.achieved_poles,
+                Some(loop_ss),
+                format!("poles = [{}]", listed.join(", ")),
+                "",
+                vec![(
+                    "poles",
+                    DesignInput::Rows(p.iter().map(|z| vec![z.re, z.im]).collect()),
+                )],
+            )
+        }
+        DesignMethod::Servo {
+            q,
+            r,
+            reference,
+            step_time,
+            ..
+        } => {
+            let qv = numbers("--q", q, 5)?;
+            if qv.iter().any(|&x| x < 0.0) {
+                bail!("--q {q}: the weights must be ≥ 0");
+            }
+            if !(r.is_finite() && *r > 0.0) {
+                bail!("--r {r}: must be a finite number > 0");
+            }
+            if !reference.is_finite() || !step_time.is_finite() || *step_time < 0.0 {
+                bail!(
+                    "--reference {reference}, --step-time {step_time}: must be finite, the step time ≥ 0"
+                );
+            }
+            let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
+            let servo_sys = StateSpace::new(
+                a.clone(),
+                b.clone(),
+                Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
+                Mat::zeros(1, 1),
+                ss.domain(),
+            )?;
+            let s = lq_servo(&servo_sys, &qm, &Mat::from_element(1, 1, *r)).with_context(|| {
+                format!(
+                    "lq servo with Q = diag({}), R = {r}: no stabilising solution",
+                    fmt(&qv)
+                )
+            })?;
+            let k1: Vec<f64> = s.state_gain.row(0).iter().copied().collect();
+            let k2 = s.integral_gain[(0, 0)];
+            let (aa, ba) = pendulab_lti::design::integral_augmentation(&servo_sys)?;
+            let loop_ss =
+                StateSpace::new(aa, ba, s.lqr.gain.clone(), Mat::zeros(1, 1), ss.domain())?;
+            let mut k = k1.clone();
+            k.push(k2);
+            (
+                format!(
+                    "kind = \"lq-servo\"\nk1 = [{}]\nk2 = {k2:?}\nreference = [{reference:?}]\nstep_time = {step_time:?}\n",
+                    fmt(&k1)
+                ),
+                k,
+                s.lqr.closed_loop_poles,
+                Some(loop_ss),
+                format!(
+                    "Q = diag([{}]), R = {r}, on [x; w], w = ∫(r − q0) dt",
+                    fmt(&qv)
+                ),
+                "",
+                vec![
+                    ("q", DesignInput::List(qv)),
+                    ("r", DesignInput::Number(*r)),
+                    ("reference", DesignInput::Number(*reference)),
+                    ("step_time", DesignInput::Number(*step_time)),
+                ],
+            )
+        }
+        DesignMethod::P { kp, target, .. } => {
+            if !(kp.is_finite() && *kp > 0.0) {
+                bail!("--kp {kp}: must be a finite number > 0");
+            }
+            if !target.is_finite() {
+                bail!("--target {target}: must be finite");
+            }
+            // The drive alone, q0'' = −a q0' + b v under u = −kP q0: s² + a s + b kP.
+            let k = vec![*kp, 0.0, 0.0, 0.0];
+            let drive = Mat::from_row_slice(2, 2, &[0.0, 1.0, -b[(2, 0)] * kp, a[(2, 2)]]);
+            let poles = pendulab_lti::linalg::eigenvalues(&drive)?;
+            (
+                format!(
+                    "kind = \"state-feedback\"\nk = [{}]\nreference = [{target:?}, 0.0, 0.0, 0.0]\n",
+                    fmt(&k)
+                ),
+                k,
+                poles,
+                None,
+                format!("kP = {kp}, target = {target}"),
+                "# The drive's P-control step (book part 1 §3.2) with the pendulum hanging: run it\n\
+                 # with `pendulab rig run --hanging`, identify with `pendulab identify`.\n",
+                vec![
+                    ("kp", DesignInput::Number(*kp)),
+                    ("target", DesignInput::Number(*target)),
+                ],
+            )
+        }
+    };
+    let states: Vec<String> = state_names(kind).into_iter().collect();
+    let plant_toml = plant.to_toml().context("the lab's plant as TOML")?;
+    let plant_sha = lab::sha256_hex(plant_toml.as_bytes());
+    let designed_on = lab::provenance_label(plant.provenance());
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "# pendulab design {method}: a controller file for `pendulab simulate` and `pendulab rig run` (docs/lab.md)."
+    );
+    let _ = writeln!(
+        text,
+        "# Designed on the {} pendulum of {} ({designed_on}),",
+        kind.name(),
+        common.lab.display()
+    );
+    let _ = writeln!(
+        text,
+        "# linearised about the upright (docs/model.md), sha256 of its plant table {plant_sha}."
+    );
+    let _ = writeln!(text, "# Method: {method}, {inputs}.");
+    let params: Vec<String> = plant
+        .parameters()
+        .entries()
+        .iter()
+        .map(|(k, v)| format!("{k} = {v:?}"))
+        .collect();
+    let _ = writeln!(text, "# Parameters: {}.", params.join(", "));
+    text.push_str(note);
+    // The [controller] table as the rig reads it, then with the design record
+    // (`pendulab_control::spec::DesignRecord`: the lab's plant, the upright operating point,
+    // a continuous-time design, the method and its inputs).
+    let draft = format!(
+        "plant = \"{}\"\nrate_hz = {rate_hz:?}\n\n[controller]\n{table}",
+        kind.name()
+    );
+    let loaded = pendulab_rig::config::load(&draft).context("the designed controller")?;
+    let record = DesignRecord::new(
+        &plant,
+        vec![0.0; 4],
+        None,
+        method,
+        record
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
+    );
+    #[derive(Serialize)]
+    struct File<'a> {
+        plant: &'static str,
+        rate_hz: f64,
+        controller: &'a ControllerSpec,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        safety: Option<toml::Table>,
+    }
+    let spec = loaded.spec.with_designed_for(record);
+    let safety = (method == "p").then(|| {
+        // About the hanging rest the pendulum swings: a window wider than the balancing one.
+        let mut t = toml::Table::new();
+        t.insert("angle_window_deg".into(), toml::Value::Float(60.0));
+        t
+    });
+    let body = toml::to_string(&File {
+        plant: kind.name(),
+        rate_hz,
+        controller: &spec,
+        safety,
+    })
+    .context("writing the controller file")?;
+    let _ = write!(text, "\n{body}");
+    // Read back as the rig reads it and built on the lab's plant, its record checked against
+    // the lab: nothing is written unless all accept it.
+    let loaded = pendulab_rig::config::load(&text).context("the designed file, read back")?;
+    let warnings = loaded
+        .spec
+        .check_plant(&plant)
+        .context("the designed file's record")?;
+    if let Some(w) = warnings.first() {
+        bail!("the designed file's record differs from the lab: {w}");
+    }
+    build_for(&loaded.spec, &plant, loaded.ts).context("the designed file, built")?;
+
+    if let Some(bad) = poles.iter().find(|p| p.re >= 0.0) {
+        bail!(
+            "{method}: the closed loop has the pole {bad} outside the open left half-plane; nothing written"
+        );
+    }
+    let margins = match &loop_ss {
+        Some(l) => {
+            let m = stability_margins(l).context("the loop's stability margins")?;
+            let gm = m.gain_margin();
+            let pm = m.phase_margin();
+            Some(Margins {
+                gain_margin_db: gm.map(|g| g.gain_margin_db()),
+                phase_crossover_rad_s: gm.map(|g| g.frequency),
+                phase_margin_deg: pm.map(|g| g.phase_margin_deg),
+                gain_crossover_rad_s: pm.map(|g| g.frequency),
+                delay_margin_s: m.delay_margin().map(|g| g.delay_margin),
+                loop_: "broken at the plant input: L(s) = K (sI − A)⁻¹ B",
+            })
+        }
+        None => None,
+    };
+    let out_path = common
+        .out
+        .clone()
+        .unwrap_or_else(|| common.lab.join("designs").join(format!("{method}.toml")));
+    write_file(&out_path, &text)?;
+
+    let k_book: Vec<f64> = k.iter().map(|x| -x).collect();
+    let mut states = states;
+    if method == "servo" {
+        states.push("w".into());
+    }
+    let out = DesignJson {
+        plant: kind.name(),
+        method,
+        file: out_path,
+        designed_on,
+        plant_sha256: plant_sha,
+        states,
+        k,
+        k_book,
+        closed_loop_poles: poles.iter().map(|p| [p.re, p.im]).collect(),
+        margins,
+    };
+    if common.json {
+        println!("{}", serde_json::to_string(&out)?);
+        return Ok(());
+    }
+    print_design(&out, &plant);
+    Ok(())
+}
+
+fn write_file(path: &Path, text: &str) -> Result<()> {
+    if let Some(dir) = path.parent()
+        && !dir.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    lab::write_whole(path, text.as_bytes())
+}
+
+fn print_design(out: &DesignJson, plant: &PlantSpec) {
+    println!(
+        "{} design on the {} pendulum ({}) → {}",
+        out.method,
+        plant.kind().name(),
+        out.designed_on,
+        out.file.display()
+    );
+    println!("state x = [{}]", out.states.join(", "));
+    println!(
+        "K      (pendulab/MATLAB, u = −K x):      {}",
+        fmt_row(&out.k)
+    );
+    println!(
+        "K_book (the book's, u = +K_book x):      {}",
+        fmt_row(&out.k_book)
+    );
+    println!("closed-loop poles [1/s]:");
+    for [re, im] in &out.closed_loop_poles {
+        println!("  {re:.6} {im:+.6}j");
+    }
+    match &out.margins {
+        Some(m) => {
+            let show = |v: Option<f64>, unit: &str| match v {
+                Some(x) => format!("{x:.4} {unit}"),
+                None => "∞".into(),
+            };
+            println!("margins of the loop {}:", m.loop_);
+            println!(
+                "  gain margin  {} (at {})",
+                show(m.gain_margin_db, "dB"),
+                show(m.phase_crossover_rad_s, "rad/s")
+            );
+            println!(
+                "  phase margin {} (at {})",
+                show(m.phase_margin_deg, "°"),
+                show(m.gain_crossover_rad_s, "rad/s")
+            );
+            println!("  delay margin {}", show(m.delay_margin_s, "s"));
+        }
+        None => println!("margins: none (the P loop closes the drive only)"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_pole;
+    use pendulab_lti::Complex64;
+
+    #[test]
+    fn poles_parse_in_their_written_forms() {
+        assert_eq!(parse_pole("-3"), Some(Complex64::new(-3.0, 0.0)));
+        assert_eq!(parse_pole("-3+2j"), Some(Complex64::new(-3.0, 2.0)));
+        assert_eq!(parse_pole("-3-2.5i"), Some(Complex64::new(-3.0, -2.5)));
+        assert_eq!(parse_pole("-1e-1-2e+0j"), Some(Complex64::new(-0.1, -2.0)));
+        assert_eq!(parse_pole("x"), None);
+    }
+}
