@@ -5,7 +5,7 @@
 // target/web/ (PENDULAB_SHOTS).
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { spawn, execFileSync } from "node:child_process";
+import { spawn, spawnSync, execFileSync } from "node:child_process";
 import { mkdtempSync, writeFileSync, readFileSync, mkdirSync, existsSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join, resolve, dirname } from "node:path";
@@ -138,7 +138,11 @@ test("the exported controller file runs in `pendulab rig run` against `pendulab 
       emu.on("exit", (c) => fail(new Error(`emulator exited ${c}`)));
     });
     const log = join(work, "run.csv");
-    const out = execFileSync(bin, ["rig", "run", "--connect", addr, "--controller", file, "--log", log, "--duration", "3"]).toString();
+    // The watchdog at its widest (0.5 s): a loaded machine can starve the emulator's thread.
+    const run = spawnSync(bin, ["rig", "run", "--connect", addr, "--controller", file, "--log", log, "--duration", "3",
+      "--watchdog-periods", "500"]);
+    const out = run.stdout.toString();
+    assert.equal(run.status, 0, out + run.stderr.toString());
     assert.match(out, /stop: completed/);
     const lines = readFileSync(log, "utf8").trim().split("\n");
     const head = lines[0].split(",");
