@@ -352,14 +352,8 @@ fn potrf_and_potrs_match_scipy() {
         let (fac, lda, n, _) = padded(&c["factor"]);
         let (mut b, ldb, _, nrhs) = padded(&c["b"]);
         let (ni, nr, lda, ldb_i) = (n as c_int, nrhs as c_int, lda as c_int, ldb as c_int);
-        let info = unsafe {
-            common::potrs(
-                dpotrs_,
-                ch(&c["uplo"]),
-                (ni, &fac, lda),
-                (nr, &mut b, ldb_i),
-            )
-        };
+        let (uplo, factor, rhs) = (ch(&c["uplo"]), (ni, &fac[..], lda), (nr, &mut b[..], ldb_i));
+        let info = unsafe { common::potrs(dpotrs_, uplo, factor, rhs) };
         assert_eq!(info, 0);
         let e = rel_err(&unpad(&b, ldb, n, nrhs), &rows(&c["out"]).2);
         assert!(e <= TOL, "dpotrs {}: rel err {e:e}", c["uplo"]);
@@ -672,14 +666,8 @@ fn single_precision_symbols_agree_with_the_double_reference() {
     let (b, ldb, _, nrhs) = padded(&c["b"]);
     let (fac, mut b) = (to32(&fac), to32(&b));
     let (ni, nr, lda, ldb_i) = (n as c_int, nrhs as c_int, lda as c_int, ldb as c_int);
-    let info = unsafe {
-        common::potrs(
-            spotrs_,
-            ch(&c["uplo"]),
-            (ni, &fac, lda),
-            (nr, &mut b, ldb_i),
-        )
-    };
+    let (uplo, factor, rhs) = (ch(&c["uplo"]), (ni, &fac[..], lda), (nr, &mut b[..], ldb_i));
+    let info = unsafe { common::potrs(spotrs_, uplo, factor, rhs) };
     assert_eq!(info, 0);
     let got: Vec<f64> = b.iter().map(|x| *x as f64).collect();
     let e = rel_err(&unpad(&got, ldb, n, nrhs), &rows(&c["out"]).2);
