@@ -1,0 +1,176 @@
+//! The book's M-files that need neither Simulink nor YALMIP, run unchanged in GNU Octave 7.3.0
+//! (`tools/reference/book_mfiles_octave.sh`; their display committed in `data/octave/`), against
+//! the examples that follow them. Values Octave displays in `format long g` (16 significant
+//! digits) are compared to 1e-12 relative; values the M-files print with `fprintf` (`%5.2e`,
+//! `%5.3e`) or as a transfer function (four significant digits), to half a unit of the last
+//! printed digit.
+
+mod common;
+use common::*;
+
+/// The `name = value` pairs of an Octave display (several per line when separated by tabs; the
+/// name's spaces dropped, so `T 1` is `T1`).
+fn displayed(text: &str) -> Vec<(String, f64)> {
+    text.lines()
+        .flat_map(|l| l.split('\t'))
+        .filter_map(|item| {
+            let (name, value) = item.split_once(" = ")?;
+            let v: f64 = value.trim().parse().ok()?;
+            Some((name.replace(' ', ""), v))
+        })
+        .collect()
+}
+
+fn get(d: &[(String, f64)], name: &str) -> f64 {
+    d.iter()
+        .find(|(n, _)| n == name)
+        .unwrap_or_else(|| panic!("{name} is not displayed"))
+        .1
+}
+
+/// The displayed second-order `tf`: `(numerator, [1, a, b])` from the lines `num` and
+/// `s^2 + a s + b`.
+fn displayed_tf(text: &str) -> (f64, Vec<f64>) {
+    let lines: Vec<&str> = text.lines().collect();
+    let k = lines.iter().position(|l| l.contains("s^2 +")).unwrap();
+    let den: Vec<f64> = lines[k]
+        .split_whitespace()
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    let num: f64 = lines[k - 2].trim().parse().unwrap();
+    (num, vec![1.0, den[0], den[1]])
+}
+
+/// `|x − want| ≤` half a unit of the last of `digits` significant digits of `want`.
+fn printed(x: f64, want: f64, digits: i32, what: &str) {
+    let unit = 10f64.powi(want.abs().log10().floor() as i32 - (digits - 1));
+    assert!(
+        (x - want).abs() <= 0.5 * unit * (1.0 + 1e-9),
+        "{what}: {x} vs the displayed {want}"
+    );
+}
+
+fn long(x: f64, want: f64, what: &str) {
+    assert!(
+        (x - want).abs() <= 1e-12 * want.abs(),
+        "{what}: {x} vs Octave's {want}"
+    );
+}
+
+#[test]
+fn p1c221_cartident_as_octave_runs_it() {
+    // cartident.m on the closed-form response of cart_model.slx (the script's driver), then
+    // p1c221_id_cart.m lines 66-77.
+    let d = displayed(include_str!("data/octave/p1c221_cartident_run.txt"));
+    let out = run("p1c221_id_cart");
+    for i in 1..=4 {
+        for name in [format!("K{i}"), format!("T{i}")] {
+            long(num(&out, &name), get(&d, &name), &name);
+        }
+    }
+    for name in ["Kave", "Tave", "a", "b"] {
+        long(num(&out, name), get(&d, name), name);
+    }
+}
+
+#[test]
+fn p1c321_cdip_id_cart_as_octave_runs_it() {
+    let text = include_str!("data/octave/p1c321_cdip_id_cart.txt");
+    let d = displayed(text);
+    let out = run("p1c321_cdip_id_cart");
+    // Lines 59-68: fprintf('%5.2e') under the M-file's labels.
+    for (ours, theirs) in [
+        ("Tp", "Tp"),
+        ("Amax", "Amax"),
+        ("gamma", "gamma_c"),
+        ("delta", "delta_c"),
+        ("omega_n", "omega_nc"),
+        ("zeta", "zeta_c"),
+        ("ac", "ac"),
+        ("bc", "bc"),
+    ] {
+        printed(num(&out, ours), get(&d, theirs), 3, ours);
+    }
+    // Line 71: sysGyr displayed to four significant digits.
+    let (n, den) = displayed_tf(text);
+    printed(vector(&out, "sysGyr_num")[0], n, 4, "sysGyr_num");
+    let ours = vector(&out, "sysGyr_den");
+    for i in 1..3 {
+        printed(ours[i], den[i], 4, "sysGyr_den");
+    }
+}
+
+#[test]
+fn p1c321_cdip_id_pend_as_octave_runs_it() {
+    let d = displayed(include_str!("data/octave/p1c321_cdip_id_pend.txt"));
+    let out = run("p1c321_cdip_id_pend");
+    long(num(&out, "period"), get(&d, "T_average"), "T_average");
+    long(
+        num(&out, "decay_ratio"),
+        get(&d, "lambda_average"),
+        "lambda_average",
+    );
+    printed(num(&out, "Jp"), get(&d, "Jp"), 3, "Jp");
+    printed(num(&out, "mup"), get(&d, "mup"), 3, "mup");
+}
+
+#[test]
+fn p1c332_adip_id_arm_as_octave_runs_it() {
+    let text = include_str!("data/octave/p1c332_adip_id_arm.txt");
+    let d = displayed(text);
+    let out = run("p1c332_adip_id_arm");
+    for (ours, theirs) in [
+        ("Tp", "Tp"),
+        ("Amax", "Amax"),
+        ("gamma", "gamma_1"),
+        ("delta", "delta_1"),
+        ("zeta", "zeta_1"),
+        ("omega_n", "omega_n1"),
+        ("a1", "a1"),
+        ("b1", "b1"),
+    ] {
+        printed(num(&out, ours), get(&d, theirs), 3, ours);
+    }
+    let (n, den) = displayed_tf(text);
+    printed(vector(&out, "sysGyr_num")[0], n, 4, "sysGyr_num");
+    let ours = vector(&out, "sysGyr_den");
+    for i in 1..3 {
+        printed(ours[i], den[i], 4, "sysGyr_den");
+    }
+    // The example's references are the same display: reproduced.
+    references_reproduced(&out);
+}
+
+#[test]
+fn p1c332_adip_id_pend_as_octave_runs_it() {
+    let d = displayed(include_str!("data/octave/p1c332_adip_id_pend.txt"));
+    let out = run("p1c332_adip_id_pend");
+    long(num(&out, "T_average"), get(&d, "T_average"), "T_average");
+    long(
+        num(&out, "lambda_average"),
+        get(&d, "lambda_average"),
+        "lambda_average",
+    );
+    let (t, lambda) = (vector(&out, "T"), vector(&out, "lambda"));
+    assert_eq!(t.len(), 14);
+    for i in 0..14 {
+        printed(t[i], get(&d, &format!("T{}", i + 1)), 4, "T(i)");
+        printed(
+            lambda[i],
+            get(&d, &format!("lambda{}", i + 1)),
+            4,
+            "lambda(i)",
+        );
+    }
+    for (ours, theirs) in [
+        ("gamma", "gamma_2"),
+        ("delta", "delta_2"),
+        ("zeta", "zeta_2"),
+        ("omega_n", "omega_n2"),
+        ("J2", "J2"),
+        ("mu2", "mu2"),
+    ] {
+        printed(num(&out, ours), get(&d, theirs), 3, ours);
+    }
+    references_reproduced(&out);
+}

@@ -1,0 +1,80 @@
+#!/bin/sh
+# The book's M-files that need neither Simulink nor YALMIP, run unchanged in GNU Octave; what
+# each displays is written to crates/book/tests/data/octave/<stem>.txt for pendulab-book's tests
+# (crates/book/tests/p1c2.rs, p1c3.rs, p1c8.rs). Nothing here uses pendulab.
+#
+#   sh tools/reference/book_mfiles_octave.sh <the book's support folder> [output folder]
+#
+# The support folder holds `mfiles/` and `ip_toolbox/` as published with the book; its M-files
+# are not committed here (their licence is not stated). Two shims stand in for MATLAB features the
+# runs do not need: `load NAME` of a .mat file reads data/rig/NAME.csv of this repository (the
+# same values; `adip_pcont_data_kP_3_ref_1` is data/rig/adip_arm_pcont_data_kP_3_ref_1.csv), and
+# the figure commands (figure, plot, set, ...) draw nothing.
+#
+# cartident.m (called by p1c221_id_cart.m, line 36, on the output of the Simulink model
+# cart_model.slx) runs on the model's response written out in closed form, as in
+# tools/reference/book_mfiles_p1c2_p1c3.py: the drive z'' = -ac z' + bc v (cdip_para.m: ac = 6.25,
+# bc = 4.36) from rest, v = the step ref through the ±5 V saturation and the 16-bit D/A quantizer
+# (interval 10/2^16), the position through the encoder quantizer (2*pi/2000 rad of the motor,
+# 2000*4.8414e-5 m per turn), sampled at 1 ms from t = 0 to 10 s; then lines 66-77 of the M-file.
+#
+# Committed run: GNU Octave 7.3.0 with its control package 3.4.0 (Debian 12).
+set -eu
+book=$(cd "$1" && pwd)
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+out=${2:-$repo/crates/book/tests/data/octave}
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir "$work/shim" "$work/noplot" "$work/m"
+cat > "$work/shim/load.m" <<'M'
+function load(name)
+  alias = struct('adip_pcont_data_kP_3_ref_1', 'adip_arm_pcont_data_kP_3_ref_1');
+  if isfield(alias, name), name = alias.(name); end
+  file = fullfile(getenv('RIG'), [name '.csv']);
+  f = fopen(file);
+  header = strsplit(strtrim(fgetl(f)), ',');
+  fclose(f);
+  d = dlmread(file, ',', 1, 0);
+  for j = 1:numel(header)
+    assignin('caller', header{j}, d(:, j));
+  end
+end
+M
+for f in figure plot stairs hold xlim ylim set gca gcf xlabel ylabel legend grid box subplot \
+    title axis drawnow close; do
+    printf 'function varargout = %s(varargin)\n  varargout = cell(1, nargout);\nend\n' "$f" \
+        > "$work/noplot/$f.m"
+done
+cp "$book"/mfiles/p1c2/cartident.m "$book"/mfiles/p1c3/*.m "$book"/mfiles/p1c8/*.m \
+    "$book"/ip_toolbox/iptools/*.m "$work/m/"
+cat > "$work/m/p1c221_cartident_run.m" <<'M'
+cdip_para
+ts = 0.001; t = (0:10000)' * ts;
+q_dac = 10/2^16; q_rad = 2*pi/(4*500); m_per_rad = 4*500*4.8414e-5/(2*pi);
+refs = [0.8 0.9 1.0 1.1];
+for j = 1:4
+  v = q_dac*round(min(5, max(-5, refs(j)))/q_dac);
+  z = bc*v*(t/ac - (1 - exp(-ac*t))/ac^2);
+  y_raw = m_per_rad*(q_rad*round(z/m_per_rad/q_rad));
+  [dy, K(j), T(j)] = cartident(t, y_raw, refs(j), 0.001, 1.5);
+end
+K1 = K(1), K2 = K(2), K3 = K(3), K4 = K(4)
+T1 = T(1), T2 = T(2), T3 = T(3), T4 = T(4)
+Tave = round( ((T(1)+T(2)+T(3)+T(4))/4)*10^3) / 10^3
+Kave = round( ((K(1)+K(2)+K(3)+K(4))/4)*10^3) / 10^3
+a = 1/Tave
+b = Kave/Tave
+M
+cd "$work/m"
+for stem in p1c221_cartident_run p1c321_cdip_id_cart p1c321_cdip_id_pend p1c332_adip_id_arm \
+    p1c332_adip_id_pend p1c83_ex1_zero_order_hold p1c83_ex2_cdip_ob_design_zoh \
+    p1c84_ex3_bilinear p1c84_ex4_cdip_ob_design_bilinear; do
+    RIG="$repo/data/rig" octave-cli --no-gui --norc --eval \
+        "pkg load control; addpath('$work/shim'); addpath('$work/noplot'); warning('off', 'all'); format long g; $stem" \
+        2>/dev/null > "$out/$stem.txt" || true
+    what="$stem.m run unchanged"
+    [ "$stem" = p1c221_cartident_run ] && what="cartident.m run unchanged by this script's driver"
+    echo "% $what in $(octave-cli --version | head -n 1), control $(octave-cli --eval "pkg load control; v = pkg('list', 'control'); disp(v{1}.version)" 2>/dev/null)" >> "$out/$stem.txt"
+done
