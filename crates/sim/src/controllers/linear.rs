@@ -73,15 +73,7 @@ impl DiscreteLinearController {
 }
 
 impl Controller for DiscreteLinearController {
-    fn ny(&self) -> usize {
-        self.ny
-    }
-    fn nu(&self) -> usize {
-        self.nu
-    }
-    fn sample_time(&self) -> Option<f64> {
-        Some(self.ts)
-    }
+    sizes_from_fields!(sampled);
     fn reset(&mut self) {
         self.xi.copy_from_slice(&self.xi0);
     }
@@ -209,15 +201,7 @@ impl ObserverBased {
 }
 
 impl Controller for ObserverBased {
-    fn ny(&self) -> usize {
-        self.ny
-    }
-    fn nu(&self) -> usize {
-        self.nu
-    }
-    fn sample_time(&self) -> Option<f64> {
-        Some(self.ts)
-    }
+    sizes_from_fields!(sampled);
     fn reset(&mut self) {
         self.xhat.copy_from_slice(&self.xhat0);
         self.xbar.copy_from_slice(&self.xhat0);

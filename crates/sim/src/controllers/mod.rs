@@ -14,6 +14,26 @@
 //!
 //! Gains are stored row-major in flat vectors and applied without allocation.
 
+/// The size accessors of a [`Controller`](crate::Controller) impl whose struct keeps its
+/// measurement and command counts in fields `ny` and `nu`: `ny()`, `nu()`; with `sampled`,
+/// also `sample_time() = Some(ts)` from a field `ts` \[s\]. Written inside the `impl` block.
+macro_rules! sizes_from_fields {
+    () => {
+        fn ny(&self) -> usize {
+            self.ny
+        }
+        fn nu(&self) -> usize {
+            self.nu
+        }
+    };
+    (sampled) => {
+        sizes_from_fields!();
+        fn sample_time(&self) -> Option<f64> {
+            Some(self.ts)
+        }
+    };
+}
+
 mod linear;
 mod open_loop;
 mod pid;

@@ -139,12 +139,7 @@ fn eval_family(family: &Family, rho: f64, k: &mut [f64]) {
 }
 
 impl Controller for GainScheduled {
-    fn ny(&self) -> usize {
-        self.ny
-    }
-    fn nu(&self) -> usize {
-        self.nu
-    }
+    sizes_from_fields!();
     fn reset(&mut self) {
         self.rho = f64::NAN;
     }

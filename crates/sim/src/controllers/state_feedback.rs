@@ -87,12 +87,7 @@ impl StaticStateFeedback {
 }
 
 impl Controller for StaticStateFeedback {
-    fn ny(&self) -> usize {
-        self.ny
-    }
-    fn nu(&self) -> usize {
-        self.nu
-    }
+    sizes_from_fields!();
     fn reset(&mut self) {}
     #[inline]
     fn update(&mut self, _t: f64, y: &[f64], u: &mut [f64]) {
@@ -230,15 +225,7 @@ impl LqIntegralServo {
 }
 
 impl Controller for LqIntegralServo {
-    fn ny(&self) -> usize {
-        self.ny
-    }
-    fn nu(&self) -> usize {
-        self.nu
-    }
-    fn sample_time(&self) -> Option<f64> {
-        Some(self.ts)
-    }
+    sizes_from_fields!(sampled);
     fn reset(&mut self) {
         self.w.iter_mut().for_each(|v| *v = 0.0);
         self.e_prev.iter_mut().for_each(|v| *v = 0.0);
