@@ -213,20 +213,15 @@ fn bode_diagram() {
 
 #[test]
 fn pole_maps_with_regions() {
-    let p = [
-        Complex64::new(-3.0, 2.0),
-        Complex64::new(-3.0, -2.0),
-        Complex64::new(-8.0, 0.0),
+    let p = [(-3.0, 2.0), (-3.0, -2.0), (-8.0, 0.0)].map(|(re, im)| Complex64::new(re, im));
+    // −16 ≤ Re s ≤ −2 and the sector of half-angle π/4 about the negative real axis.
+    let bounds = [
+        RegionBound::DecayRate(2.0),
+        RegionBound::SpeedLimit(16.0),
+        RegionBound::Sector(PI / 4.0),
     ];
     let fig = PoleZeroMap::new()
-        .region(
-            "D-region",
-            &[
-                RegionBound::DecayRate(2.0),
-                RegionBound::SpeedLimit(16.0),
-                RegionBound::Sector(PI / 4.0),
-            ],
-        )
+        .region("D-region", &bounds)
         .poles("closed loop", &p)
         .zeros("zeros", &[Complex64::new(-5.0, 0.0)])
         .figure();
