@@ -34,7 +34,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 }
 
 /// A rayon pool of `threads` threads (`None`: rayon's global pool, one thread per core).
-fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
+pub fn pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
     match threads {
         None => Ok(None),
         Some(0) => Err(new_err(

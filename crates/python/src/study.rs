@@ -24,7 +24,7 @@ use pyo3::types::PyDict;
 use rayon::prelude::*;
 use serde_json::Value;
 
-use crate::batch::chunked;
+use crate::batch::{chunked, pool};
 use crate::errors::{Kind, from_error, new_err};
 use crate::plants::{plant_spec, spec};
 
@@ -242,17 +242,7 @@ fn study_monte_carlo_chunk<'py>(
     let params = draw_rows(&d, seed, start, count);
     let indices: Vec<u64> = (start..start + count as u64).collect();
     let p = d.len();
-    let pool = match threads {
-        None => None,
-        Some(n) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n.max(1))
-                .build()
-                .map_err(|e| {
-                    new_err(Kind::Error, format!("cannot start {n} threads: {e}"), None)
-                })?,
-        ),
-    };
+    let pool = pool(threads)?;
     let one = |i: u64| -> Result<Outcome, String> {
         let row = &params[(i - start) as usize * p..][..p];
         let mut plant = base.clone();

@@ -12,18 +12,7 @@ import pytest
 
 import pendulab as pl
 from pendulab import plants, study
-
-_K = None
-
-
-def lqr_gain():
-    """The LQR gain of the upright linearisation, Q = diag(10, 10, 0, 0), R = 1."""
-    global _K
-    if _K is None:
-        a, b, _, _ = plants.CartPendulum().linearize("upright")
-        _K = pl.lqr(a, b, np.diag([10.0, 10.0, 0.0, 0.0]), 1.0).K[0]
-    return _K
-
+from test_batch import lqr_gain  # the LQR gain of pendulab bench sim-batch
 
 GRID = {"theta": (-1.2, 1.2, 9), "dtheta": (-3.0, 3.0, 7)}
 BOOK_K = {"kind": "state-feedback", "k_book": [3.16228, 13.47175, 4.48137, 2.26289]}
@@ -142,6 +131,8 @@ def test_bad_input_raises_clear_errors():
         study.roa("cart", k, {"theta": (float("nan"), 1, 3)}, 1.0)
     with pytest.raises(pl.InvalidArgumentError, match="unknown state"):
         study.roa("cart", k, {"phi": (-1, 1, 3)}, 1.0)
+    with pytest.raises(pl.InvalidArgumentError, match="gain K"):
+        study.roa("cart", {"kind": "state-feedback"}, GRID, 1.0)
     with pytest.raises(pl.InvalidArgumentError, match="4 entries"):
         study.roa("cart", k[:3], GRID, 1.0)
     with pytest.raises(pl.InvalidArgumentError, match="cart"):

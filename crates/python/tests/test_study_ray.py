@@ -17,6 +17,7 @@ ray = pytest.importorskip("ray")
 import pendulab as pl  # noqa: E402
 from pendulab import plants, study  # noqa: E402
 from pendulab import ray as pray  # noqa: E402
+from test_batch import lqr_gain  # noqa: E402  (the LQR gain of pendulab bench sim-batch)
 
 BOOK_K = {"kind": "state-feedback", "k_book": [3.16228, 13.47175, 4.48137, 2.26289]}
 GRID = {"theta": (-1.2, 1.2, 15), "dtheta": (-3.0, 3.0, 11)}
@@ -29,11 +30,6 @@ def cluster():
     ray.shutdown()
 
 
-def gain():
-    a, b, _, _ = plants.CartPendulum().linearize("upright")
-    return pl.lqr(a, b, np.diag([10.0, 10.0, 0.0, 0.0]), 1.0).K[0]
-
-
 def assert_same(a, b):
     assert a.arrays.keys() == b.arrays.keys()
     for k in a.arrays:
@@ -42,7 +38,7 @@ def assert_same(a, b):
 
 
 def test_ray_equals_local_for_two_chunkings(cluster):
-    k = gain()
+    k = lqr_gain()
     local = study.roa("cart", k, GRID, 3.0)
     for chunk in (16, 50):
         seen = []
@@ -59,7 +55,7 @@ def test_ray_equals_local_for_two_chunkings(cluster):
 
 
 def test_a_killed_worker_is_retried_and_the_result_unchanged(cluster, tmp_path):
-    k = gain()
+    k = lqr_gain()
     local = study.roa("cart", k, GRID, 3.0)
     marker = str(tmp_path / "killed")
     again = study.roa("cart", k, GRID, 3.0, backend="ray", chunk=40, max_retries=2,
@@ -73,7 +69,7 @@ def test_a_killed_worker_is_retried_and_the_result_unchanged(cluster, tmp_path):
 
 
 def test_ray_resumes_the_chunks_a_local_run_left(cluster, tmp_path):
-    k = gain()
+    k = lqr_gain()
     local = study.roa("cart", k, GRID, 2.0, chunk=30, cache_dir=tmp_path)
     d = tmp_path / local.study.key
     for name in ("30-30.npz", "150-15.npz"):

@@ -188,7 +188,12 @@ def roa(
         raise InvalidArgumentError(
             f"study.roa: plant must be \"cart\" or a dict of table 3.5 parameters, got {plant!r} "
             "(the grid kernel models the cart pendulum)")
-    K = [_finite(f"K[{i}]", v) for i, v in enumerate(np.asarray(controller, dtype=float).reshape(-1))]
+    try:
+        gain = np.asarray(controller, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(
+            f"study.roa: controller must be the gain K (4 numbers, u = −K x), got {controller!r}") from None
+    K = [_finite(f"K[{i}]", v) for i, v in enumerate(gain)]
     if len(K) != 4:
         raise InvalidArgumentError(f"study.roa: controller must be the gain K with 4 entries, got {len(K)}")
     if not grid:
@@ -324,7 +329,8 @@ def run(
     if backend == "ray":
         from . import ray as pray
 
-        return pray.run(study, chunk=chunk, progress=progress, cache_dir=cache_dir, **ray_options)
+        return pray.run(study, chunk=chunk, progress=progress, cache_dir=cache_dir, threads=threads,
+                        **ray_options)
     if backend != "local":
         raise InvalidArgumentError(f"study: backend {backend!r}; expected \"local\" or \"ray\"")
     if ray_options:
