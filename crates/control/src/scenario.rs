@@ -85,10 +85,12 @@ pub struct Summary {
     pub peak_command: f64,
     /// Time during which the saturation clipped the command \[s\] (samples × `ts`).
     pub time_in_saturation: f64,
-    /// The largest distance of the pendulum angle from upright \[rad\] (wrapped to `(−π, π]`).
+    /// The largest distance of the pendulum angle from the controller's centre \[rad\]
+    /// (`ControllerSpec::pendulum_centre`: upright, or hanging for `pid`), the angle wrapped to
+    /// within π of the centre.
     pub max_angle_deviation: f64,
-    /// Whether the pendulum left the rig's angle window (`rig.angle_window_deg`); `None` for a
-    /// swing-up controller, which starts outside it.
+    /// Whether the pendulum left the rig's angle window (`rig.angle_window_deg`) about the
+    /// controller's centre; `None` for a swing-up controller, which starts outside it.
     pub left_angle_window: Option<bool>,
     /// Whether `|q₀|` exceeded the rig's travel limit (`rig.travel_limit`).
     pub left_travel: bool,
@@ -137,14 +139,15 @@ pub enum ScenarioError {
 /// the rig's). A controller spec with a design record (`designed_for`,
 /// [`crate::spec::DesignRecord`]) is checked against `plant` first: a record of the other
 /// plant kind is an error; different parameter values or another sample time are returned in
-/// [`Run::design_warnings`]. A non-zero scenario reference is the drive position's reference `r(t)` (the
-/// controller spec must then have none of its own); the disturbance is added to the plant
-/// input after the amplifier; `imperfections.pivot_friction = false` sets the model's
-/// `μ_p`/`μ₂` to 0.
+/// [`Run::design_warnings`]. A non-zero scenario reference is the drive position's
+/// reference `r(t)` (the controller spec must then have none of its own); the disturbance is
+/// added to the plant input after the amplifier; `imperfections.pivot_friction = false` sets
+/// the model's `μ_p`/`μ₂` to 0.
 ///
 /// # Errors
 /// [`ScenarioError`]: an invalid scenario (naming the key), a controller designed for the
-/// other plant kind ([`SpecError::WrongPlant`]), an initial state of the wrong length, a run longer than [`DURATION_MAX`], the controller's [`SpecError`], imperfections
+/// other plant kind ([`SpecError::WrongPlant`]), an initial state of the wrong length,
+/// a run longer than [`DURATION_MAX`], the controller's [`SpecError`], imperfections
 /// the rig part cannot provide, or a failed simulation.
 pub fn simulate(
     plant: &PlantSpec,
@@ -266,7 +269,7 @@ pub fn simulate_on<P: Dynamics>(
     };
     let max_angle_deviation = x
         .iter()
-        .map(|s| wrap_about(s[1], centre).abs())
+        .map(|s| (wrap_about(s[1], centre) - centre).abs())
         .fold(0.0, f64::max);
     let peak = |v: &[f64]| v.iter().map(|a| a.abs()).fold(0.0, f64::max);
     let summary = Summary {
@@ -308,6 +311,7 @@ fn spec_reference(controller: &ControllerSpec) -> Option<f64> {
     Some(match controller {
         ControllerSpec::StateFeedback(c) => first(&c.reference).unwrap_or(0.0),
         ControllerSpec::LqServo(c) => first(&c.reference).unwrap_or(0.0),
+        ControllerSpec::Pid(c) => first(&c.reference).unwrap_or(0.0),
         _ => 0.0,
     })
 }
@@ -324,6 +328,7 @@ fn drive_reference(
     let r = spec_reference(controller).unwrap_or(0.0);
     let at = match controller {
         ControllerSpec::LqServo(c) => c.step_time.unwrap_or(0.0),
+        ControllerSpec::Pid(c) => c.step_time.unwrap_or(0.0),
         _ => 0.0,
     };
     Signal::step(at, r).map_err(ScenarioError::Simulation)

@@ -85,7 +85,13 @@ use pendulab_sim::controllers::{
 use pendulab_sim::signal::Signal;
 use serde::{Deserialize, Serialize};
 
+pub mod nmpc;
+pub mod observer;
+pub mod pid;
 mod record;
+pub use nmpc::NmpcSpec;
+pub use observer::{ObserverDesign, ObserverSpec, observer_design};
+pub use pid::{PID_TF_DEFAULT, PidSpec};
 pub use record::{DesignInput, DesignRecord, DesignWarning};
 
 /// Longest run \[s\], and the latest `step_time` of an `lq-servo`: an experiment on the rig lasts
@@ -144,22 +150,39 @@ pub enum ControllerSpec {
     /// `kind = "swing-up-balance"`: energy shaping from the hanging rest, then a balance gain
     /// once `|wrap(q₁)| < switch_deg` (latched).
     SwingUpBalance(SwingUpBalanceSpec),
+    /// `kind = "observer"`: `u = −K x̂` with a full-order observer of the encoder positions
+    /// ([`observer`]).
+    Observer(ObserverSpec),
+    /// `kind = "pid"`: the PID family (P, PD, P–D, PI, PID, I–PD) on the drive position, the
+    /// pendulum hanging ([`pid`]).
+    Pid(PidSpec),
+    /// `kind = "nmpc"`: the arm's C/GMRES swing-up ([`nmpc`]).
+    Nmpc(NmpcSpec),
 }
 
 impl ControllerSpec {
     /// `kind` of [`ControllerSpec::SwingUpBalance`] as written in a file.
     pub const SWING_UP_BALANCE: &str = "swing-up-balance";
+    /// `kind` of [`ControllerSpec::Observer`] as written in a file.
+    pub const OBSERVER: &str = "observer";
+    /// `kind` of [`ControllerSpec::Pid`] as written in a file.
+    pub const PID: &str = "pid";
+    /// `kind` of [`ControllerSpec::Nmpc`] as written in a file.
+    pub const NMPC: &str = "nmpc";
     /// Every `kind`, as written in a file.
-    pub const KINDS: [&str; 4] = [
+    pub const KINDS: [&str; 7] = [
         "state-feedback",
         "lq-servo",
         "gain-scheduled",
         Self::SWING_UP_BALANCE,
+        Self::OBSERVER,
+        Self::PID,
+        Self::NMPC,
     ];
 
     /// The keys of each `kind` (besides `kind` itself), as the module documentation lists
     /// them: any other key in a kind's table is refused when it is read.
-    pub const KEYS: [(&str, &[&str]); 4] = [
+    pub const KEYS: [(&str, &[&str]); 7] = [
         (
             Self::KINDS[0],
             &["k", "k_book", "lqr", "reference", "designed_for"],
@@ -179,6 +202,49 @@ impl ControllerSpec {
             ],
         ),
         (Self::KINDS[3], &["balance", "switch_deg", "designed_for"]),
+        (
+            Self::KINDS[4],
+            &[
+                "k",
+                "k_book",
+                "lqr",
+                "poles",
+                "l",
+                "observer_poles",
+                "discretization",
+                "designed_for",
+            ],
+        ),
+        (
+            Self::KINDS[5],
+            &[
+                "form",
+                "kp",
+                "ki",
+                "kd",
+                "tf",
+                "discretization",
+                "reference",
+                "step_time",
+                "designed_for",
+            ],
+        ),
+        (
+            Self::KINDS[6],
+            &[
+                "horizon",
+                "horizon_rate",
+                "divisions",
+                "q",
+                "qf",
+                "r",
+                "u_max",
+                "dummy_weight",
+                "gmres_iterations",
+                "zeta",
+                "designed_for",
+            ],
+        ),
     ];
 
     /// The `kind` as written in a file.
@@ -188,6 +254,9 @@ impl ControllerSpec {
             ControllerSpec::LqServo(_) => Self::KINDS[1],
             ControllerSpec::GainScheduled(_) => Self::KINDS[2],
             ControllerSpec::SwingUpBalance(_) => Self::KINDS[3],
+            ControllerSpec::Observer(_) => Self::KINDS[4],
+            ControllerSpec::Pid(_) => Self::KINDS[5],
+            ControllerSpec::Nmpc(_) => Self::KINDS[6],
         }
     }
 
@@ -198,6 +267,9 @@ impl ControllerSpec {
             ControllerSpec::LqServo(c) => &c.designed_for,
             ControllerSpec::GainScheduled(c) => &c.designed_for,
             ControllerSpec::SwingUpBalance(c) => &c.designed_for,
+            ControllerSpec::Observer(c) => &c.designed_for,
+            ControllerSpec::Pid(c) => &c.designed_for,
+            ControllerSpec::Nmpc(c) => &c.designed_for,
         }
     }
 
@@ -208,23 +280,34 @@ impl ControllerSpec {
             ControllerSpec::LqServo(c) => &mut c.designed_for,
             ControllerSpec::GainScheduled(c) => &mut c.designed_for,
             ControllerSpec::SwingUpBalance(c) => &mut c.designed_for,
+            ControllerSpec::Observer(c) => &mut c.designed_for,
+            ControllerSpec::Pid(c) => &mut c.designed_for,
+            ControllerSpec::Nmpc(c) => &mut c.designed_for,
         }
     }
 
     /// Whether the controller starts from the hanging rest and swings the pendulum up (then a
     /// run has no balance window on the pendulum angle).
     pub fn is_swing_up(&self) -> bool {
-        matches!(self, ControllerSpec::SwingUpBalance(_))
+        matches!(
+            self,
+            ControllerSpec::SwingUpBalance(_) | ControllerSpec::Nmpc(_)
+        )
     }
 
-    /// The pendulum angle \[rad\] the controller stabilises (0 = upright): 0 for every kind
-    /// (`swing-up-balance` swings up to and then balances upright).
+    /// The pendulum angle \[rad\] the controller keeps the pendulum about (0 = upright): `π`
+    /// for `pid` (the book's PID family controls the drive with the pendulum hanging, part 1
+    /// ch. 2), 0 for every other kind (`swing-up-balance` and `nmpc` swing up to and then
+    /// balance upright).
     pub fn pendulum_centre(&self) -> f64 {
         match self {
+            ControllerSpec::Pid(_) => std::f64::consts::PI,
             ControllerSpec::StateFeedback(_)
             | ControllerSpec::LqServo(_)
             | ControllerSpec::GainScheduled(_)
-            | ControllerSpec::SwingUpBalance(_) => 0.0,
+            | ControllerSpec::SwingUpBalance(_)
+            | ControllerSpec::Observer(_)
+            | ControllerSpec::Nmpc(_) => 0.0,
         }
     }
 }
@@ -345,9 +428,11 @@ pub enum SpecError {
         /// Entries required.
         expected: usize,
     },
-    /// The servo's reference is not one value.
-    #[error("controller.reference of an lq-servo is one value (of q0), got {got}")]
+    /// The servo's (or the PID's) reference is not one value.
+    #[error("controller.reference of a {kind} is one value (of q0), got {got}")]
     ServoReferenceLength {
+        /// The controller's `kind`.
+        kind: &'static str,
         /// Entries given.
         got: usize,
     },
@@ -441,6 +526,19 @@ pub enum SpecError {
         /// The plant kind it was to run on.
         plant: PlantKind,
     },
+    /// A kind that exists for one plant only, given for the other.
+    #[error(
+        "controller.kind = \"{kind}\": runs on the {} pendulum only, not on the {} pendulum",
+        only.name(), plant.name()
+    )]
+    NotForPlant {
+        /// The controller's `kind`.
+        kind: &'static str,
+        /// The plant it was to run on.
+        plant: PlantKind,
+        /// The plant it is made for.
+        only: PlantKind,
+    },
     /// The design record is malformed.
     #[error("{key}: {detail}")]
     DesignRecord {
@@ -528,6 +626,9 @@ pub(crate) fn build_with(
         (ControllerSpec::LqServo(c), r) => servo(plant, c, ts, r)?,
         (ControllerSpec::GainScheduled(c), None) => gain_scheduled(plant, c)?,
         (ControllerSpec::SwingUpBalance(c), None) => swing_up_balance(plant, c)?,
+        (ControllerSpec::Observer(c), None) => observer::observer(plant, c, ts)?,
+        (ControllerSpec::Pid(c), r) => pid::pid(c, ts, r)?,
+        (ControllerSpec::Nmpc(c), None) => nmpc::nmpc(plant, c, ts)?,
         (_, Some(_)) => {
             return Err(SpecError::Reference {
                 kind: spec.kind(),
@@ -719,7 +820,7 @@ fn servo(
             }
             s
         }
-        None => servo_step(c)?,
+        None => step_reference(ControllerSpec::KINDS[1], &c.reference, c.step_time)?,
     };
     Ok(Box::new(LqIntegralServo::new(
         &k1,
@@ -731,14 +832,19 @@ fn servo(
     )?))
 }
 
-/// The servo's reference from the spec: `reference[0]` as a step at `step_time`.
-fn servo_step(c: &LqServoSpec) -> Result<Signal, SpecError> {
-    let r = c.reference.clone().unwrap_or(vec![0.0]);
+/// The drive-position reference of a `kind` with `reference` (one entry, default 0) and
+/// `step_time` (default 0) keys: `reference[0]` as a step at `step_time`.
+fn step_reference(
+    kind: &'static str,
+    reference: &Option<Vec<f64>>,
+    step_time: Option<f64>,
+) -> Result<Signal, SpecError> {
+    let r = reference.clone().unwrap_or(vec![0.0]);
     if r.len() != 1 {
-        return Err(SpecError::ServoReferenceLength { got: r.len() });
+        return Err(SpecError::ServoReferenceLength { kind, got: r.len() });
     }
     finite("controller.reference", &r)?;
-    let t_step = c.step_time.unwrap_or(0.0);
+    let t_step = step_time.unwrap_or(0.0);
     if !(t_step.is_finite() && (0.0..=DURATION_MAX).contains(&t_step)) {
         return Err(SpecError::OutOfRange {
             key: "controller.step_time",
@@ -917,3 +1023,6 @@ impl Controller for TrackDrive {
 #[cfg(test)]
 #[path = "spec_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+mod kinds_tests;

@@ -5,7 +5,8 @@
 //! rate_hz = 1000.0              # loop rate (default 1000)
 //!
 //! [controller]
-//! kind = "state-feedback"       # "state-feedback", "lq-servo", "gain-scheduled", "swing-up-balance"
+//! kind = "state-feedback"       # or "lq-servo", "gain-scheduled", "swing-up-balance",
+//!                               # "observer", "pid", "nmpc"
 //! lqr = { q = [10.0, 10.0, 0.0, 0.0], r = 1.0 }   # design on the upright linearisation …
 //! # k = [-3.16, -13.5, -4.48, -2.26]             # … or a library gain, u = −K (y − reference)
 //! # k_book = [3.16, 13.5, 4.48, 2.26]            # … or the book's, u = +K_book y
@@ -57,21 +58,24 @@
 //! | `rate_hz` | 10 ([`RATE_HZ_MIN`]) to 50 000 Hz ([`RATE_HZ_MAX`]) | below 10 Hz no pendulum can be balanced; the loop's own capacity is above 5 kHz (docs/rig/README.md), 50 kHz leaves margin |
 //! | `estimator.time_constant` | `ts/2` to 0.1 s ([`TIME_CONSTANT_MAX`]), `ts = 1/rate_hz` | see [`time_constant_range`] |
 //! | `reference` (state feedback) | `|q₀| < travel_limit`, `|q₁| <` the angle window, velocities finite | a reference at or beyond a limit drives the rig into the safety stop |
-//! | `reference` (servo) | `|r| < travel_limit` | the same |
+//! | `reference` (servo, PID) | `|r| < travel_limit` | the same |
 //!
-//! [`ControllerSpec::pendulum_centre`] is the pendulum angle each kind stabilises (0 = upright
-//! for all four: the swing-up ends balancing upright); the runtime wraps the measured angle
-//! about it.
+//! [`ControllerSpec::pendulum_centre`] is the pendulum angle each kind keeps the pendulum
+//! about (0 = upright; `π` for `pid`, whose pendulum hangs; the swing-ups end balancing
+//! upright); the runtime wraps the measured angle about it.
 
 use crate::emulator::PlantKind;
 use crate::runtime::Safety;
 use crate::{ConfigError, RigError};
+use pendulab_control::spec::DesignWarning;
+use pendulab_plants::rig::RigSpec;
+use pendulab_plants::spec::PlantSpec;
 use serde::Deserialize;
 use std::time::Duration;
 
 pub use pendulab_control::spec::{
-    ControllerSpec, DURATION_MAX, GainScheduledSpec, GainSpec, LqServoSpec, LqrSpec,
-    SWITCH_DEG_MAX, StateFeedbackSpec, SwingUpBalanceSpec,
+    ControllerSpec, DURATION_MAX, GainScheduledSpec, GainSpec, LqServoSpec, LqrSpec, NmpcSpec,
+    ObserverSpec, PidSpec, SWITCH_DEG_MAX, StateFeedbackSpec, SwingUpBalanceSpec,
 };
 
 /// Lowest loop rate `rate_hz` \[Hz\]: the book's pendulums fall over in a few tenths of a
@@ -117,7 +121,10 @@ pub struct ControllerFile {
     pub estimator: EstimatorSpec,
 }
 
-/// The `[safety]` table; ranges: [`Safety::validate_at`], defaults: [`safety_for`].
+/// The `[safety]` table: the run's limits, each key overriding the rig's own number where the
+/// rig has one (`travel_limit` and `angle_window_deg` are `RigSpec`'s, `voltage_limit`
+/// defaults to its `input_limit`; one home, `pendulab_plants::RigSpec`, read by
+/// [`Safety::from_rig`]). Ranges: [`Safety::validate_at`]; defaults: [`safety_for`].
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SafetySpec {
@@ -162,6 +169,9 @@ pub struct Loaded {
     pub safety_spec: SafetySpec,
     /// Pseudo-differentiator time constant \[s\].
     pub differentiator_t: f64,
+    /// The rig whose limits are the defaults of `[safety]` (the book rig of `plant` for
+    /// [`load`], the lab's for [`load_for`]).
+    pub rig: RigSpec,
 }
 
 impl Loaded {
@@ -176,7 +186,13 @@ impl Loaded {
     pub fn override_watchdog_periods(&mut self, periods: u32) -> Result<(), RigError> {
         let mut spec = self.safety_spec.clone();
         spec.watchdog_periods = Some(periods);
-        self.safety = safety_for(self.plant, self.ts, &spec, self.spec.is_swing_up())?;
+        self.safety = safety_for_rig(
+            &self.rig,
+            self.plant,
+            self.ts,
+            &spec,
+            self.spec.is_swing_up(),
+        )?;
         self.safety_spec = spec;
         Ok(())
     }
@@ -277,11 +293,15 @@ pub fn check_references(
             }
             Ok(())
         }
-        ControllerSpec::LqServo(c) => match c.reference.as_deref() {
+        ControllerSpec::LqServo(LqServoSpec { reference, .. })
+        | ControllerSpec::Pid(PidSpec { reference, .. }) => match reference.as_deref() {
             Some(r) if r.len() == 1 => travel(r),
             _ => Ok(()),
         },
-        ControllerSpec::GainScheduled(_) | ControllerSpec::SwingUpBalance(_) => Ok(()),
+        ControllerSpec::GainScheduled(_)
+        | ControllerSpec::SwingUpBalance(_)
+        | ControllerSpec::Observer(_)
+        | ControllerSpec::Nmpc(_) => Ok(()),
     }
 }
 
@@ -303,7 +323,23 @@ pub fn safety_for(
     s: &SafetySpec,
     swing_up: bool,
 ) -> Result<Safety, RigError> {
-    let mut safety = Safety::default_for(plant);
+    safety_for_rig(&plant.spec(), plant, ts, s, swing_up)
+}
+
+/// [`safety_for`] with the defaults taken from `rig`'s own limits ([`Safety::from_rig`]: a
+/// lab's rig file) instead of the book rig's; the ranges are the same
+/// ([`Safety::validate_at`] for `plant`).
+///
+/// # Errors
+/// As [`safety_for`].
+pub fn safety_for_rig(
+    rig: &RigSpec,
+    plant: PlantKind,
+    ts: f64,
+    s: &SafetySpec,
+    swing_up: bool,
+) -> Result<Safety, RigError> {
+    let mut safety = Safety::from_rig(rig);
     let periods = |t: f64| (t / ts).round();
     if let Some(v) = s.voltage_limit {
         safety.voltage_limit = v;
@@ -367,6 +403,41 @@ pub fn safety_for(
 pub fn load(text: &str) -> Result<Loaded, RigError> {
     let file: ControllerFile = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
     let plant = PlantKind::parse(&file.plant).map_err(ConfigError::from)?;
+    load_file(file, plant.spec())
+}
+
+/// [`load`] for a lab's plant `lab` (a `PlantSpec`: its parameters and rig): the file's
+/// `plant` must be `lab`'s kind, the `[safety]` defaults are `lab`'s rig limits
+/// ([`safety_for_rig`]), and the controller's design record is compared with `lab`
+/// (`ControllerSpec::check_plant`): the differences it finds (parameters the design did not
+/// use) are returned for the front end to print.
+///
+/// # Errors
+/// As [`load`]; [`ConfigError::Invalid`] naming `plant` for a file of the other plant;
+/// [`ConfigError::Controller`] for a design record of the other plant kind or a malformed
+/// one.
+pub fn load_for(text: &str, lab: &PlantSpec) -> Result<(Loaded, Vec<DesignWarning>), RigError> {
+    let file: ControllerFile = toml::from_str(text).map_err(|e| parse_error(text, &e))?;
+    let plant = PlantKind::parse(&file.plant).map_err(ConfigError::from)?;
+    if plant != lab.kind() {
+        return Err(ConfigError::invalid(
+            "plant",
+            format!("\"{}\"", plant.name()),
+            format!("must be the lab's plant, \"{}\"", lab.kind().name()),
+        )
+        .into());
+    }
+    let warnings = file
+        .controller
+        .check_plant(lab)
+        .map_err(ConfigError::from)?;
+    Ok((load_file(file, lab.rig().clone())?, warnings))
+}
+
+/// The checks of [`load`] on a parsed file of `plant`'s, with `rig`'s limits as the safety
+/// defaults.
+fn load_file(file: ControllerFile, rig: RigSpec) -> Result<Loaded, RigError> {
+    let plant = PlantKind::parse(&file.plant).map_err(ConfigError::from)?;
     file.controller
         .check_kind(plant)
         .map_err(ConfigError::from)?;
@@ -381,7 +452,7 @@ pub fn load(text: &str) -> Result<Loaded, RigError> {
     }
     let ts = 1.0 / rate;
     let spec = file.controller;
-    let safety = safety_for(plant, ts, &file.safety, spec.is_swing_up())?;
+    let safety = safety_for_rig(&rig, plant, ts, &file.safety, spec.is_swing_up())?;
     let differentiator_t = file.estimator.time_constant.unwrap_or(0.02);
     let (t_lo, t_hi) = time_constant_range(ts);
     if !(differentiator_t.is_finite() && (t_lo..=t_hi).contains(&differentiator_t)) {
@@ -405,6 +476,7 @@ pub fn load(text: &str) -> Result<Loaded, RigError> {
         safety,
         safety_spec: file.safety,
         differentiator_t,
+        rig,
     })
 }
 
@@ -463,14 +535,21 @@ mod tests {
     }
 
     /// The keys of each kind (`pendulab_control::spec`'s table).
-    const KEYS: [(&str, &[&str]); 4] = ControllerSpec::KEYS;
+    const KEYS: [(&str, &[&str]); 7] = ControllerSpec::KEYS;
 
-    /// The smallest `[controller]` table of each kind (zero gains).
-    const BODIES: [(&str, &str); 4] = [
+    /// The smallest `[controller]` table of each kind (zero gains; the NMPC's keys all have
+    /// defaults).
+    const BODIES: [(&str, &str); 7] = [
         ("state-feedback", "k = [0.0, 0.0, 0.0, 0.0]"),
         ("lq-servo", "k1 = [0.0, 0.0, 0.0, 0.0]\nk2 = 0.0"),
         ("gain-scheduled", "coefficients = [[0.0, 0.0, 0.0, 0.0]]"),
         ("swing-up-balance", "balance = { k = [0.0, 0.0, 0.0, 0.0] }"),
+        (
+            "observer",
+            "k = [0.0, 0.0, 0.0, 0.0]\nl = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]",
+        ),
+        ("pid", "form = \"p\"\nkp = 0.0"),
+        ("nmpc", ""),
     ];
 
     /// A cart file of `kind` that loads.
@@ -495,6 +574,14 @@ mod tests {
             "coefficients" => "[[0.0, 0.0, 0.0, 0.0]]",
             "schedule" => "\"q0-squared\"",
             "balance" => "{ k = [0.0, 0.0, 0.0, 0.0] }",
+            "poles" | "observer_poles" => "[[-1.0, 0.0], [-2.0, 0.0], [-3.0, 0.0], [-4.0, 0.0]]",
+            "l" => "[[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]",
+            "discretization" => "\"tustin\"",
+            "form" => "\"p\"",
+            "kp" | "ki" | "kd" | "tf" | "horizon" | "horizon_rate" | "r" | "u_max"
+            | "dummy_weight" | "zeta" => "1.0",
+            "divisions" | "gmres_iterations" => "5",
+            "q" | "qf" => "[1.0, 1.0, 0.0, 0.0]",
             _ => unreachable!("{key}"),
         };
         let mut rejected = 0;
@@ -513,9 +600,12 @@ mod tests {
             }
         }
         // Foreign keys per kind, counted by hand from the module's table (a key listed by two
-        // other kinds is tried twice): state-feedback 3 + 3 + 2 = 8, lq-servo 2 + 3 + 2 = 7,
-        // gain-scheduled 3 + 4 + 2 = 9, swing-up-balance 4 + 5 + 4 = 13.
-        assert_eq!(rejected, 37);
+        // other kinds is tried twice; `designed_for` belongs to every kind), the other kinds
+        // in the order of `KINDS`: state-feedback 3 + 3 + 2 + 4 + 7 + 10 = 29, lq-servo
+        // 2 + 3 + 2 + 6 + 6 + 10 = 29, gain-scheduled 3 + 4 + 2 + 6 + 8 + 10 = 33,
+        // swing-up-balance 4 + 5 + 4 + 7 + 8 + 10 = 38, observer 1 + 4 + 3 + 2 + 7 + 10 = 27,
+        // pid 3 + 3 + 4 + 2 + 6 + 10 = 28, nmpc 4 + 5 + 4 + 2 + 7 + 8 = 30.
+        assert_eq!(rejected, 214);
     }
 
     #[test]
@@ -672,7 +762,9 @@ mod tests {
 
     #[test]
     fn every_kind_balances_about_upright() {
-        for (kind, _) in KEYS {
+        // The four balancing kinds; the PID family keeps the pendulum hanging (centre π) and
+        // the NMPC swings up (`tests/config_kinds.rs`).
+        for &(kind, _) in &KEYS[..4] {
             let l = load(&base(kind)).unwrap();
             assert_eq!(l.spec.pendulum_centre(), 0.0, "{kind}");
             assert_eq!(l.spec.kind(), kind);
@@ -738,6 +830,83 @@ mod tests {
         let e = e.to_string();
         assert!(
             e.contains("designed_for.plant") && e.contains("cart") && e.contains("arm"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_labs_rig_limits_are_the_safety_defaults_and_its_plant_is_checked() {
+        use pendulab_control::spec::{DesignRecord, DesignWarning};
+        use pendulab_plants::spec::{PlantParameters, PlantSpec, Provenance};
+        let book = PlantSpec::book(PlantKind::Cart);
+        // The book rig: load and load_for agree.
+        let (l, w) = load_for(SF, &book).unwrap();
+        assert_eq!(l.safety, load(SF).unwrap().safety);
+        assert_eq!(w, vec![]);
+        // A lab rig with a shorter track and a narrower window, a heavier pendulum.
+        let mut rig = book.rig().clone();
+        rig.travel_limit = 0.3;
+        rig.angle_window_deg = 20.0;
+        let PlantParameters::Cart(mut p) = *book.parameters() else {
+            unreachable!()
+        };
+        p.m_p *= 1.2;
+        let lab = PlantSpec::new(
+            PlantParameters::Cart(p),
+            Provenance::User { note: None },
+            rig,
+        )
+        .unwrap();
+        let (l, _) = load_for(SF, &lab).unwrap();
+        assert_eq!(l.safety.travel_limit, 0.3);
+        assert_eq!(l.safety.angle_window, Some(20f64.to_radians()));
+        // The file's own keys still win, and a command-line override keeps the lab's
+        // defaults.
+        let (mut l, _) = load_for(&format!("{SF}[safety]\ntravel_limit = 0.25\n"), &lab).unwrap();
+        assert_eq!(l.safety.travel_limit, 0.25);
+        l.override_watchdog_periods(100).unwrap();
+        assert_eq!(l.safety.angle_window, Some(20f64.to_radians()));
+        // A reference beyond the lab's travel is refused although inside the book's.
+        let e = load_for(
+            &SF.replace("k = [1.0", "reference = [0.35, 0.0, 0.0, 0.0]\nk = [1.0"),
+            &lab,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("controller.reference[0] = 0.35"), "{e}");
+        // A design made on the book's parameters: the heavier pendulum is a warning.
+        let spec = load(SF).unwrap().spec.with_designed_for(DesignRecord::new(
+            &book,
+            vec![0.0; 4],
+            None,
+            "lqr",
+            Default::default(),
+        ));
+        let table = toml::to_string(&spec)
+            .unwrap()
+            .replace("[designed_for", "[controller.designed_for");
+        let text = format!("plant = \"cart\"\n[controller]\n{table}");
+        let (_, w) = load_for(&text, &lab).unwrap();
+        assert_eq!(
+            w,
+            vec![DesignWarning::Parameter {
+                key: "parameters.m_p".into(),
+                designed: book
+                    .parameters()
+                    .entries()
+                    .iter()
+                    .find(|e| e.0 == "m_p")
+                    .unwrap()
+                    .1,
+                plant: p.m_p,
+            }]
+        );
+        // A cart file for an arm lab names the key `plant`.
+        let e = load_for(SF, &PlantSpec::book(PlantKind::Arm))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("plant = \"cart\"") && e.contains("\"arm\""),
             "{e}"
         );
     }

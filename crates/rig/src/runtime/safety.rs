@@ -2,6 +2,7 @@
 
 use crate::emulator::PlantKind;
 use crate::{ConfigError, RigError};
+use pendulab_plants::rig::RigSpec;
 use std::time::Duration;
 
 /// Limits enforced by the runtime, each with a documented valid range checked by
@@ -86,12 +87,21 @@ impl Safety {
     /// [`Self::WATCHDOG_DEFAULT_TIME`] (50 periods), stale hold [`Self::STALE_HOLD_DEFAULT_TIME`]
     /// (20 periods), 2 s to connect.
     pub fn default_for(plant: PlantKind) -> Self {
-        let spec = plant.spec();
-        let periods = |t: f64| (t / spec.sample_time).round() as u32;
+        Self::from_rig(&plant.spec())
+    }
+
+    /// Defaults of the rig `rig` describes (the one home of its limits,
+    /// `pendulab_plants::RigSpec`: a lab's rig file or the book's): clamp at its amplifier
+    /// range `input_limit` \[V\], its `travel_limit` \[m or rad\] and `angle_window_deg`
+    /// (in radians here), the watchdog and stale hold [`Self::WATCHDOG_DEFAULT_TIME`] and
+    /// [`Self::STALE_HOLD_DEFAULT_TIME`] in periods of its `sample_time`, 2 s to connect.
+    /// Not validated: [`Self::validate_at`] checks the result against the ranges.
+    pub fn from_rig(rig: &RigSpec) -> Self {
+        let periods = |t: f64| (t / rig.sample_time).round() as u32;
         Self {
-            voltage_limit: spec.input_limit,
-            travel_limit: spec.travel_limit,
-            angle_window: Some(spec.angle_window_deg.to_radians()),
+            voltage_limit: rig.input_limit,
+            travel_limit: rig.travel_limit,
+            angle_window: Some(rig.angle_window()),
             watchdog_periods: periods(Self::WATCHDOG_DEFAULT_TIME),
             stale_hold_periods: periods(Self::STALE_HOLD_DEFAULT_TIME),
             connect_timeout: Duration::from_secs(2),
