@@ -7,6 +7,7 @@
 
 mod common;
 use common::*;
+use pendulab_book::ExampleOutput;
 
 /// The `name = value` pairs of an Octave display (several per line when separated by tabs; the
 /// name's spaces dropped, so `T 1` is `T1`).
@@ -73,31 +74,41 @@ fn p1c221_cartident_as_octave_runs_it() {
     }
 }
 
-#[test]
-fn p1c321_cdip_id_cart_as_octave_runs_it() {
-    let text = include_str!("data/octave/p1c321_cdip_id_cart.txt");
+/// A peak-time identification (`p1c321_cdip_id_cart.m`, `p1c332_adip_id_arm.m`): the values
+/// it prints with `fprintf('%5.2e')` under its labels (`ours`, `theirs`), and the displayed
+/// `sysGyr` to four significant digits.
+fn peak_feature_as_displayed(id: &str, text: &str, names: [(&str, &str); 8]) -> ExampleOutput {
     let d = displayed(text);
-    let out = run("p1c321_cdip_id_cart");
-    // Lines 59-68: fprintf('%5.2e') under the M-file's labels.
-    for (ours, theirs) in [
-        ("Tp", "Tp"),
-        ("Amax", "Amax"),
-        ("gamma", "gamma_c"),
-        ("delta", "delta_c"),
-        ("omega_n", "omega_nc"),
-        ("zeta", "zeta_c"),
-        ("ac", "ac"),
-        ("bc", "bc"),
-    ] {
+    let out = run(id);
+    for (ours, theirs) in names {
         printed(num(&out, ours), get(&d, theirs), 3, ours);
     }
-    // Line 71: sysGyr displayed to four significant digits.
     let (n, den) = displayed_tf(text);
     printed(vector(&out, "sysGyr_num")[0], n, 4, "sysGyr_num");
     let ours = vector(&out, "sysGyr_den");
     for i in 1..3 {
         printed(ours[i], den[i], 4, "sysGyr_den");
     }
+    out
+}
+
+#[test]
+fn p1c321_cdip_id_cart_as_octave_runs_it() {
+    // Lines 59-71.
+    peak_feature_as_displayed(
+        "p1c321_cdip_id_cart",
+        include_str!("data/octave/p1c321_cdip_id_cart.txt"),
+        [
+            ("Tp", "Tp"),
+            ("Amax", "Amax"),
+            ("gamma", "gamma_c"),
+            ("delta", "delta_c"),
+            ("omega_n", "omega_nc"),
+            ("zeta", "zeta_c"),
+            ("ac", "ac"),
+            ("bc", "bc"),
+        ],
+    );
 }
 
 #[test]
@@ -116,27 +127,21 @@ fn p1c321_cdip_id_pend_as_octave_runs_it() {
 
 #[test]
 fn p1c332_adip_id_arm_as_octave_runs_it() {
-    let text = include_str!("data/octave/p1c332_adip_id_arm.txt");
-    let d = displayed(text);
-    let out = run("p1c332_adip_id_arm");
-    for (ours, theirs) in [
-        ("Tp", "Tp"),
-        ("Amax", "Amax"),
-        ("gamma", "gamma_1"),
-        ("delta", "delta_1"),
-        ("zeta", "zeta_1"),
-        ("omega_n", "omega_n1"),
-        ("a1", "a1"),
-        ("b1", "b1"),
-    ] {
-        printed(num(&out, ours), get(&d, theirs), 3, ours);
-    }
-    let (n, den) = displayed_tf(text);
-    printed(vector(&out, "sysGyr_num")[0], n, 4, "sysGyr_num");
-    let ours = vector(&out, "sysGyr_den");
-    for i in 1..3 {
-        printed(ours[i], den[i], 4, "sysGyr_den");
-    }
+    // Lines 63-75.
+    let out = peak_feature_as_displayed(
+        "p1c332_adip_id_arm",
+        include_str!("data/octave/p1c332_adip_id_arm.txt"),
+        [
+            ("Tp", "Tp"),
+            ("Amax", "Amax"),
+            ("gamma", "gamma_1"),
+            ("delta", "delta_1"),
+            ("zeta", "zeta_1"),
+            ("omega_n", "omega_n1"),
+            ("a1", "a1"),
+            ("b1", "b1"),
+        ],
+    );
     // The example's references are the same display: reproduced.
     references_reproduced(&out);
 }

@@ -5,7 +5,7 @@ use super::common::*;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
-use pendulab_control::cgmres::{CgmresOptions, Horizon, TimedController};
+use pendulab_control::cgmres::{CgmresOptions, TimedController};
 use pendulab_control::nmpc::{ArmSwingUpSettings, arm_swing_up_controller};
 use pendulab_control::sliding_mode::{
     ReducedWeight, RegularForm, SlidingModeController, SlidingSurface, lq_sliding_surface,
@@ -248,25 +248,17 @@ fn book_program_plant(id: &str) -> Result<ArmPendulum, BookError> {
 /// The book program's problem and solver settings (`inputInvPendC.m`, lines 15-45):
 /// `Q = diag(1, 1, 0, 0)`, `S_f = diag(3, 1, 0, 0)`, `L = ½xᵀQx + ½ r₁ u₁² − r₂ u₂` with
 /// `r = (1, 0.1)`, the bound `u₁² + u₂² = 2.5²` (the dummy input `u₂`), `T(t) = 0.5(1 − e^{−0.5t})`,
-/// `dv = 25` grid points, `ζ = 1000`, the difference step `hdir = 0.002`, `kmax = 5`, `ht = 1 ms`.
+/// `dv = 25` grid points, `ζ = 1000`, the difference step `hdir = 0.002`, `kmax = 5`, `ht = 1 ms`:
+/// [`ArmSwingUpSettings::book`] with the program's input weight `r₁ = 1` and difference step.
 fn book_program_settings() -> ArmSwingUpSettings {
+    let base = ArmSwingUpSettings::book();
     ArmSwingUpSettings {
-        q: [1.0, 1.0, 0.0, 0.0],
-        qf: [3.0, 1.0, 0.0, 0.0],
         r: 1.0,
-        u_max: 2.5,
-        dummy_weight: 0.1,
         solver: CgmresOptions {
-            horizon: Horizon::Growing {
-                final_length: 0.5,
-                rate: 0.5,
-            },
-            grid_points: 25,
-            zeta: 1000.0,
             difference_step: 0.002,
-            gmres_iterations: 5,
+            ..base.solver
         },
-        ts: 1e-3,
+        ..base
     }
 }
 
