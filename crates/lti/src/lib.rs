@@ -9,6 +9,10 @@
 //! | [`interconnect`] | series, parallel, feedback (explicit sign), append | `series`, `parallel`, `feedback`, `append` |
 //! | [`analysis`] | poles, zeros, DC gain, stability, damping, controllability/observability (staircase, PBH), gramians, canonical forms | `pole`, `tzero`, `dcgain`, `isstable`, `damp`, `ctrb`, `obsv`, `ctrbf`, `gram`, `canon` |
 //! | [`frequency_response`] | frequency response, Bode data with unwrapped phase | `freqresp`, `bode`, `logspace` |
+//! | [`margins`] | every gain/phase crossing of a SISO loop with gain, phase and delay margins; the gang of four | `allmargin`, `margin`, `loopsens` |
+//! | [`stepinfo`] | step-response characteristics (rise, settling, overshoot, undershoot, peak) | `stepinfo` |
+//! | [`reduction`] | minimal realisation, Hankel singular values, balanced realisation and truncation (truncate, matched DC) | `minreal`, `hsvd`, `balreal`, `balred` |
+//! | [`norms`] | H2 norm (Gramian), H∞ norm with its peak frequency (Hamiltonian bisection), continuous and discrete | `norm`, `hinfnorm` |
 //! | [`matrix_functions`] | matrix exponential, logarithm, square root, block exponentials | `expm`, `logm`, `sqrtm` |
 //! | [`discretization`] | `c2d` (ZOH, FOH, Tustin with prewarp, Euler), `d2c` | `c2d`, `d2c` |
 //! | [`response`] | `lsim` (exact ZOH/FOH), `initial`, `step`, `impulse`, zero-input/zero-state split | `lsim`, `initial`, `step`, `impulse` |
@@ -51,10 +55,14 @@ pub mod error;
 pub mod frequency_response;
 pub mod interconnect;
 pub mod linalg;
+pub mod margins;
 pub mod matrix_functions;
+pub mod norms;
 pub mod polynomial;
+pub mod reduction;
 pub mod response;
 pub mod state_space;
+pub mod stepinfo;
 pub mod trajectory;
 pub mod transfer_function;
 
