@@ -21,21 +21,17 @@ use pendulab_plants::{
 };
 use pendulab_sim::controllers::StaticStateFeedback;
 use pendulab_sim::rig::RigChains;
+use pendulab_sim::scenario::Imperfections;
 use pendulab_sim::{
     Dynamics, Integrator, OdeOptions, RunStatus, SampledLoop, SampledOptions, SampledRun, SimError,
     StateFeedbackLoop, StayWithin, simulate_free,
 };
 use std::f64::consts::PI;
 
-/// The rig preset "with quantizer" from the rig's numbers (`docs/model.md` §3).
+/// The rig preset "with quantizer" (`docs/model.md` §3): the rig's own chains with
+/// encoders, pseudo-differentiated velocities, saturation and D/A.
 fn quantized(rig: &RigSpec) -> RigChains {
-    let enc: Vec<(usize, f64)> = rig.encoders.iter().map(|e| (e.state, e.step)).collect();
-    let vel: Vec<(usize, usize, f64)> = rig
-        .velocity_estimators
-        .iter()
-        .map(|v| (v.position_state, v.velocity_state, v.time_constant))
-        .collect();
-    RigChains::with_quantizer(rig.nx, &enc, &vel, rig.input_limit, rig.dac.bits).unwrap()
+    rig.chains(&Imperfections::with_quantizer()).unwrap()
 }
 
 fn diag(d: &[f64]) -> Mat {

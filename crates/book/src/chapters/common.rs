@@ -3,16 +3,17 @@
 //! animations to an example's output (as values; the front end renders and writes them).
 
 use crate::error::{BookError, Cause};
-use crate::output::ExampleOutput;
+use crate::output::{ExampleOutput, Value};
 use crate::registry::RunContext;
+use pendulab_lti::design::StateFeedback;
 use pendulab_lti::{Complex64, Continuous, Mat, StateSpace, Trajectory};
 use pendulab_plants::{ArmEquilibrium, ArmPendulum, ArmPendulumParams, RigSpec};
 use pendulab_plot::{
     Animation, AnimationOptions, ArmGeometry, Axes, CartGeometry, Figure, LegendPos, PlotError,
-    palette,
+    TimeResponse, palette,
 };
 use pendulab_sim::rig::RigChains;
-use pendulab_sim::{Actuator, SensorChain};
+use pendulab_sim::scenario::Imperfections;
 
 // ------------------------------------------------------------------------------ errors
 
@@ -81,9 +82,49 @@ pub(crate) fn sorted(mut p: Vec<Complex64>) -> Vec<Complex64> {
     p
 }
 
+/// Sorted poles of the state-feedback loop of the pair `(A, B)` (`n × n`, `n × m`) under the
+/// library gain `K` (`m × n`, `u = −K x`): the eigenvalues of the toolkit's
+/// [`StateFeedback::closed_loop`] `A − BK`.
+///
+/// # Errors
+/// The toolkit's errors for shapes that do not fit or non-finite entries.
+pub(crate) fn feedback_poles(
+    id: &str,
+    a: &Mat,
+    b: &Mat,
+    k: &Mat,
+) -> Result<Vec<Complex64>, BookError> {
+    let n = a.nrows();
+    let pair = StateSpace::<Continuous>::continuous(
+        a.clone(),
+        b.clone(),
+        Mat::identity(n, n),
+        Mat::zeros(n, b.ncols()),
+    )
+    .ctx(id)?;
+    let closed = StateFeedback::new(k.clone())
+        .ctx(id)?
+        .closed_loop(&pair)
+        .ctx(id)?;
+    closed.poles().map(sorted).ctx(id)
+}
+
 /// Largest real part of a set of poles (−∞ for none).
 pub(crate) fn max_re(p: &[Complex64]) -> f64 {
     p.iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Adds the book's exactly printed values `refs` (`(name, value)` pairs: entries of integer
+/// matrices, ranks, yes/no answers), each cited as `source` and reproduced only when equal
+/// (tolerance 0).
+pub(crate) fn exact_references<const N: usize>(
+    out: &mut ExampleOutput,
+    source: &str,
+    refs: [(&str, Value); N],
+) {
+    for (name, value) in refs {
+        out.reference(name, value, source, 0.0);
+    }
 }
 
 // ------------------------------------------------------------------------- signal summaries
@@ -133,41 +174,28 @@ pub(crate) fn extrema(t: &[f64], y: &[f64], start: usize) -> Vec<(f64, f64)> {
 
 // ------------------------------------------------------------------------------- rig presets
 
-/// `(position state, velocity state, time constant)` of each pseudo-differentiator of `rig`.
-fn velocities(rig: &RigSpec) -> Vec<(usize, usize, f64)> {
-    rig.velocity_estimators
-        .iter()
-        .map(|v| (v.position_state, v.velocity_state, v.time_constant))
-        .collect()
-}
-
-/// The book's rig preset "with quantizer" (`docs/model.md` §3): encoders on the positions,
+/// The book's rig preset "with quantizer" (`docs/model.md` §3): the rig's
+/// [`RigSpec::chains`] with [`Imperfections::with_quantizer`] — encoders on the positions,
 /// velocities by the pseudo-differentiator `s/(0.02 s + 1)`, ±5 V and a 16-bit D/A.
 ///
 /// # Errors
-/// The preset's construction errors (none for the built-in rigs).
+/// The chains' construction errors (none for the built-in rigs).
 pub(crate) fn quantized_rig(id: &str, rig: &RigSpec) -> Result<RigChains, BookError> {
-    let enc: Vec<(usize, f64)> = rig.encoders.iter().map(|e| (e.state, e.step)).collect();
-    RigChains::with_quantizer(
-        rig.nx,
-        &enc,
-        &velocities(rig),
-        rig.input_limit,
-        rig.dac.bits,
-    )
-    .ctx(id)
+    rig.chains(&Imperfections::with_quantizer()).ctx(id)
 }
 
-/// The nonlinear plant "plain" with the book's default measurement (`docs/model.md` §3):
-/// exact positions, velocities by derivative + `1/(0.02 s + 1)`, ideal actuator.
+/// The nonlinear plant "plain" with the book's default measurement (`docs/model.md` §3): the
+/// rig's [`RigSpec::chains`] with only the pseudo-differentiator switched on — exact
+/// positions, velocities by derivative + `1/(0.02 s + 1)`, ideal actuator.
 ///
 /// # Errors
 /// The sensor's construction errors (none for the built-in rigs).
 pub(crate) fn filtered_rig(id: &str, rig: &RigSpec) -> Result<RigChains, BookError> {
-    Ok(RigChains {
-        sensor: SensorChain::state_layout(rig.nx, &[], &velocities(rig)).ctx(id)?,
-        actuator: Actuator::ideal(),
-    })
+    let effects = Imperfections {
+        pseudo_differentiator: true,
+        ..Imperfections::ideal()
+    };
+    rig.chains(&effects).ctx(id)
 }
 
 /// The arm pendulum linearised upright at `θ₁ = 0` with drive parameters `a1`, `b1`,
@@ -380,6 +408,27 @@ pub(crate) fn save_animation(
         return Ok(());
     }
     write_animation(id, out, &format!("{id}_{what}"), build())
+}
+
+/// Adds the time-response figure `response` as `<id>_response` and the [`run_animation`] of
+/// the recorded run `tr` on `rig`, titled `id`, as `<id>_animation` when the context asks for
+/// figures (nothing is built otherwise).
+///
+/// # Errors
+/// [`BookError::Figure`] naming the figure or the animation.
+pub(crate) fn save_response_and_animation(
+    ctx: &RunContext,
+    out: &mut ExampleOutput,
+    id: &str,
+    response: &TimeResponse<'_>,
+    rig: Rig,
+    tr: &Trajectory,
+) -> Result<(), BookError> {
+    if !ctx.figures {
+        return Ok(());
+    }
+    save_figure(ctx, out, id, "response", response.figure())?;
+    save_run_animation(ctx, out, id, rig, tr, id)
 }
 
 /// Adds the [`run_animation`] of the recorded run `tr` on `rig`, titled `title`, as

@@ -4,17 +4,13 @@
 use pendulab_lti::Mat;
 use pendulab_plants::RigSpec;
 use pendulab_sim::rig::RigChains;
+use pendulab_sim::scenario::Imperfections;
 
-/// The rig preset "with quantizer" of a rig description (encoders, pseudo-differentiated
-/// velocities in the state layout, ±5 V, 16-bit D/A).
+/// The rig preset "with quantizer" of a rig description: the rig's `RigSpec::chains` with
+/// `Imperfections::with_quantizer` (encoders, pseudo-differentiated velocities in the state
+/// layout, ±5 V, 16-bit D/A).
 pub fn quantized(rig: &RigSpec) -> RigChains {
-    let enc: Vec<(usize, f64)> = rig.encoders.iter().map(|e| (e.state, e.step)).collect();
-    let vel: Vec<(usize, usize, f64)> = rig
-        .velocity_estimators
-        .iter()
-        .map(|v| (v.position_state, v.velocity_state, v.time_constant))
-        .collect();
-    RigChains::with_quantizer(rig.nx, &enc, &vel, rig.input_limit, rig.dac.bits).unwrap()
+    rig.chains(&Imperfections::with_quantizer()).unwrap()
 }
 
 /// `diag(d)`.
