@@ -103,17 +103,13 @@ fn ex1(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     out.value("Mc", Value::matrix(&mc))
         .value("rank", Value::Number(rank(&mc).rank as f64));
     // Exact small integers: the products of integer matrices are exact in floating point.
-    out.reference(
-        "Mc",
-        Value::Matrix(vec![vec![1.0, 1.0], vec![1.0, 2.0]]),
+    exact_references(
+        &mut out,
         "book Part 1 §5.1.1, example 5.1",
-        0.0,
-    )
-    .reference(
-        "rank",
-        Value::Number(2.0),
-        "book Part 1 §5.1.1, example 5.1",
-        0.0,
+        [
+            ("Mc", Value::Matrix(vec![vec![1.0, 1.0], vec![1.0, 2.0]])),
+            ("rank", Value::Number(2.0)),
+        ],
     );
     out.notes
         .push("M_c = [B, AB] has full rank 2: the pair is controllable.".into());
@@ -128,11 +124,10 @@ fn ex2(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut out = ExampleOutput::default();
     out.value("Mc", Value::matrix(&mc))
         .value("rank", Value::Number(rank(&mc).rank as f64));
-    out.reference(
-        "rank",
-        Value::Number(2.0),
+    exact_references(
+        &mut out,
         "book Part 1 §5.1.1, example 5.2",
-        0.0,
+        [("rank", Value::Number(2.0))],
     );
     out.notes.push(
         "The mode x1' = a x1 receives no input: rank M_c = 2 < 3, uncontrollable (a = 1).".into(),
@@ -225,11 +220,10 @@ fn ex4_cdip(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let mut out = ExampleOutput::default();
     out.value("rank_different", Value::Number(rd as f64))
         .value("rank_identical", Value::Number(ri as f64));
-    out.reference(
-        "rank_different",
-        Value::Number(6.0),
+    exact_references(
+        &mut out,
         "book Part 1 §5.1.1, example 5.4 (controllable: full rank 6)",
-        0.0,
+        [("rank_different", Value::Number(6.0))],
     );
     out.notes.push(
         "Identical pendulums: θa − θb obeys an input-free second-order equation, so two \

@@ -9,10 +9,13 @@ use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_lti::design::lq_servo;
-use pendulab_lti::linalg::eigenvalues;
+use pendulab_lti::interconnect::{feedback_tf, series_tf};
 use pendulab_lti::response::{LsimOptions, lsim, time_vector};
-use pendulab_lti::{Complex64, InputHold, LtiError, Mat, StateSpace, Trajectory};
-use pendulab_plants::{CartEquilibrium, CartPendulum, CartPendulumParams, RigSpec};
+use pendulab_lti::{
+    Complex64, Continuous, FeedbackSign, InputHold, LtiError, Mat, StateSpace, Trajectory,
+    TransferFunction,
+};
+use pendulab_plants::{CartEquilibrium, CartPendulum, CartPendulumParams, Drive, RigSpec};
 use pendulab_plot::{Channel, SignalPanel, TimeResponse};
 use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo};
 use pendulab_sim::{DisturbancePoint, SampledLoop, SampledOptions, Signal};
@@ -63,129 +66,86 @@ pub(crate) fn examples() -> Vec<Example> {
     ]
 }
 
-/// Polynomial product (coefficients in descending powers).
-fn conv(a: &[f64], b: &[f64]) -> Vec<f64> {
-    let mut c = vec![0.0; a.len() + b.len() - 1];
-    for (i, x) in a.iter().enumerate() {
-        for (j, y) in b.iter().enumerate() {
-            c[i + j] += x * y;
-        }
-    }
-    c
-}
-
-/// Polynomial sum (descending powers, aligned at the constant term).
-fn add(a: &[f64], b: &[f64]) -> Vec<f64> {
-    let n = a.len().max(b.len());
-    let mut c = vec![0.0; n];
-    for (k, x) in a.iter().rev().enumerate() {
-        c[n - 1 - k] += x;
-    }
-    for (k, x) in b.iter().rev().enumerate() {
-        c[n - 1 - k] += x;
-    }
-    c
-}
-
-/// `lim_{s→0} s^p · num(s)/den(s)` for exact polynomial data: the lowest powers present
-/// decide (0, a ratio of coefficients, or ±∞).
-pub(crate) fn limit_at_zero(num: &[f64], den: &[f64], p: i32) -> f64 {
-    let low = |c: &[f64]| {
-        c.iter()
-            .rev()
-            .enumerate()
-            .find(|(_, v)| **v != 0.0)
-            .map(|(k, v)| (k as i32, *v))
-    };
-    let Some((kn, cn)) = low(num) else {
-        return 0.0;
-    };
-    let Some((kd, cd)) = low(den) else {
-        return f64::NAN;
-    };
-    let order = kn + p - kd;
-    match order.cmp(&0) {
-        std::cmp::Ordering::Greater => 0.0,
-        std::cmp::Ordering::Equal => cn / cd,
-        std::cmp::Ordering::Less => f64::INFINITY.copysign(cn / cd),
-    }
-}
-
-/// A controller `C(s) = num/den` of the cart drive and the loop's steady-state error by the
-/// final-value theorem (book eqs 6.6, 6.19): `e = S r − S P d` with `S = 1/(1 + PC)`;
-/// reference `r0/s^k` (`k` = 1 step, 2 ramp) and disturbance `d0/s`.
+/// A controller `C(s)` of the cart drive `P(s) = b_c/(s² + a_c s)` (book eq. 6.7) and the
+/// loop's transfer functions by the toolkit's interconnections: `S = 1/(1 + PC)` from `r` to
+/// `e` and `S P` from the input disturbance `d` to `−e` (book eqs 6.6, 6.19: `e = S r − S P d`).
 pub(crate) struct DriveLoop {
     a: f64,
     b: f64,
-    c_num: Vec<f64>,
-    c_den: Vec<f64>,
+    kp: f64,
+    ki: Option<f64>,
+    /// `S = 1/(1 + P C)`.
+    sensitivity: TransferFunction<Continuous>,
+    /// `S P = P/(1 + P C)`.
+    disturbance: TransferFunction<Continuous>,
 }
 
 impl DriveLoop {
-    pub(crate) fn new(kp: f64, ki: Option<f64>) -> Self {
+    /// P (`ki = None`) or PI control `C(s) = k_P + k_I/s` of the book's drive (table 3.5,
+    /// [`Drive::transfer_function`]).
+    ///
+    /// # Errors
+    /// The toolkit's errors (none for finite gains).
+    pub(crate) fn new(id: &str, kp: f64, ki: Option<f64>) -> Result<Self, BookError> {
         let p = CartPendulumParams::book();
-        let (c_num, c_den) = match ki {
-            None => (vec![kp], vec![1.0]),
-            Some(ki) => (vec![kp, ki], vec![1.0, 0.0]),
-        };
-        Self {
+        let plant = Drive::new(p.a_c, p.b_c)
+            .and_then(|d| d.transfer_function())
+            .ctx(id)?;
+        let controller = match ki {
+            None => TransferFunction::continuous(&[kp], &[1.0]),
+            Some(ki) => TransferFunction::continuous(&[kp, ki], &[1.0, 0.0]),
+        }
+        .ctx(id)?;
+        let one = TransferFunction::gain(1.0, Continuous).ctx(id)?;
+        let open_loop = series_tf(&controller, &plant).ctx(id)?;
+        Ok(Self {
             a: p.a_c,
             b: p.b_c,
-            c_num,
-            c_den,
-        }
+            kp,
+            ki,
+            sensitivity: feedback_tf(&one, &open_loop, FeedbackSign::Negative).ctx(id)?,
+            disturbance: feedback_tf(&plant, &controller, FeedbackSign::Negative).ctx(id)?,
+        })
     }
 
-    /// Characteristic polynomial `den_C den_P + num_C num_P`.
-    fn characteristic(&self) -> Vec<f64> {
-        add(
-            &conv(&self.c_den, &[1.0, self.a, 0.0]),
-            &conv(&self.c_num, &[self.b]),
-        )
-    }
-
-    /// Closed-loop poles (roots of the characteristic polynomial, as companion eigenvalues).
+    /// Closed-loop poles: the roots of the characteristic polynomial
+    /// `den_C den_P + num_C num_P` (the denominator of `S`).
     pub(crate) fn poles(&self) -> Result<Vec<Complex64>, LtiError> {
-        let ch = self.characteristic();
-        let n = ch.len() - 1;
-        let mut comp = Mat::zeros(n, n);
-        for j in 0..n {
-            comp[(0, j)] = -ch[j + 1] / ch[0];
-        }
-        for i in 1..n {
-            comp[(i, i - 1)] = 1.0;
-        }
-        eigenvalues(&comp).map(sorted)
+        self.sensitivity.poles().map(sorted)
     }
 
-    /// `e∞` for the reference `r0/s^k` and the input disturbance `d0/s`.
-    pub(crate) fn e_inf(&self, r0: f64, k: i32, d0: f64) -> f64 {
-        let cl = self.characteristic();
-        let s_num = conv(&self.c_den, &[1.0, self.a, 0.0]);
-        let sp_num = conv(&self.c_den, &[self.b]);
+    /// `e∞` for the reference `r0/s^k` (`k` = 1 step, 2 ramp) and the input disturbance
+    /// `d0/s` by the final-value theorem: `r0 · lim s→0 S(s)/s^(k−1) − d0 · (S P)(0)`, each a
+    /// DC gain with the common factors `s` cancelled.
+    ///
+    /// # Errors
+    /// [`LtiError::PoleAtEvaluationPoint`] when a term grows without bound (a loop of too
+    /// low a type for the signal).
+    pub(crate) fn e_inf(&self, r0: f64, k: i32, d0: f64) -> Result<f64, LtiError> {
         let er = if r0 == 0.0 {
             0.0
         } else {
-            r0 * limit_at_zero(&s_num, &cl, 1 - k)
+            let mut g = self.sensitivity.clone();
+            for _ in 1..k {
+                let integrator = TransferFunction::continuous(&[1.0], &[1.0, 0.0])?;
+                g = series_tf(&g, &integrator)?;
+            }
+            r0 * g.dc_gain()?
         };
         let ed = if d0 == 0.0 {
             0.0
         } else {
-            d0 * limit_at_zero(&sp_num, &cl, 0)
+            d0 * self.disturbance.dc_gain()?
         };
-        er - ed
+        Ok(er - ed)
     }
 
-    /// The closed loop in state space, inputs `[r, d]`, outputs `[z, e, v]`; states `[z, ż]`
-    /// (P) or `[z, ż, ∫e]` (PI, `v = k_P e + k_I ∫e`).
-    fn state_space(&self) -> Result<StateSpace<pendulab_lti::Continuous>, LtiError> {
-        let (a, b) = (self.a, self.b);
-        let kp = self.c_num[0];
-        let ki = if self.c_num.len() == 2 {
-            Some(self.c_num[1])
-        } else {
-            None
-        };
+    /// The closed loop in state space for [`lsim`], inputs `[r, d]`, outputs `[z, e, v]`;
+    /// states `[z, ż]` (P) or `[z, ż, ∫e]` (PI, `v = k_P e + k_I ∫e`). Written out: the
+    /// toolkit's interconnections close SISO loops and give no internal signals (`e`, `v`) as
+    /// outputs.
+    fn state_space(&self) -> Result<StateSpace<Continuous>, LtiError> {
+        let (a, b, kp, ki) = (self.a, self.b, self.kp, self.ki);
         let n = if ki.is_some() { 3 } else { 2 };
         let mut am = Mat::zeros(n, n);
         let mut bm = Mat::zeros(n, 2);
@@ -275,11 +235,11 @@ struct DriveCase {
 
 fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookError> {
     let id = c.id;
-    let lp = DriveLoop::new(10.0, c.ki);
+    let lp = DriveLoop::new(id, 10.0, c.ki)?;
     let poles = lp.poles().ctx(id)?;
     let r0 = if c.ramp { 0.1 } else { 0.5 };
     let k = if c.ramp { 2 } else { 1 };
-    let e_inf = lp.e_inf(r0, k, c.d0);
+    let e_inf = lp.e_inf(r0, k, c.d0).ctx(id)?;
     let ramp = c.ramp;
     let d0 = c.d0;
     let traj = lp

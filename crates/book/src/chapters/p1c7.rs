@@ -200,8 +200,7 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             ],
             &mut out,
         )?;
-        let cl =
-            sorted(pendulab_lti::linalg::eigenvalues(&(lin.a() - lin.b() * fb.gain())).ctx(id)?);
+        let cl = sorted(fb.closed_loop(&lin).ctx(id)?.poles().ctx(id)?);
         let fig = PoleZeroMap::new()
             .poles("A + BK", &cl)
             .poles("A + LC (observer)", &obs_poles)
@@ -244,17 +243,13 @@ fn ex2_cdip_mo(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let mo = obsv(sys.a(), sys.c()).ctx(id)?;
         out.value(name, Value::Number(rank(&mo).rank as f64));
     }
-    out.reference(
-        "rank_y_z",
-        Value::Number(2.0),
+    exact_references(
+        &mut out,
         "book Part 1 §7.4, example 7.2",
-        0.0,
-    )
-    .reference(
-        "rank_y_theta",
-        Value::Number(3.0),
-        "book Part 1 §7.4, example 7.2",
-        0.0,
+        [
+            ("rank_y_z", Value::Number(2.0)),
+            ("rank_y_theta", Value::Number(3.0)),
+        ],
     );
     out.notes
         .push("Neither sensor alone makes the cart pendulum observable (rank M_o < 4).".into());
@@ -268,17 +263,13 @@ fn ex3_cdip_detectability(_ctx: &RunContext) -> Result<ExampleOutput, BookError>
         let sys = cdip_single_output(id, &c)?;
         out.value(name, Value::Bool(sys.is_detectable().ctx(id)?));
     }
-    out.reference(
-        "detectable_y_z",
-        Value::Bool(false),
+    exact_references(
+        &mut out,
         "book Part 1 §7.5, example 7.3",
-        0.0,
-    )
-    .reference(
-        "detectable_y_theta",
-        Value::Bool(false),
-        "book Part 1 §7.5, example 7.3",
-        0.0,
+        [
+            ("detectable_y_z", Value::Bool(false)),
+            ("detectable_y_theta", Value::Bool(false)),
+        ],
     );
     out.notes.push(
         "y = z misses the unstable pendulum mode (+5.75), y = θ misses the cart's integrator \

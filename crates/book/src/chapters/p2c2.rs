@@ -8,8 +8,9 @@ use crate::registry::{Example, RunContext};
 use pendulab_control::quantizer::{
     InputQuantizer, OdqLpOptions, QuantizedController, Realization, feedback_error_system, odq_lp,
 };
-use pendulab_lti::design::{StateFeedback, lqr, lqr_sampled_data};
-use pendulab_lti::{Discretization, Mat, StateSpace};
+use pendulab_lti::design::{StateFeedback, integral_augmentation, lqr, lqr_sampled_data};
+use pendulab_lti::interconnect::{feedback, parallel_tf};
+use pendulab_lti::{Discretization, FeedbackSign, Mat, StateSpace, TransferFunction};
 use pendulab_plants::{CartEquilibrium, CartPendulum, Drive};
 use pendulab_plot::{Axes, Channel, Color, Figure, SignalPanel, TimeResponse, palette};
 use pendulab_sim::controllers::{Pid, PidDiscretization, PidForm, StaticStateFeedback};
@@ -74,9 +75,57 @@ fn cart_lqr(id: &str) -> Result<Mat, BookError> {
     )
 }
 
-fn state_panels<'a>(tr: TimeResponse<'a>) -> TimeResponse<'a> {
-    tr.panel(SignalPanel::new(Channel::State(0), "z [m]"))
+/// A figure comparing three runs of the cart: its title, the runs' legend labels and the
+/// label of the held command panel.
+struct Comparison {
+    title: &'static str,
+    labels: [&'static str; 3],
+    input: &'static str,
+}
+
+/// p2c234_ex1's runs: the same LQR without, with static and with dynamic input quantisation.
+const ODQ_FIGURE: Comparison = Comparison {
+    title: "p2c234_ex1: input quantisation d = 2 V, θ(0) = 10°",
+    labels: [
+        "no quantizer",
+        "static quantizer",
+        "optimal dynamic quantizer",
+    ],
+    input: "v [V]",
+};
+
+/// p2c244_ex3's runs: the sampled-data gain and the continuous gain held at 0.1 s and at 1 ms.
+const SAMPLED_DATA_FIGURE: Comparison = Comparison {
+    title: "p2c244_ex3: θ(0) = 15°, sampled-data LQR vs held continuous gain",
+    labels: ["K_d at 0.1 s", "K held at 0.1 s", "K at 1 ms"],
+    input: "u [V]",
+};
+
+/// The comparison figure `fig` of the three cart runs `runs` (`z`, `θ` and the held command)
+/// as `<id>_response`, and the animation of `animated` as `<id>_animation`.
+///
+/// # Errors
+/// [`BookError::Figure`] naming the figure or the animation.
+fn cart_comparison(
+    ctx: &RunContext,
+    out: &mut ExampleOutput,
+    id: &str,
+    fig: &Comparison,
+    runs: [&SampledRun; 3],
+    animated: &SampledRun,
+) -> Result<(), BookError> {
+    let response = fig
+        .labels
+        .iter()
+        .zip(runs)
+        .fold(TimeResponse::new().title(fig.title), |tr, (label, run)| {
+            tr.run(*label, &run.trajectory)
+        })
+        .panel(SignalPanel::new(Channel::State(0), "z [m]"))
         .panel(SignalPanel::new(Channel::State(1), "θ [deg]").scaled(DEG))
+        .panel(SignalPanel::new(Channel::Input(0), fig.input).stairs());
+    let animated = &animated.trajectory;
+    save_response_and_animation(ctx, out, id, &response, Rig::Cart, animated)
 }
 
 fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
@@ -152,19 +201,7 @@ fn p2c234_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         dev_s[0] / dev_q[0],
         dev_s[1] / dev_q[1]
     ));
-    if ctx.figures {
-        let fig = state_panels(
-            TimeResponse::new()
-                .title("p2c234_ex1: input quantisation d = 2 V, θ(0) = 10°")
-                .run("no quantizer", &ideal.trajectory)
-                .run("static quantizer", &stat.trajectory)
-                .run("optimal dynamic quantizer", &odq.trajectory),
-        )
-        .panel(SignalPanel::new(Channel::Input(0), "v [V]").stairs())
-        .figure();
-        save_figure(ctx, &mut out, id, "response", fig)?;
-        save_run_animation(ctx, &mut out, id, Rig::Cart, &odq.trajectory, id)?;
-    }
+    cart_comparison(ctx, &mut out, id, &ODQ_FIGURE, [&ideal, &stat, &odq], &odq)?;
     Ok(out)
 }
 
@@ -183,16 +220,24 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let wn: f64 = 25.0;
     let (ki, kp, kd) = (wn.powi(3) / b, 3.0 * wn * wn / b, (3.0 * wn - a) / b);
     let r = 0.1;
-    // Continuous loop, states [z, ż, w = ∫(r − z)], outputs [z, u], exact (ZOH-sampled
-    // constant reference) at 1 ms.
-    let acl = Mat::from_row_slice(
-        3,
-        3,
-        &[0.0, 1.0, 0.0, -b * kp, -a - b * kd, b * ki, -1.0, 0.0, 0.0],
-    );
-    let bcl = Mat::from_column_slice(3, 1, &[0.0, 0.0, 1.0]);
-    let ccl = Mat::from_row_slice(2, 3, &[1.0, 0.0, 0.0, -kp, -kd, ki]);
-    let cl = StateSpace::continuous(acl, bcl, ccl, Mat::zeros(2, 1)).ctx(id)?;
+    // Continuous loop: the drive augmented with w = ∫(r − z) by the toolkit's
+    // integral_augmentation (states [z, ż, w]), the I–PD as the state feedback
+    // u = −[k_P, k_D, −k_I] [z, ż, w] closed by StateFeedback::closed_loop (outputs [z, u]), the
+    // reference entering the integrator; exact (ZOH-sampled constant reference) at 1 ms.
+    let drive = Drive::new(a, b).ctx(id)?;
+    let (a_aug, b_aug) = integral_augmentation(&drive.state_space().ctx(id)?).ctx(id)?;
+    let z_and_u = StateSpace::continuous(
+        a_aug,
+        b_aug,
+        Mat::from_row_slice(2, 3, &[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        Mat::from_column_slice(2, 1, &[0.0, 1.0]),
+    )
+    .ctx(id)?;
+    let ipd = StateFeedback::new(Mat::from_row_slice(1, 3, &[kp, kd, -ki])).ctx(id)?;
+    let closed = ipd.closed_loop(&z_and_u).ctx(id)?;
+    let reference_input = Mat::from_column_slice(3, 1, &[0.0, 0.0, 1.0]);
+    let (acl, _, ccl, _) = closed.into_parts();
+    let cl = StateSpace::continuous(acl, reference_input, ccl, Mat::zeros(2, 1)).ctx(id)?;
     let t: Vec<f64> = (0..=1000).map(|k| k as f64 * 1e-3).collect();
     let step = pendulab_lti::response::step(&cl, &t).ctx(id)?;
     let cont = step
@@ -218,36 +263,32 @@ fn p2c242_ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     .reference(Signal::step(0.0, r).ctx(id)?)
     .measurement(0, 2)
     .ctx(id)?;
-    let drive = Drive::new(a, b).ctx(id)?;
     let mut l = SampledLoop::new(drive, pid, options(tsd, 1.0)).ctx(id)?;
     let dr = l.run(&[0.0, 0.0]).ctx(id)?;
-    // The discrete loop's poles: ZOH drive and the controller's difference equations on
-    // ξ_k = [z_k, ż_k, I_{k−1}, z_{k−1}, D_{k−1}] (r = 0):
-    // I_k = I_{k−1} − (k_I ts/2)(z_k + z_{k−1}), D_k = −D_{k−1} − (2k_D/ts)(z_k − z_{k−1}),
-    // u_k = −k_P z_k + I_k + D_k.
+    // The discrete loop's poles (r = 0): the ZOH-sampled drive under u = −C(z) z with the
+    // I–PD's terms by Tustin, C(z) = k_P + (k_I ts/2)(z + 1)/(z − 1) + (2k_D/ts)(z − 1)/(z + 1),
+    // closed by the toolkit's parallel and feedback connections.
     let dd = drive
         .state_space()
         .ctx(id)?
         .c2d(tsd, Discretization::Zoh)
         .ctx(id)?;
-    let row_i = [-ki * tsd / 2.0, 0.0, 1.0, -ki * tsd / 2.0, 0.0];
-    let row_d = [-2.0 * kd / tsd, 0.0, 0.0, 2.0 * kd / tsd, -1.0];
-    let row_u: Vec<f64> = (0..5)
-        .map(|j| row_i[j] + row_d[j] - if j == 0 { kp } else { 0.0 })
-        .collect();
-    let mut m = Mat::zeros(5, 5);
-    for i in 0..2 {
-        for j in 0..5 {
-            let a = if j < 2 { dd.a()[(i, j)] } else { 0.0 };
-            m[(i, j)] = a + dd.b()[(i, 0)] * row_u[j];
-        }
-    }
-    for j in 0..5 {
-        m[(2, j)] = row_i[j];
-        m[(4, j)] = row_d[j];
-    }
-    m[(3, 0)] = 1.0;
-    let radius = pendulab_lti::linalg::eigenvalues(&m)
+    let tustin = |num: &[f64], den: &[f64]| TransferFunction::discrete(num, den, tsd);
+    let (gi, gd) = (ki * tsd / 2.0, 2.0 * kd / tsd);
+    let pi = parallel_tf(
+        &tustin(&[kp], &[1.0]).ctx(id)?,
+        &tustin(&[gi, gi], &[1.0, -1.0]).ctx(id)?,
+    )
+    .ctx(id)?;
+    let pid_z = parallel_tf(&pi, &tustin(&[gd, -gd], &[1.0, 1.0]).ctx(id)?).ctx(id)?;
+    let sampled = feedback(
+        &dd,
+        &pid_z.to_state_space().ctx(id)?,
+        FeedbackSign::Negative,
+    )
+    .ctx(id)?;
+    let radius = sampled
+        .poles()
         .ctx(id)?
         .iter()
         .map(|z| z.norm())
@@ -366,18 +407,7 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "Van Loan: Q_d, S_d, R_d make Σ [x_k; u_k]ᵀ[[Q_d, S_d], [S_dᵀ, R_d]][x_k; u_k] equal ∫(xᵀQx + uᵀRu)dt for held inputs; K_d = dlqr(A_d, B_d, Q_d, R_d, S_d)."
             .into(),
     );
-    if ctx.figures {
-        let fig = state_panels(
-            TimeResponse::new()
-                .title("p2c244_ex3: θ(0) = 15°, sampled-data LQR vs held continuous gain")
-                .run("K_d at 0.1 s", &run_kd.trajectory)
-                .run("K held at 0.1 s", &run_held.trajectory)
-                .run("K at 1 ms", &run_cont.trajectory),
-        )
-        .panel(SignalPanel::new(Channel::Input(0), "u [V]").stairs())
-        .figure();
-        save_figure(ctx, &mut out, id, "response", fig)?;
-        save_run_animation(ctx, &mut out, id, Rig::Cart, &run_kd.trajectory, id)?;
-    }
+    let runs = [&run_kd, &run_held, &run_cont];
+    cart_comparison(ctx, &mut out, id, &SAMPLED_DATA_FIGURE, runs, &run_kd)?;
     Ok(out)
 }

@@ -20,6 +20,11 @@ const DEG: f64 = 180.0 / PI;
 const BOOK_CONVENTION: &str =
     "Gains in the book's convention u = +K x (pendulab's library: u = −K x).";
 
+/// The rig a sample's `arm` flag names.
+fn rig(arm: bool) -> Rig {
+    if arm { Rig::Arm } else { Rig::Cart }
+}
+
 /// The chapter's examples, in book order.
 pub(crate) fn examples() -> Vec<Example> {
     vec![
@@ -223,7 +228,7 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
                 .unwrap_or(f64::NAN)
         });
         let shown = Trajectory::new(t.to_vec(), x, traj.u().clone(), rvals).ctx(id)?;
-        let fig = TimeResponse::new()
+        let response = TimeResponse::new()
             .run("PD", &shown)
             .title(format!("{id}: PD control, k_P = {}, k_D = {}", c.kp, c.kd))
             .panel(
@@ -232,12 +237,8 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
                     .with(Channel::Output(0), "reference"),
             )
             .panel(SignalPanel::new(Channel::State(1), thlabel))
-            .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs())
-            .figure()
-            .ctx(id)?;
-        save_figure(ctx, &mut out, id, "response", Ok(fig))?;
-        let rig = if c.arm { Rig::Arm } else { Rig::Cart };
-        save_run_animation(ctx, &mut out, id, rig, &traj, id)?;
+            .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs());
+        save_response_and_animation(ctx, &mut out, id, &response, rig(c.arm), &traj)?;
     }
     Ok(out)
 }
@@ -271,30 +272,62 @@ fn adip_pdcont_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
 /// The cart LQR sample's weights `q2`.
 pub(crate) const CDIP_Q2: [f64; 3] = [10.0, 50.0, 100.0];
 
+/// The varied weight of an LQR sample: `Q = diag(q(w))`, `R = 1` for each `w` of `weights`,
+/// each run from `x0` for `t_final` \[s\] and labelled `<name> = <w>`.
+struct LqrFamily {
+    name: &'static str,
+    weights: [f64; 3],
+    q: fn(f64) -> [f64; 4],
+    x0: [f64; 4],
+    t_final: f64,
+}
+
+/// The runs and the closed-loop poles of an LQR sample, each labelled by its weight.
+type LqrRuns = (Vec<(String, Trajectory)>, Vec<(String, Vec<Complex64>)>);
+
+/// An LQR sample family on `plant()` and the quantised `rig`: per weight, the LQR of the linear
+/// model `lin` (its gain added to `out` as `K_q<w>`, book convention), its closed-loop poles and
+/// the run.
+fn lqr_family<P: Dynamics>(
+    id: &str,
+    lin: &StateSpace<Continuous>,
+    plant: impl Fn() -> P,
+    rig: &RigSpec,
+    family: &LqrFamily,
+    out: &mut ExampleOutput,
+) -> Result<LqrRuns, BookError> {
+    let (mut runs, mut poles) = (Vec::new(), Vec::new());
+    for w in family.weights {
+        let l = lqr(lin, &diag(&(family.q)(w)), &diag(&[1.0]), None).ctx(id)?;
+        out.value(&format!("K_q{w}"), Value::vector(&book_row(&l.gain)));
+        let label = format!("{} = {w}", family.name);
+        poles.push((label.clone(), l.closed_loop_poles.clone()));
+        let ctrl = StaticStateFeedback::new(l.gain).ctx(id)?;
+        let traj = run_quantized(id, plant(), ctrl, rig, None, family.t_final, &family.x0)?;
+        runs.push((label, traj));
+    }
+    Ok((runs, poles))
+}
+
+/// The cart LQR sample: `Q = diag(10, q2, 0, 0)`, from `θ = 15°` for 4 s.
+const CDIP_LQR: LqrFamily = LqrFamily {
+    name: "q2",
+    weights: CDIP_Q2,
+    q: |q2| [10.0, q2, 0.0, 0.0],
+    x0: [0.0, 15f64.to_radians(), 0.0, 0.0],
+    t_final: 4.0,
+};
+
 fn cdip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "cdip_lqr_sim";
     let lin = cart_model(id)?;
     let mut out = ExampleOutput::default();
-    let mut runs = Vec::new();
-    let mut settle = Vec::new();
-    let mut poles = Vec::new();
-    for q2 in CDIP_Q2 {
-        let l = lqr(&lin, &diag(&[10.0, q2, 0.0, 0.0]), &diag(&[1.0]), None).ctx(id)?;
-        out.value(&format!("K_q{q2}"), Value::vector(&book_row(&l.gain)));
-        poles.push((format!("q2 = {q2}"), l.closed_loop_poles.clone()));
-        let ctrl = StaticStateFeedback::new(l.gain).ctx(id)?;
-        let traj = run_quantized(
-            id,
-            CartPendulum::book(),
-            ctrl,
-            &RigSpec::cart(),
-            None,
-            4.0,
-            &[0.0, 15f64.to_radians(), 0.0, 0.0],
-        )?;
-        settle.push(max_abs_after(traj.t(), traj.x_signal(1), 3.0) * DEG);
-        runs.push((format!("q2 = {q2}"), traj));
-    }
+    let rig = RigSpec::cart();
+    let (runs, poles) = lqr_family(id, &lin, CartPendulum::book, &rig, &CDIP_LQR, &mut out)?;
+    let settle: Vec<f64> = runs
+        .iter()
+        .map(|(_, tr)| max_abs_after(tr.t(), tr.x_signal(1), 3.0) * DEG)
+        .collect();
     out.value("theta_max_after_3s_deg", Value::vector(&settle));
     // Printed to 5 decimals: half a unit of the last digit.
     for (q2, k) in [
@@ -367,30 +400,25 @@ fn lqr_figures(
 /// The arm LQR sample's weights `q1`.
 pub(crate) const ADIP_Q1: [f64; 3] = [1.0, 5.0, 20.0];
 
+/// The arm LQR sample: `Q = diag(q1, 10, 0.1, 0.1)`, from `θ1 = 30°` for 2 s.
+const ADIP_LQR: LqrFamily = LqrFamily {
+    name: "q1",
+    weights: ADIP_Q1,
+    q: |q1| [q1, 10.0, 0.1, 0.1],
+    x0: [30f64.to_radians(), 0.0, 0.0, 0.0],
+    t_final: 2.0,
+};
+
 fn adip_lqr_sim(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "adip_lqr_sim";
     let lin = arm_model(id)?;
     let mut out = ExampleOutput::default();
-    let mut runs = Vec::new();
-    let mut dips = Vec::new();
-    let mut poles = Vec::new();
-    for q1 in ADIP_Q1 {
-        let l = lqr(&lin, &diag(&[q1, 10.0, 0.1, 0.1]), &diag(&[1.0]), None).ctx(id)?;
-        out.value(&format!("K_q{q1}"), Value::vector(&book_row(&l.gain)));
-        poles.push((format!("q1 = {q1}"), l.closed_loop_poles.clone()));
-        let ctrl = StaticStateFeedback::new(l.gain).ctx(id)?;
-        let traj = run_quantized(
-            id,
-            ArmPendulum::book(),
-            ctrl,
-            &RigSpec::arm(),
-            None,
-            2.0,
-            &[30f64.to_radians(), 0.0, 0.0, 0.0],
-        )?;
-        dips.push(min_of(traj.x_signal(1)) * DEG);
-        runs.push((format!("q1 = {q1}"), traj));
-    }
+    let rig = RigSpec::arm();
+    let (runs, poles) = lqr_family(id, &lin, ArmPendulum::book, &rig, &ADIP_LQR, &mut out)?;
+    let dips: Vec<f64> = runs
+        .iter()
+        .map(|(_, tr)| min_of(tr.x_signal(1)) * DEG)
+        .collect();
     out.value("theta2_min_deg", Value::vector(&dips));
     // The book's "≈ −2°, −4°, −6.7°" are read off its figure (1° grid): ±0.5° is the reading
     // accuracy of the two integer values and generous for −6.7.
@@ -502,29 +530,20 @@ fn servo_sample(ctx: &RunContext, c: &ServoCase) -> Result<ExampleOutput, BookEr
         } else {
             SignalPanel::new(Channel::State(0), "cart z [m]").reference(c.r, Some("r = 0.5 m"))
         };
-        let fig = TimeResponse::new()
+        let pendulum = if c.arm {
+            "pendulum θ2 [deg]"
+        } else {
+            "pendulum θ [deg]"
+        };
+        let response = TimeResponse::new()
             .run("LQ servo", &traj)
             .title(format!(
                 "{id}: LQ integral servo, +0.5 V disturbance at 4 s"
             ))
             .panel(panel0)
-            .panel(
-                SignalPanel::new(
-                    Channel::State(1),
-                    if c.arm {
-                        "pendulum θ2 [deg]"
-                    } else {
-                        "pendulum θ [deg]"
-                    },
-                )
-                .scaled(DEG),
-            )
-            .panel(SignalPanel::new(Channel::Input(0), "plant input v + d [V]").stairs())
-            .figure()
-            .ctx(id)?;
-        save_figure(ctx, &mut out, id, "response", Ok(fig))?;
-        let rig = if c.arm { Rig::Arm } else { Rig::Cart };
-        save_run_animation(ctx, &mut out, id, rig, &traj, id)?;
+            .panel(SignalPanel::new(Channel::State(1), pendulum).scaled(DEG))
+            .panel(SignalPanel::new(Channel::Input(0), "plant input v + d [V]").stairs());
+        save_response_and_animation(ctx, &mut out, id, &response, rig(c.arm), &traj)?;
     }
     Ok(out)
 }

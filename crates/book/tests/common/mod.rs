@@ -138,3 +138,17 @@ pub fn assert_figures_larger(files: &[PathBuf], min_bytes: u64) {
         assert!(len > min_bytes, "{} has {len} bytes", f.display());
     }
 }
+
+/// Runs each example of `ids` with figures (no data), writing into `dir`, and checks that it
+/// wrote at least two figure files, each larger than 2000 bytes; returns each example's files
+/// in the order of `ids`.
+pub fn assert_figures_written(dir: &TempDir, ids: &[&str]) -> Vec<Vec<PathBuf>> {
+    ids.iter()
+        .map(|id| {
+            let (_, files) = dir.run(id, None);
+            assert!(files.len() >= 2, "{id}");
+            assert_figures_larger(&files, 2000);
+            files
+        })
+        .collect()
+}

@@ -50,7 +50,7 @@ pub(super) fn p2c13_report(
     let mut maxre = Vec::new();
     let mut all_poles = Vec::new();
     for v in &verts {
-        let p = sorted(eigenvalues(&(&v.a - &v.b * k)).ctx(id)?);
+        let p = feedback_poles(id, &v.a, &v.b, k)?;
         maxre.push(max_re(&p));
         all_poles.push(p);
     }
