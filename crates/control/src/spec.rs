@@ -810,18 +810,7 @@ fn servo(
             });
         }
     };
-    let sig = match signal {
-        Some(s) => {
-            if c.reference.is_some() || c.step_time.is_some() {
-                return Err(SpecError::Reference {
-                    kind: ControllerSpec::KINDS[1],
-                    detail: "give the reference in the scenario or in controller.reference/step_time, not both",
-                });
-            }
-            s
-        }
-        None => step_reference(ControllerSpec::KINDS[1], &c.reference, c.step_time)?,
-    };
+    let sig = drive_reference(ControllerSpec::KINDS[1], &c.reference, c.step_time, signal)?;
     Ok(Box::new(LqIntegralServo::new(
         &k1,
         &k2,
@@ -833,12 +822,23 @@ fn servo(
 }
 
 /// The drive-position reference of a `kind` with `reference` (one entry, default 0) and
-/// `step_time` (default 0) keys: `reference[0]` as a step at `step_time`.
-fn step_reference(
+/// `step_time` (default 0) keys: the scenario's `signal` if given (the spec must then have
+/// neither key), else `reference[0]` as a step at `step_time`.
+fn drive_reference(
     kind: &'static str,
     reference: &Option<Vec<f64>>,
     step_time: Option<f64>,
+    signal: Option<Signal>,
 ) -> Result<Signal, SpecError> {
+    if let Some(s) = signal {
+        if reference.is_some() || step_time.is_some() {
+            return Err(SpecError::Reference {
+                kind,
+                detail: "give the reference in the scenario or in controller.reference/step_time, not both",
+            });
+        }
+        return Ok(s);
+    }
     let r = reference.clone().unwrap_or(vec![0.0]);
     if r.len() != 1 {
         return Err(SpecError::ServoReferenceLength { kind, got: r.len() });

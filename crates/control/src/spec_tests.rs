@@ -327,7 +327,7 @@ fn different_parameters_are_warnings_naming_each_key_and_both_values() {
     let user = PlantSpec::new(
         PlantParameters::Cart(p),
         Provenance::User { note: None },
-        book.rig().clone(),
+        *book.rig(),
     )
     .unwrap();
     let w = spec.check_plant(&user).unwrap();

@@ -431,7 +431,7 @@ pub fn load_for(text: &str, lab: &PlantSpec) -> Result<(Loaded, Vec<DesignWarnin
         .controller
         .check_plant(lab)
         .map_err(ConfigError::from)?;
-    Ok((load_file(file, lab.rig().clone())?, warnings))
+    Ok((load_file(file, *lab.rig())?, warnings))
 }
 
 /// The checks of [`load`] on a parsed file of `plant`'s, with `rig`'s limits as the safety
@@ -844,7 +844,7 @@ mod tests {
         assert_eq!(l.safety, load(SF).unwrap().safety);
         assert_eq!(w, vec![]);
         // A lab rig with a shorter track and a narrower window, a heavier pendulum.
-        let mut rig = book.rig().clone();
+        let mut rig = *book.rig();
         rig.travel_limit = 0.3;
         rig.angle_window_deg = 20.0;
         let PlantParameters::Cart(mut p) = *book.parameters() else {

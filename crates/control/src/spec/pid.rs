@@ -20,7 +20,7 @@
 //! not fed back: these are the book's controllers of the drive with the pendulum **hanging**
 //! (the crane of §2.3), so the kind's pendulum centre is `π`.
 
-use super::{ControllerSpec, DesignRecord, SpecError, finite, step_reference};
+use super::{ControllerSpec, DesignRecord, SpecError, drive_reference, finite};
 use pendulab_sim::Controller;
 use pendulab_sim::controllers::{Pid, PidDiscretization, PidForm};
 use serde::{Deserialize, Serialize};
@@ -159,18 +159,7 @@ pub(super) fn pid(
 ) -> Result<Box<dyn Controller>, SpecError> {
     let form = c.pid_form()?;
     let disc = c.pid_discretization()?;
-    let r = match signal {
-        Some(s) => {
-            if c.reference.is_some() || c.step_time.is_some() {
-                return Err(SpecError::Reference {
-                    kind: ControllerSpec::PID,
-                    detail: "give the reference in the scenario or in controller.reference/step_time, not both",
-                });
-            }
-            s
-        }
-        None => step_reference(ControllerSpec::PID, &c.reference, c.step_time)?,
-    };
+    let r = drive_reference(ControllerSpec::PID, &c.reference, c.step_time, signal)?;
     Ok(Box::new(
         Pid::new(form, ts, disc)?.reference(r).measurement(0, 4)?,
     ))
