@@ -123,15 +123,21 @@ def margins_cases(rng):
     return cases, dropped
 
 
+def random_system(rng, k):
+    """Case k of 50: order 1 + k mod 12, 1–3 inputs and outputs, discrete (ts = 0.1 s) from 35."""
+    discrete = k >= 35
+    n = 1 + k % 12
+    p, m = 1 + rng.integers(3), 1 + rng.integers(3)
+    np.random.seed(rng.integers(2**31))
+    g = control.drss(n, p, m, dt=0.1) if discrete else control.rss(n, p, m)
+    return g, discrete
+
+
 def norms_cases(rng):
     cases = []
     for k in range(50):
-        discrete = k >= 35
-        n = 1 + k % 12
-        p, m = 1 + rng.integers(3), 1 + rng.integers(3)
-        np.random.seed(rng.integers(2**31))
-        g = control.drss(n, p, m, dt=0.1) if discrete else control.rss(n, p, m)
-        d = rng.uniform(-1, 1, (p, m)) * (k % 3 == 0)
+        g, discrete = random_system(rng, k)
+        d = rng.uniform(-1, 1, (g.noutputs, g.ninputs)) * (k % 3 == 0)
         g = control.ss(g.A, g.B, g.C, d, g.dt)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -158,11 +164,7 @@ def sqrt_hsv(wc, wo):
 def hsvd_cases(rng):
     cases = []
     for k in range(50):
-        discrete = k >= 35
-        n = 1 + k % 12
-        p, m = 1 + rng.integers(3), 1 + rng.integers(3)
-        np.random.seed(rng.integers(2**31))
-        g = control.drss(n, p, m, dt=0.1) if discrete else control.rss(n, p, m)
+        g, discrete = random_system(rng, k)
         e = sysdict(g)
         if discrete:
             wc = scipy.linalg.solve_discrete_lyapunov(g.A, g.B @ g.B.T)

@@ -19,6 +19,7 @@ mod plants;
 mod plot;
 mod rig;
 mod sim;
+mod toolbox;
 
 /// Arguments of `pendulab bench`.
 #[derive(Debug, clap::Args)]
@@ -110,6 +111,7 @@ fn workloads() -> Vec<Workload> {
     all.extend(sim::workloads());
     all.extend(rig::workloads());
     all.extend(book::workloads());
+    all.extend(toolbox::workloads());
     all.push(Workload {
         name: "ident-1e6",
         description: "book least squares (3-point, 1/(0.075s+1)^3, QR) on 10^6 quantised cart samples (ms)",
