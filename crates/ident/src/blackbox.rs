@@ -30,7 +30,9 @@
 use crate::error::{IdentError, Result, UNNAMED};
 use crate::least_squares::{LeastSquares, QrAccumulator};
 use crate::validation::fit_percent;
-use pendulab_lti::{Discrete, StateSpace, TransferFunction};
+use nalgebra::DMatrix;
+use pendulab_lti::response::{LsimOptions, lsim};
+use pendulab_lti::{Discrete, Mat, StateSpace, TransferFunction};
 
 /// One uniformly sampled input–output record of a SISO system (for [`arx`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -355,4 +357,345 @@ pub fn arx_order_selection(
         best,
         model,
     })
+}
+
+/// One uniformly sampled multi-input multi-output record (for [`moesp`]): input and output
+/// columns of equal length.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IoRecord<'a> {
+    /// Input columns `u_j(0…N−1)`, one slice per input.
+    pub u: Vec<&'a [f64]>,
+    /// Output columns `y_i(0…N−1)`, one slice per output.
+    pub y: Vec<&'a [f64]>,
+}
+
+impl<'a> IoRecord<'a> {
+    /// A single-input single-output record.
+    pub fn siso(u: &'a [f64], y: &'a [f64]) -> Self {
+        Self {
+            u: vec![u],
+            y: vec![y],
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.y[0].len()
+    }
+
+    /// The inputs as a `N × n_u` matrix (rows = samples).
+    fn u_mat(&self) -> Mat {
+        Mat::from_fn(self.len(), self.u.len(), |t, j| self.u[j][t])
+    }
+}
+
+/// Options of [`moesp`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MoespOptions {
+    /// Block rows `k` of the past and of the future Hankel matrices (the horizon); the order
+    /// can be at most `(k − 1) n_y`.
+    pub horizon: usize,
+    /// The model order; `None` reads it off the singular values (the largest ratio of
+    /// consecutive singular values `σ_n/σ_{n+1}`).
+    pub order: Option<usize>,
+}
+
+impl Default for MoespOptions {
+    /// Horizon 10, order from the singular values.
+    fn default() -> Self {
+        Self {
+            horizon: 10,
+            order: None,
+        }
+    }
+}
+
+/// A model identified by [`moesp`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Moesp {
+    /// The identified system `x(k+1) = A x(k) + B u(k)`, `y(k) = C x(k) + D u(k)`.
+    pub model: StateSpace<Discrete>,
+    /// The singular values of `L₃₂` (the order is the number of dominant ones).
+    pub singular_values: Vec<f64>,
+    /// The order used.
+    pub order: usize,
+    /// The estimated initial state of each record.
+    pub initial_states: Vec<Vec<f64>>,
+    /// The least-squares fit of `B`, `D` and the initial states (condition, residual).
+    pub lsq: LeastSquares,
+}
+
+impl Moesp {
+    /// Simulates the model on a record's inputs from the zero initial state (a record that
+    /// starts at rest) and returns MATLAB's `compare` fit ([`fit_percent`]) of each output.
+    ///
+    /// # Errors
+    /// As [`moesp`] for the record; [`IdentError::Lti`] from the simulation.
+    pub fn fit_percent(&self, record: &IoRecord<'_>) -> Result<Vec<f64>> {
+        check_io(0, record, self.model.nu(), self.model.ny())?;
+        let y = simulate(&self.model, record, None)?;
+        (0..self.model.ny())
+            .map(|i| fit_percent(record.y[i], y.column(i).as_slice()))
+            .collect()
+    }
+}
+
+fn check_io(e: usize, r: &IoRecord<'_>, nu: usize, ny: usize) -> Result<()> {
+    if r.u.len() != nu || r.y.len() != ny {
+        return Err(IdentError::LengthMismatch {
+            source_name: format!("experiment {e}"),
+            column: "input/output columns".into(),
+            expected: nu + ny,
+            found: r.u.len() + r.y.len(),
+        });
+    }
+    let n = r.y.first().map_or(0, |y| y.len());
+    let named = r.u.iter().enumerate().map(|(j, c)| (format!("u{j}"), c));
+    for (name, col) in named.chain(r.y.iter().enumerate().map(|(i, c)| (format!("y{i}"), c))) {
+        if col.len() != n {
+            return Err(IdentError::LengthMismatch {
+                source_name: format!("experiment {e}"),
+                column: name,
+                expected: n,
+                found: col.len(),
+            });
+        }
+        if let Some(k) = col.iter().position(|v| !v.is_finite()) {
+            return Err(IdentError::NonFinite {
+                source_name: format!("experiment {e}"),
+                column: name,
+                at: crate::error::SamplePos::index(k),
+                value: col[k],
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The outputs (`N × n_y`) of `sys` on the record's inputs from `x0` (zero if `None`).
+fn simulate(sys: &StateSpace<Discrete>, r: &IoRecord<'_>, x0: Option<&[f64]>) -> Result<Mat> {
+    let t: Vec<f64> = (0..r.len()).map(|k| k as f64 * sys.ts()).collect();
+    let tr = lsim(sys, &r.u_mat(), &t, x0, &LsimOptions::default())?;
+    Ok(tr.y().clone())
+}
+
+/// Identifies a discrete state-space model from one or several records by Verhaegen's
+/// past-output MOESP (module documentation).
+///
+/// With `k` = `opts.horizon`, each record of length `N` gives `N − 2k + 1` columns of the
+/// block Hankel matrices `U_p, Y_p` (samples `t … t+k−1`) and `U_f, Y_f` (`t+k … t+2k−1`);
+/// the columns of all records are stacked. The LQ decomposition
+/// `[U_f; W_p; Y_f] = L Q` (`W_p = [U_p; Y_p]`, computed as the QR decomposition of the
+/// transpose) gives `L₃₂`, whose column space is that of the extended observability matrix
+/// `Γ_k` when the noise is white and the input persistently exciting. `Γ_k = U₁ Σ₁^{1/2}` from
+/// the `n` dominant singular triplets; `C` is its first block row and `A` the least-squares
+/// solution of `Γ_k↑ A = Γ_k↓` (the shift invariance). `B`, `D` and the initial state of each
+/// record are then the least-squares fit of the output, which is linear in them for known
+/// `A`, `C`.
+///
+/// # Errors
+/// [`IdentError::InvalidParameter`] for no record, a horizon below 2, a bad sample time, or
+/// an order of 0 or above `(k − 1) n_y`; [`IdentError::LengthMismatch`] /
+/// [`IdentError::NonFinite`] naming the record and column; [`IdentError::TooFewSamples`] if
+/// the records give fewer Hankel columns than rows; the least-squares errors of [`arx`] for
+/// `B`, `D`; [`IdentError::Lti`] if the identified matrices are rejected.
+pub fn moesp(records: &[IoRecord<'_>], ts: f64, opts: MoespOptions) -> Result<Moesp> {
+    check_ts(ts)?;
+    let first = records
+        .first()
+        .ok_or_else(|| IdentError::InvalidParameter {
+            name: "number of records".into(),
+            value: 0.0,
+            reason: "at least one record is needed".into(),
+        })?;
+    let (m, l, k) = (first.u.len(), first.y.len(), opts.horizon);
+    if l == 0 {
+        return Err(IdentError::InvalidParameter {
+            name: "number of outputs".into(),
+            value: 0.0,
+            reason: "at least one output column is needed".into(),
+        });
+    }
+    if k < 2 {
+        return Err(IdentError::InvalidParameter {
+            name: "MOESP horizon".into(),
+            value: k as f64,
+            reason: "at least 2 block rows are needed for the shift invariance".into(),
+        });
+    }
+    for (e, r) in records.iter().enumerate() {
+        check_io(e, r, m, l)?;
+    }
+    let width = 2 * k * (m + l);
+    let cols: usize = records
+        .iter()
+        .map(|r| (r.len() + 1).saturating_sub(2 * k))
+        .sum();
+    if cols < width {
+        return Err(IdentError::TooFewSamples {
+            source_name: UNNAMED.into(),
+            what: format!("MOESP with horizon {k} ({width} Hankel rows)"),
+            needed: 2 * k - 1 + width,
+            found: records.iter().map(IoRecord::len).max().unwrap_or(0),
+        });
+    }
+    // Transposed Hankel matrix: one row per Hankel column, blocks [U_f, U_p, Y_p, Y_f].
+    let mut h = DMatrix::<f64>::zeros(cols, width);
+    let mut row = 0;
+    for r in records {
+        for t in 0..(r.len() + 1).saturating_sub(2 * k) {
+            for i in 0..k {
+                for j in 0..m {
+                    h[(row, i * m + j)] = r.u[j][t + k + i];
+                    h[(row, k * m + i * m + j)] = r.u[j][t + i];
+                }
+                for j in 0..l {
+                    h[(row, 2 * k * m + i * l + j)] = r.y[j][t + i];
+                    h[(row, 2 * k * m + k * l + i * l + j)] = r.y[j][t + k + i];
+                }
+            }
+            row += 1;
+        }
+    }
+    let rr = h.qr().r();
+    // L₃₂ = (R block (W_p rows, Y_f columns))ᵀ.
+    let (wp0, yf0) = (k * m, 2 * k * m + k * l);
+    let l32 = rr
+        .view((wp0, yf0), (k * (m + l), k * l))
+        .transpose()
+        .into_owned();
+    let svd = l32.svd(true, false);
+    let u = svd.u.as_ref().ok_or_else(|| IdentError::NonFiniteResult {
+        what: "left singular vectors of L32".into(),
+        value: f64::NAN,
+        reason: "the SVD did not return them (non-finite data)".into(),
+    })?;
+    // nalgebra does not sort the singular values: order them.
+    let mut idx: Vec<usize> = (0..svd.singular_values.len()).collect();
+    idx.sort_by(|&a, &b| svd.singular_values[b].total_cmp(&svd.singular_values[a]));
+    let sv: Vec<f64> = idx.iter().map(|&i| svd.singular_values[i]).collect();
+    let max_order = (k - 1) * l;
+    let n = match opts.order {
+        Some(n) => n,
+        None => {
+            let floor = sv[0] * f64::EPSILON;
+            (1..=max_order.min(sv.len() - 1))
+                .max_by(|&a, &b| {
+                    let ra = sv[a - 1] / sv[a].max(floor);
+                    let rb = sv[b - 1] / sv[b].max(floor);
+                    ra.total_cmp(&rb)
+                })
+                .unwrap_or(1)
+        }
+    };
+    if n == 0 || n > max_order {
+        return Err(IdentError::InvalidParameter {
+            name: "MOESP order".into(),
+            value: n as f64,
+            reason: format!("must lie in 1..={max_order} ((horizon − 1) × outputs)"),
+        });
+    }
+    let gamma = Mat::from_fn(k * l, n, |i, j| u[(i, idx[j])] * sv[j].sqrt());
+    let c = gamma.rows(0, l).into_owned();
+    let up = gamma.rows(0, (k - 1) * l).into_owned();
+    let down = gamma.rows(l, (k - 1) * l).into_owned();
+    let a = up
+        .svd(true, true)
+        .solve(&down, f64::EPSILON * (k * l) as f64)
+        .map_err(|reason| IdentError::InvalidParameter {
+            name: "MOESP shift equation".into(),
+            value: n as f64,
+            reason: reason.into(),
+        })?;
+    let (b, d, initial_states, lsq) = fit_b_d(records, ts, &a, &c, m)?;
+    let model = StateSpace::discrete(a, b, c, d, ts)?;
+    Ok(Moesp {
+        model,
+        singular_values: sv,
+        order: n,
+        initial_states,
+        lsq,
+    })
+}
+
+/// `B`, `D` and the records' initial states by least squares for known `A`, `C`: the output
+/// is `Σ_ij B_ij y^{B_ij} + Σ_ij D_ij y^{D_ij} + Σ_i x0_i y^{x0_i}`, each term the response
+/// of `(A, e_i, C)` to `u_j`, `u_j` itself in output `i`, or the free response from `e_i`.
+type BdFit = (Mat, Mat, Vec<Vec<f64>>, LeastSquares);
+
+fn fit_b_d(records: &[IoRecord<'_>], ts: f64, a: &Mat, c: &Mat, m: usize) -> Result<BdFit> {
+    let (n, l) = (a.nrows(), c.nrows());
+    let total: usize = records.iter().map(|r| r.len() * l).sum();
+    let mut names = Vec::new();
+    let mut cols: Vec<Vec<f64>> = Vec::new();
+    let mut offsets = Vec::new();
+    let mut off = 0;
+    for r in records {
+        offsets.push(off);
+        off += r.len() * l;
+    }
+    // Output rows: record by record, sample by sample, output by output.
+    let place = |col: &mut Vec<f64>, ri: usize, y: &Mat| {
+        for t in 0..y.nrows() {
+            for i in 0..l {
+                col[offsets[ri] + t * l + i] = y[(t, i)];
+            }
+        }
+    };
+    for i in 0..n {
+        for j in 0..m {
+            let mut bij = Mat::zeros(n, m);
+            bij[(i, j)] = 1.0;
+            let sys = StateSpace::discrete(a.clone(), bij, c.clone(), Mat::zeros(l, m), ts)?;
+            let mut col = vec![0.0; total];
+            for (ri, r) in records.iter().enumerate() {
+                place(&mut col, ri, &simulate(&sys, r, None)?);
+            }
+            names.push(format!("B[{i},{j}]"));
+            cols.push(col);
+        }
+    }
+    for i in 0..l {
+        for j in 0..m {
+            let mut col = vec![0.0; total];
+            for (ri, r) in records.iter().enumerate() {
+                for (t, v) in r.u[j].iter().enumerate() {
+                    col[offsets[ri] + t * l + i] = *v;
+                }
+            }
+            names.push(format!("D[{i},{j}]"));
+            cols.push(col);
+        }
+    }
+    let free = StateSpace::discrete(a.clone(), Mat::zeros(n, m), c.clone(), Mat::zeros(l, m), ts)?;
+    for (ri, r) in records.iter().enumerate() {
+        for i in 0..n {
+            let mut x0 = vec![0.0; n];
+            x0[i] = 1.0;
+            let mut col = vec![0.0; total];
+            place(&mut col, ri, &simulate(&free, r, Some(&x0))?);
+            names.push(format!("x0[{ri}][{i}]"));
+            cols.push(col);
+        }
+    }
+    let mut target = vec![0.0; total];
+    for (ri, r) in records.iter().enumerate() {
+        for t in 0..r.len() {
+            for i in 0..l {
+                target[offsets[ri] + t * l + i] = r.y[i][t];
+            }
+        }
+    }
+    let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    let mut qr = QrAccumulator::new(&refs, "y")?;
+    let colrefs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+    qr.push(&colrefs, &target)?;
+    let lsq = qr.finish()?;
+    lsq.check()?;
+    let p = &lsq.estimate;
+    let b = Mat::from_fn(n, m, |i, j| p[i * m + j]);
+    let d = Mat::from_fn(l, m, |i, j| p[n * m + i * m + j]);
+    let x0 = (0..records.len())
+        .map(|ri| p[n * m + l * m + ri * n..n * m + l * m + (ri + 1) * n].to_vec())
+        .collect();
+    Ok((b, d, x0, lsq))
 }

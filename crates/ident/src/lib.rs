@@ -12,7 +12,7 @@
 //! | least squares | [`least_squares`](mod@least_squares) | Householder QR, streamed in blocks ([`QrAccumulator`]); estimates, standard errors, residual RMS, condition number ([`LeastSquares`]) |
 //! | the book's regressions | [`regression`] | [`cart_drive_ls`] `[a_c, b_c]`, [`cart_pendulum_ls`] `[J_p, μ_p]`, [`arm_drive_ls`] `[a₁, b₁]`, [`arm_pendulum_ls`] `[α₂, μ₂] → J₂`, options in [`LsOptions`]; the filtered columns themselves (for plots) from `regression::*_regression` as a [`Regression`] |
 //! | feature methods | [`features`] | P-control step ([`p_step`]: `T_p`, overshoot → `a`, `b`), open-loop velocity steps ([`velocity_step`]: `K`, `T`), free oscillation ([`free_oscillation`] → [`pendulum_from_oscillation`]) |
-//! | black box | [`blackbox`] | ARX by least squares ([`arx`], order selection by AIC [`arx_order_selection`]) from one or several records |
+//! | black box | [`blackbox`] | ARX by least squares ([`arx`], order selection by AIC [`arx_order_selection`]) and subspace identification (PO-MOESP, [`moesp`]) from one or several records |
 //! | validation | [`validation`] | simulate the identified model on the measured input ([`validate_drive`] by `lsim`, nonlinear pendulums by RK4) and score it with MATLAB's `compare` fit ([`fit_percent`]) |
 //!
 //! The book's least-squares recipe on the real cart data (`data/rig/cdip_least_square_data.csv`,
@@ -70,7 +70,8 @@ pub mod regression;
 pub mod validation;
 
 pub use blackbox::{
-    Arx, ArxCandidate, ArxOrderSelection, ArxOrders, Experiment, arx, arx_order_selection,
+    Arx, ArxCandidate, ArxOrderSelection, ArxOrders, Experiment, IoRecord, Moesp, MoespOptions,
+    arx, arx_order_selection, moesp,
 };
 pub use data::{Dataset, MAX_RECORD_SPAN, MAX_SAMPLE_TIME, MIN_SAMPLE_TIME, TimeUnit};
 pub use differentiate::{
