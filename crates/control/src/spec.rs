@@ -29,6 +29,10 @@
 //! | `lq-servo` | `k1` + `k2` (library) or `lqr = {q (5 entries), r}`; `reference` (servo output `q₀`), `step_time` | `LqIntegralServo` (forward Euler), `lq_servo` design on `C = [1 0 0 0]` |
 //! | `gain-scheduled` | `coefficients = [K₀, K₁, …]` (library sign), `schedule`; or `lqr` + `design_points_deg` (arm) | `GainScheduled` polynomial in `ρ` |
 //! | `swing-up-balance` | `balance = { k \| k_book \| lqr }`, `switch_deg` (default 17) | energy shaping ([`crate::swing_up`], gains `EnergyShapingGains::{cart_rig, arm_rig}`), then the balance gain (latched) |
+//! | `observer` | one of `k`, `k_book`, `lqr`, `poles`; one of `l`, `observer_poles`; `discretization` | `u = −K x̂`, full-order observer of `[q₀, q₁]`, Tustin or ZOH ([`observer`]) |
+//! | `pid` | `form` (`p`, `pd`, `p-d`, `pi`, `pid`, `i-pd`), its gains `kp`, `ki`, `kd`, `tf`; `discretization`, `reference`, `step_time` | `pendulab_sim::controllers::Pid` on `q₀`, pendulum hanging ([`pid`]) |
+//! | `nmpc` | `horizon`, `horizon_rate`, `divisions`, `q`, `qf`, `r`, `u_max`, `dummy_weight`, `gmres_iterations`, `zeta` (all optional, the book's) | the arm's C/GMRES swing-up ([`nmpc`]); arm only |
+//! | every kind | `designed_for` (optional) | the design record ([`DesignRecord`]) |
 //!
 //! Every kind also takes an optional `designed_for` table, the design record
 //! ([`DesignRecord`]: plant kind, parameters with provenance, operating point, sample time,
