@@ -99,6 +99,16 @@ fn minreal_removes_a_cancellation() {
     ));
 }
 
+/// The matched-DC model keeps the DC gain `G(0)` (`G(1)` in discrete time).
+fn assert_dc_matched<D: pendulab_lti::TimeDomain>(g: &StateSpace<D>, r: &StateSpace<D>) {
+    let d0 = g.dc_gain().unwrap();
+    let d1 = r.dc_gain().unwrap();
+    assert!(
+        (&d0 - &d1).norm() <= 1e-9 * d0.norm().max(1.0),
+        "{d0} vs {d1}"
+    );
+}
+
 fn max_error(
     a: &StateSpace<pendulab_lti::Continuous>,
     b: &StateSpace<pendulab_lti::Continuous>,
@@ -143,9 +153,7 @@ fn balanced_truncation_properties() {
                     b.hsv[r]
                 );
                 if method == BalredMethod::MatchDc {
-                    let d0 = g.dc_gain().unwrap();
-                    let d1 = red.system.dc_gain().unwrap();
-                    assert!((&d0 - &d1).norm() <= 1e-9 * d0.norm().max(1.0));
+                    assert_dc_matched(&g, &red.system);
                 }
             }
         }
@@ -175,9 +183,7 @@ fn discrete_balanced_reduction() {
             assert!(e <= red.error_bound * (1.0 + 1e-6), "{r} {method:?}: {e}");
             assert!((red.error_bound - 2.0 * hsv[r..].iter().sum::<f64>()).abs() <= 1e-12);
             if method == BalredMethod::MatchDc {
-                let d0 = g.dc_gain().unwrap();
-                let d1 = red.system.dc_gain().unwrap();
-                assert!((&d0 - &d1).norm() <= 1e-9 * d0.norm().max(1.0));
+                assert_dc_matched(&g, &red.system);
             }
         }
     }
