@@ -172,3 +172,37 @@ fn moesp_of_the_cart_drive_matches_table_3_5() {
         fit,
     );
 }
+
+#[test]
+fn arx_of_the_cart_drive_matches_numpy() {
+    // tools/reference/blackbox_reference.py: the same regression by NumPy's SVD least squares,
+    // the continuous poles as log(z)/Ts of numpy.roots (independent of QR and of d2c).
+    let r: serde_json::Value =
+        serde_json::from_str(include_str!("data/blackbox_reference.json")).unwrap();
+    let q = r["decimation"].as_u64().unwrap() as usize;
+    let recs: Vec<(Vec<f64>, Vec<f64>)> = estimation_records()
+        .iter()
+        .map(|(v, z)| (decimate(v, q), decimate(z, q)))
+        .collect();
+    let ex: Vec<Experiment<'_>> = recs.iter().map(|(v, z)| Experiment::new(v, z)).collect();
+    let m = arx(&ex, r["ts"].as_f64().unwrap(), ArxOrders::new(2, 2, 1)).unwrap();
+    assert_eq!(m.lsq.samples as u64, r["samples"].as_u64().unwrap());
+    let num = |key: &str| -> Vec<f64> {
+        r[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    for (e, t) in m.a.iter().zip(num("a")) {
+        assert!((e - t).abs() < 1e-9, "a: {e} vs {t}");
+    }
+    for (e, t) in m.b.iter().zip(num("b")) {
+        assert!((e - t).abs() < 1e-7 * t.abs(), "b: {e} vs {t}");
+    }
+    let poles = continuous_poles(&m.state_space().unwrap());
+    for (e, t) in poles.iter().zip(num("continuous_poles")) {
+        assert!((e - t).abs() < 1e-7, "pole: {e} vs {t}");
+    }
+}
