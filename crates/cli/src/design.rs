@@ -51,6 +51,19 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// What a method gives: the `[controller]` table's keys, `K` as one row, the closed-loop
+/// poles, the loop for the margins (if any), the inputs in words, extra header lines, and the
+/// inputs for the design record.
+type Designed = (
+    String,
+    Vec<f64>,
+    Vec<Complex64>,
+    Option<StateSpace<pendulab_lti::Continuous>>,
+    String,
+    &'static str,
+    Vec<(&'static str, DesignInput)>,
+);
+
 /// Arguments of `pendulab design`.
 #[derive(Debug, clap::Args)]
 pub struct DesignArgs {
@@ -228,15 +241,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
     };
     // (the [controller] table, K as one row, closed-loop poles, the loop for the margins,
     // the inputs as recorded, extra lines of the header)
-    let (table, k, poles, loop_ss, inputs, note, record): (
-        String,
-        Vec<f64>,
-        Vec<Complex64>,
-        Option<StateSpace<pendulab_lti::Continuous>>,
-        String,
-        &str,
-        Vec<(&str, DesignInput)>,
-    ) = match &args.method {
+    let (table, k, poles, loop_ss, inputs, note, record): Designed = match &args.method {
         DesignMethod::Lqr { q, r, .. } => {
             let qv = numbers("--q", q, 4)?;
             if qv.iter().any(|&x| x < 0.0) {

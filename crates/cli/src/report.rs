@@ -183,140 +183,6 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
     (y, m, d)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use pendulab_book::{BookError, Cause, ExampleOutput, RunContext, Value};
-
-    fn draws(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
-        let mut o = ExampleOutput::default();
-        o.value("x", Value::Number(1.5));
-        o.reference("x", Value::Number(1.5), "book", 0.0);
-        assert!(ctx.figures, "the report asks for figures");
-        let mut ax = pendulab_plot::Axes::new();
-        ax.plot(&[0.0, 1.0], &[0.0, 1.5]);
-        o.figure("fig", pendulab_plot::Figure::new(ax));
-        Ok(o)
-    }
-    fn fails(_: &RunContext) -> Result<ExampleOutput, BookError> {
-        Err(BookError::Computation {
-            id: "fails".into(),
-            source: Box::new(Cause::Check("Riccati <solver> diverged".into())),
-        })
-    }
-    fn panics(_: &RunContext) -> Result<ExampleOutput, BookError> {
-        panic!("boom")
-    }
-    fn needs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
-        match &ctx.data_csv {
-            Some(text) => {
-                let mut o = ExampleOutput::default();
-                o.value("rows", Value::Number((text.lines().count() - 1) as f64));
-                Ok(o)
-            }
-            None => Err(BookError::NeedsData {
-                id: "needs".into(),
-                what: "columns t,theta".into(),
-            }),
-        }
-    }
-    fn takes_none(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
-        match ctx.data_csv {
-            None => Ok(ExampleOutput::default()),
-            Some(_) => Err(BookError::Computation {
-                id: "takes_none".into(),
-                source: Box::new(Cause::Check("was given data".into())),
-            }),
-        }
-    }
-    fn example(
-        id: &'static str,
-        run: fn(&RunContext) -> Result<ExampleOutput, BookError>,
-    ) -> Example {
-        Example {
-            id,
-            title: "test",
-            section: "Part 1 §4.1",
-            parameters: "none",
-            needs_data: (id == "needs").then_some("columns t,theta"),
-            run,
-        }
-    }
-
-    #[test]
-    fn failing_and_panicking_examples_are_reported_after_everything_is_written() {
-        let out = std::env::temp_dir().join(format!("pendulab-report-unit-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&out);
-        let examples = [
-            example("draws", draws),
-            example("fails", fails),
-            example("panics", panics),
-            example("needs", needs),
-        ];
-        let r = write_report(&examples, &out, &DataFiles::default(), false).unwrap();
-        let page = std::fs::read_to_string(out.join("index.html")).unwrap();
-        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
-        let status = std::fs::read_to_string(out.join("status.md")).unwrap();
-        let _ = std::fs::remove_dir_all(&out);
-        assert_eq!(r.failing, vec!["fails", "panics"]);
-        assert_eq!(
-            (
-                r.summary.reproduced,
-                r.summary.needs_data,
-                r.summary.failing
-            ),
-            (1, 1, 2)
-        );
-        // The figure went to figures/<id>/ and is linked relative to the page.
-        assert!(page.contains("<img src=\"figures/draws/fig.svg\""));
-        assert!(page.contains("Riccati &lt;solver&gt; diverged"));
-        assert!(page.contains("example &#39;panics&#39;: panicked: boom"));
-        assert_eq!(results.lines().count(), 4);
-        assert!(
-            status.contains("| `panics` | Part 1 §4.1 | test | failing |"),
-            "{status}"
-        );
-        assert!(
-            results
-                .lines()
-                .nth(3)
-                .unwrap()
-                .contains("\"needs_data\":\"columns t,theta\"")
-        );
-        // The command fails, naming the failing examples.
-        let err = outcome(&r).unwrap_err().to_string();
-        assert!(
-            err.contains("2 of 4 examples failed (fails, panics)"),
-            "{err}"
-        );
-    }
-
-    #[test]
-    fn data_reaches_only_the_example_that_takes_it() {
-        let out = std::env::temp_dir().join(format!("pendulab-report-data-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&out);
-        let examples = [example("needs", needs), example("takes_none", takes_none)];
-        let data = DataFiles::for_tests("needs", "t,theta\n0,1\n0.001,1.1\n");
-        let r = write_report(&examples, &out, &data, false).unwrap();
-        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
-        let _ = std::fs::remove_dir_all(&out);
-        assert_eq!(r.summary.runs, 2, "{results}");
-        // Two data rows under the header.
-        assert!(results.contains("\"rows\":2.0"), "{results}");
-        assert!(outcome(&r).is_ok());
-    }
-
-    #[test]
-    fn civil_dates_match_known_days() {
-        // Day numbers from the Unix epoch: 0 = 1970-01-01; 11016 = 2000-02-29 (leap day of a
-        // year divisible by 400); 20784 = 2026-11-27 (date(1) -d @1795737600).
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
-        assert_eq!(civil_from_days(20_784), (2026, 11, 27));
-        assert_eq!(civil_from_days(-1), (1969, 12, 31));
-    }
-}
-
 /// The lab notebook's page (`pendulab report --lab DIR`, `docs/lab.md`): `OUT/index.html`
 /// with the lab's plant (each parameter beside the book's value, its standard error when
 /// identified, and the provenance: file, SHA-256, window, method), then one section per
@@ -463,4 +329,138 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
     let index = out.join("index.html");
     crate::lab::write_whole(&index, s.as_bytes())?;
     Ok(index)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pendulab_book::{BookError, Cause, ExampleOutput, RunContext, Value};
+
+    fn draws(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        let mut o = ExampleOutput::default();
+        o.value("x", Value::Number(1.5));
+        o.reference("x", Value::Number(1.5), "book", 0.0);
+        assert!(ctx.figures, "the report asks for figures");
+        let mut ax = pendulab_plot::Axes::new();
+        ax.plot(&[0.0, 1.0], &[0.0, 1.5]);
+        o.figure("fig", pendulab_plot::Figure::new(ax));
+        Ok(o)
+    }
+    fn fails(_: &RunContext) -> Result<ExampleOutput, BookError> {
+        Err(BookError::Computation {
+            id: "fails".into(),
+            source: Box::new(Cause::Check("Riccati <solver> diverged".into())),
+        })
+    }
+    fn panics(_: &RunContext) -> Result<ExampleOutput, BookError> {
+        panic!("boom")
+    }
+    fn needs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        match &ctx.data_csv {
+            Some(text) => {
+                let mut o = ExampleOutput::default();
+                o.value("rows", Value::Number((text.lines().count() - 1) as f64));
+                Ok(o)
+            }
+            None => Err(BookError::NeedsData {
+                id: "needs".into(),
+                what: "columns t,theta".into(),
+            }),
+        }
+    }
+    fn takes_none(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
+        match ctx.data_csv {
+            None => Ok(ExampleOutput::default()),
+            Some(_) => Err(BookError::Computation {
+                id: "takes_none".into(),
+                source: Box::new(Cause::Check("was given data".into())),
+            }),
+        }
+    }
+    fn example(
+        id: &'static str,
+        run: fn(&RunContext) -> Result<ExampleOutput, BookError>,
+    ) -> Example {
+        Example {
+            id,
+            title: "test",
+            section: "Part 1 §4.1",
+            parameters: "none",
+            needs_data: (id == "needs").then_some("columns t,theta"),
+            run,
+        }
+    }
+
+    #[test]
+    fn failing_and_panicking_examples_are_reported_after_everything_is_written() {
+        let out = std::env::temp_dir().join(format!("pendulab-report-unit-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let examples = [
+            example("draws", draws),
+            example("fails", fails),
+            example("panics", panics),
+            example("needs", needs),
+        ];
+        let r = write_report(&examples, &out, &DataFiles::default(), false).unwrap();
+        let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+        let status = std::fs::read_to_string(out.join("status.md")).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(r.failing, vec!["fails", "panics"]);
+        assert_eq!(
+            (
+                r.summary.reproduced,
+                r.summary.needs_data,
+                r.summary.failing
+            ),
+            (1, 1, 2)
+        );
+        // The figure went to figures/<id>/ and is linked relative to the page.
+        assert!(page.contains("<img src=\"figures/draws/fig.svg\""));
+        assert!(page.contains("Riccati &lt;solver&gt; diverged"));
+        assert!(page.contains("example &#39;panics&#39;: panicked: boom"));
+        assert_eq!(results.lines().count(), 4);
+        assert!(
+            status.contains("| `panics` | Part 1 §4.1 | test | failing |"),
+            "{status}"
+        );
+        assert!(
+            results
+                .lines()
+                .nth(3)
+                .unwrap()
+                .contains("\"needs_data\":\"columns t,theta\"")
+        );
+        // The command fails, naming the failing examples.
+        let err = outcome(&r).unwrap_err().to_string();
+        assert!(
+            err.contains("2 of 4 examples failed (fails, panics)"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn data_reaches_only_the_example_that_takes_it() {
+        let out = std::env::temp_dir().join(format!("pendulab-report-data-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let examples = [example("needs", needs), example("takes_none", takes_none)];
+        let data = DataFiles::for_tests("needs", "t,theta\n0,1\n0.001,1.1\n");
+        let r = write_report(&examples, &out, &data, false).unwrap();
+        let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+        let _ = std::fs::remove_dir_all(&out);
+        assert_eq!(r.summary.runs, 2, "{results}");
+        // Two data rows under the header.
+        assert!(results.contains("\"rows\":2.0"), "{results}");
+        assert!(outcome(&r).is_ok());
+    }
+
+    #[test]
+    fn civil_dates_match_known_days() {
+        // Day numbers from the Unix epoch: 0 = 1970-01-01; 11016 = 2000-02-29 (leap day of a
+        // year divisible by 400); 20784 = 2026-11-27 (date(1) -d @1795737600).
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(20_784), (2026, 11, 27));
+        assert_eq!(civil_from_days(-1), (1969, 12, 31));
+    }
 }
