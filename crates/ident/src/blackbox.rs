@@ -9,7 +9,7 @@
 //! * [`arx`]: the equation-error model `A(q⁻¹) y(k) = B(q⁻¹) u(k − n_k) + e(k)` with
 //!   `A = 1 + a₁ q⁻¹ + … + a_{n_a} q^{−n_a}` and `B = b₀ + b₁ q⁻¹ + … + b_{n_b−1} q^{−n_b+1}`
 //!   (MATLAB's `arx(data, [na nb nk])` convention), linear in its parameters and solved by the
-//!   crate's Householder QR ([`crate::least_squares`], with its rank and conditioning checks).
+//!   crate's Householder QR ([`least_squares`](mod@crate::least_squares), with its rank and conditioning checks).
 //! * [`arx_order_selection`]: every `(n_a, n_b, n_k)` of given ranges on the same rows, ranked
 //!   by Akaike's information criterion `AIC = N ln V + 2d` (V the mean squared residual, d the
 //!   number of parameters, N the rows; L. Ljung, *System Identification*, 2nd ed., 1999,
@@ -25,7 +25,7 @@
 //!
 //! Several records (experiments) are combined without crossing their boundaries (MATLAB
 //! `merge`): this is how closed-loop records under different feedback gains, each alone
-//! uninformative, identify the plant together.
+//! barely informative, identify the plant together.
 
 use crate::error::{IdentError, Result, UNNAMED};
 use crate::least_squares::{LeastSquares, QrAccumulator};

@@ -1,12 +1,12 @@
 //! Black-box identification of the cart drive from the real rig's P-control records
 //! (`data/rig/cdip_cart_pcont_data_kP_*_ref_02.csv`), compared with the book's physical model
-//! `ż̈ = −a_c ż + b_c v` (part 1 §3.2, table 3.5: a_c = 6.25 1/s, b_c = 4.36 m/(s² V)).
+//! `z̈ = −a_c ż + b_c v` (part 1 §3.2, table 3.5: a_c = 6.25 1/s, b_c = 4.36 m/(s² V)).
 //!
 //! The records log the cart position z only; the voltage is the P law the rig ran,
 //! `v = k_P (r − z)` with `r` stepping from 0 to 0.2 m at t = 1 s (`data/rig/README.md`; the
 //! logged `v` of `cdip_least_square_data.csv`, k_P = 10, is exactly that law). Under one static
-//! gain `v` is an affine function of `z`, so a single record cannot separate the plant from the
-//! controller; the records under k_P = 2.5, 5 and 20 together do. The k_P = 10 record with its
+//! gain `v` is an affine function of `z` except where `r` steps, so a single record barely
+//! separates the plant from the controller; the records under k_P = 2.5, 5 and 20 together do. The k_P = 10 record with its
 //! logged voltage validates the models (open-loop simulation, MATLAB `compare` fit).
 
 use pendulab_ident::*;
