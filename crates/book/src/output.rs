@@ -1,9 +1,11 @@
 //! What an example returns: named values, the book's values beside them, and its figures and
 //! animations as values ([`Graphic`]) that the front end renders and writes.
 
+use crate::error::BookError;
 use pendulab_lti::Complex64;
 use pendulab_plot::{Animation, Figure, PlotError};
 use serde::Serialize;
+use std::path::{Path, PathBuf};
 
 /// A value reported by an example.
 ///
@@ -189,6 +191,42 @@ impl Graphic {
             .zip(bytes)
             .map(|(name, bytes)| RenderedFile { name, bytes })
             .collect())
+    }
+}
+
+impl ExampleOutput {
+    /// Renders every figure of example `id` in order ([`Graphic::render`]) and hands each file
+    /// to `write` with its path `dir/<file name>`; returns the paths. The book writes nothing
+    /// itself: the front end's `write` does (e.g. `std::fs::write`), so the CLI, the report and
+    /// the Python package share this one loop.
+    ///
+    /// # Errors
+    /// [`BookError::Figure`] when a figure cannot be rendered; [`BookError::WriteFigure`] with
+    /// the path when `write` fails.
+    pub fn emit_figures(
+        &self,
+        id: &str,
+        dir: &Path,
+        mut write: impl FnMut(&Path, &[u8]) -> std::io::Result<()>,
+    ) -> Result<Vec<PathBuf>, BookError> {
+        let mut files = Vec::new();
+        for g in &self.figures {
+            let rendered = g.render().map_err(|source| BookError::Figure {
+                id: id.to_string(),
+                stem: g.stem.clone(),
+                source,
+            })?;
+            for f in rendered {
+                let path = dir.join(&f.name);
+                write(&path, &f.bytes).map_err(|source| BookError::WriteFigure {
+                    id: id.to_string(),
+                    path: path.clone(),
+                    source,
+                })?;
+                files.push(path);
+            }
+        }
+        Ok(files)
     }
 }
 

@@ -314,14 +314,7 @@ impl LsimKernel {
         let cols: [&mut [f64]; N] = state_columns::<N, RECORD>(x_out, len);
         for k in 0..len {
             for i in 0..p {
-                let mut yk = 0.0;
-                for j in 0..N {
-                    yk += self.c[i * N + j] * x[j];
-                }
-                for l in 0..m {
-                    yk += self.d[i * m + l] * u[l * len + k];
-                }
-                y_out[i * len + k] = yk;
+                y_out[i * len + k] = self.output(i, &x, u, len, k);
             }
             if RECORD {
                 for j in 0..N {
@@ -335,22 +328,14 @@ impl LsimKernel {
                 for j in 0..N {
                     acc += phi[i][j] * x[j];
                 }
-                for l in 0..m {
-                    acc += self.ga[i * m + l] * u[l * len + k];
-                }
-                if let Some(gb) = &self.gb {
-                    for l in 0..m {
-                        acc += gb[i * m + l] * u[l * len + k1];
-                    }
-                }
-                next[i] = acc;
+                next[i] = self.add_input_terms(acc, i, u, len, k, k1);
             }
             x = next;
         }
     }
 
     fn run_dynamic(&self, len: usize, u: &[f64], x0: &[f64], x_out: &mut [f64], y_out: &mut [f64]) {
-        let (n, m, p) = (self.n, self.m, self.p);
+        let (n, p) = (self.n, self.p);
         // Two state buffers on the stack would need a bound on n; these two small vectors are
         // the only allocation and happen once per call, outside the loop.
         let mut x = x0.to_vec();
@@ -358,14 +343,7 @@ impl LsimKernel {
         let record = !x_out.is_empty();
         for k in 0..len {
             for i in 0..p {
-                let mut yk = 0.0;
-                for j in 0..n {
-                    yk += self.c[i * n + j] * x[j];
-                }
-                for l in 0..m {
-                    yk += self.d[i * m + l] * u[l * len + k];
-                }
-                y_out[i * len + k] = yk;
+                y_out[i * len + k] = self.output(i, &x, u, len, k);
             }
             if record {
                 for j in 0..n {
@@ -375,19 +353,50 @@ impl LsimKernel {
             let k1 = if k + 1 < len { k + 1 } else { k };
             for i in 0..n {
                 let row = &self.phi[i * n..(i + 1) * n];
-                let mut acc: f64 = row.iter().zip(&x).map(|(a, b)| a * b).sum();
-                for l in 0..m {
-                    acc += self.ga[i * m + l] * u[l * len + k];
-                }
-                if let Some(gb) = &self.gb {
-                    for l in 0..m {
-                        acc += gb[i * m + l] * u[l * len + k1];
-                    }
-                }
-                next[i] = acc;
+                let acc: f64 = row.iter().zip(&x).map(|(a, b)| a * b).sum();
+                next[i] = self.add_input_terms(acc, i, u, len, k, k1);
             }
             std::mem::swap(&mut x, &mut next);
         }
+    }
+
+    /// The output equation `y_i[k] = Σ_j C_ij x_j + Σ_l D_il u_l[k]`, summed in that order
+    /// (`x` has the state's length; `u` is column-major, `len` samples per input).
+    #[inline(always)]
+    fn output(&self, i: usize, x: &[f64], u: &[f64], len: usize, k: usize) -> f64 {
+        let (n, m) = (x.len(), self.m);
+        let mut yk = 0.0;
+        for j in 0..n {
+            yk += self.c[i * n + j] * x[j];
+        }
+        for l in 0..m {
+            yk += self.d[i * m + l] * u[l * len + k];
+        }
+        yk
+    }
+
+    /// Adds row `i` of the input terms of the state update to `acc` (`Σ_j Φ_ij x_j`), in
+    /// order: `Σ_l Γa_il u_l[k]`, then, for the first-order hold, `Σ_l Γb_il u_l[k1]`.
+    #[inline(always)]
+    fn add_input_terms(
+        &self,
+        mut acc: f64,
+        i: usize,
+        u: &[f64],
+        len: usize,
+        k: usize,
+        k1: usize,
+    ) -> f64 {
+        let m = self.m;
+        for l in 0..m {
+            acc += self.ga[i * m + l] * u[l * len + k];
+        }
+        if let Some(gb) = &self.gb {
+            for l in 0..m {
+                acc += gb[i * m + l] * u[l * len + k1];
+            }
+        }
+        acc
     }
 }
 

@@ -80,24 +80,7 @@ fn write_figures(id: &str, out: &ExampleOutput, dir: &Path) -> Result<Vec<PathBu
         path: dir.to_path_buf(),
         source,
     })?;
-    let mut files = Vec::new();
-    for g in &out.figures {
-        let rendered = g.render().map_err(|source| BookError::Figure {
-            id: id.to_string(),
-            stem: g.stem.clone(),
-            source,
-        })?;
-        for f in rendered {
-            let path = dir.join(&f.name);
-            std::fs::write(&path, &f.bytes).map_err(|source| BookError::WriteFigure {
-                id: id.to_string(),
-                path: path.clone(),
-                source,
-            })?;
-            files.push(path);
-        }
-    }
-    Ok(files)
+    out.emit_figures(id, dir, |path, bytes| std::fs::write(path, bytes))
 }
 
 /// Runs `e` (figures drawn and written into `dir` when given).
