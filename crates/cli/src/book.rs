@@ -21,7 +21,8 @@ pub struct BookArgs {
 
 #[derive(Debug, clap::Subcommand)]
 enum BookCommand {
-    /// List every example with its section and title.
+    /// List every example with its section and title, then the M-file stems that are aliases
+    /// of an example.
     List {
         /// One JSON object per line instead of a table.
         #[arg(long, conflicts_with = "markdown")]
@@ -97,6 +98,18 @@ pub fn run(args: &BookArgs) -> Result<()> {
                         ""
                     };
                     println!("{:<44} {:<16} {}{data}", e.id, e.section, e.title);
+                }
+            }
+            // The book's M-files without an example of their own, each with the example that
+            // computes what it computes (`pendulab book run` accepts either name).
+            for a in pendulab_book::registry::aliases() {
+                if *json {
+                    println!(
+                        "{}",
+                        serde_json::json!({ "alias": a.stem, "id": a.id, "note": a.note })
+                    );
+                } else {
+                    println!("{:<44} alias of {}: {}", a.stem, a.id, a.note);
                 }
             }
             Ok(())

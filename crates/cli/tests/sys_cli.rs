@@ -288,3 +288,100 @@ fn bad_input_is_named() {
     );
     assert!(!std::path::Path::new(&save).exists());
 }
+
+#[test]
+fn margins_norms_reduction_and_stepinfo_closed_forms() {
+    // L = 2/(s + 1)³: the phase reaches −180° where each pole turns 60°, ω = √3, and there
+    // |L| = 2/4^{3/2} = 1/4, so GM = 4.
+    let v = json(&["margin", "--num", "2", "--den", "1 3 3 1", "--json"]);
+    close(v["gain_margin"].as_f64().unwrap(), 4.0, 1e-8, "GM");
+    close(
+        v["phase_crossover_frequency"].as_f64().unwrap(),
+        3f64.sqrt(),
+        1e-8,
+        "ω_pc",
+    );
+    // L = 1/(s(s + 1)): |L| = 1 at ω² = (√5 − 1)/2, PM = 90° − atan ω, no phase crossing.
+    let v = json(&["margin", "--num", "1", "--den", "1 1 0", "--json"]);
+    let w = ((5f64.sqrt() - 1.0) / 2.0).sqrt();
+    close(
+        v["gain_crossover_frequency"].as_f64().unwrap(),
+        w,
+        1e-8,
+        "ω_gc",
+    );
+    close(
+        v["phase_margin_deg"].as_f64().unwrap(),
+        90.0 - w.atan().to_degrees(),
+        1e-6,
+        "PM",
+    );
+    assert!(v["gain_margin"].is_null(), "{v}");
+    // ‖1/(s + a)‖₂ = 1/√(2a); ‖1/(s² + 2ζs + 1)‖∞ = 1/(2ζ√(1 − ζ²)) at ω = √(1 − 2ζ²).
+    let v = json(&["norm", "--num", "1", "--den", "1 3", "--json"]);
+    close(v["h2"].as_f64().unwrap(), 1.0 / 6f64.sqrt(), 1e-10, "H2");
+    let z = 0.2_f64;
+    let v = json(&["norm", "--inf", "--num", "1", "--den", "1 0.4 1", "--json"]);
+    close(
+        v["hinf"].as_f64().unwrap(),
+        1.0 / (2.0 * z * (1.0 - z * z).sqrt()),
+        1e-7,
+        "H∞",
+    );
+    close(
+        v["peak_frequency"].as_f64().unwrap(),
+        (1.0 - 2.0 * z * z).sqrt(),
+        1e-3,
+        "ω_peak",
+    );
+    // (s + 1)/((s + 1)(s + 2)) realised with two states: the pole −1 cancels, one state left
+    // with the pole −2.
+    let v = json(&["minreal", "--num", "1 1", "--den", "1 3 2", "--json"]);
+    assert_eq!(v["a"].as_array().unwrap().len(), 1, "{v}");
+    close(
+        v["poles"][0][0].as_f64().unwrap(),
+        -2.0,
+        1e-10,
+        "minreal pole",
+    );
+    // 1/(s + 1): 10–90 % rise time ln 9, 2 % settling time ln 50 (sampled every 1 ms).
+    let v = json(&[
+        "stepinfo",
+        "--num",
+        "1",
+        "--den",
+        "1 1",
+        "--t-final",
+        "10",
+        "--step-size",
+        "0.001",
+        "--json",
+    ]);
+    let si = &v["stepinfo"][0][0];
+    close(si["RiseTime"].as_f64().unwrap(), 9f64.ln(), 2e-3, "rise");
+    close(
+        si["SettlingTime"].as_f64().unwrap(),
+        50f64.ln(),
+        2e-3,
+        "settling",
+    );
+    close(si["Overshoot"].as_f64().unwrap(), 0.0, 1e-9, "overshoot");
+    // Balanced truncation of a stable system keeps the requested order.
+    let v = json(&[
+        "balred",
+        "--a",
+        "-1 0 0; 0 -2 0; 0 0 -30",
+        "--b",
+        "1; 1; 1",
+        "--c",
+        "1 1 1",
+        "--order",
+        "2",
+        "--json",
+    ]);
+    assert_eq!(v["a"].as_array().unwrap().len(), 2, "{v}");
+    fails_with(
+        &pendulab(&["margin", "--a", "-1 0; 0 -2", "--b", "1 0; 0 1"]),
+        &["single-input single-output"],
+    );
+}

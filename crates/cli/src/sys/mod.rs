@@ -1,5 +1,5 @@
-//! MATLAB's verbs for any linear system: `pendulab ss|eig|ctrb|obsv|step|impulse|initial|lsim|
-//! bode|c2d|d2c|place|lqe SYSFILE …`.
+//! MATLAB's verbs for any linear system: `pendulab ss|eig|ctrb|obsv|step|stepinfo|impulse|
+//! initial|lsim|bode|margin|norm|minreal|hsvd|balred|c2d|d2c|place|lqe SYSFILE …`.
 //!
 //! Each verb reads one system ([`input`]: a TOML/JSON system file or the matrices on the command
 //! line), calls the `pendulab-lti` function of the same MATLAB name, prints a summary (or one
@@ -90,6 +90,81 @@ pub enum SysCommand {
         time: TimeArgs,
         #[command(flatten)]
         fig: FigureArgs,
+    },
+    /// Step-response characteristics of every channel (MATLAB `stepinfo`: 10–90 % rise time,
+    /// 2 % settling time, overshoot, undershoot, peak and peak time).
+    Stepinfo {
+        #[command(flatten)]
+        sys: SysArgs,
+        #[command(flatten)]
+        time: TimeArgs,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Gain, phase and delay margins of a SISO loop L (MATLAB `margin`, `allmargin`): every
+    /// crossing, and the reported margins.
+    Margin {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// H2 norm, or with --inf the H∞ norm and its peak frequency (MATLAB `norm(sys)`,
+    /// `norm(sys, Inf)`).
+    Norm {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// The H∞ norm instead of the H2 norm.
+        #[arg(long)]
+        inf: bool,
+        /// Relative tolerance of the H∞ bisection.
+        #[arg(long, default_value_t = 1e-8)]
+        tol: f64,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Minimal realisation: remove uncontrollable and unobservable states (MATLAB `minreal`).
+    Minreal {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Rank tolerance (default: the staircase's own, scaled to the data).
+        #[arg(long)]
+        tol: Option<f64>,
+        /// Write the minimal system to this file (`.toml` or `.json`).
+        #[arg(long, value_name = "FILE")]
+        save: Option<PathBuf>,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Hankel singular values of a stable system (MATLAB `hsvd`).
+    Hsvd {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Balanced truncation to `--order` states (MATLAB `balred`), truncating or matching the
+    /// DC gain; prints the error bound 2 Σ of the discarded Hankel singular values.
+    Balred {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Order of the reduced system.
+        #[arg(long)]
+        order: usize,
+        /// truncate (default) or matchdc.
+        #[arg(long, default_value = "truncate")]
+        method: String,
+        /// Write the reduced system to this file (`.toml` or `.json`).
+        #[arg(long, value_name = "FILE")]
+        save: Option<PathBuf>,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
     },
     /// Impulse response, one per input (MATLAB `impulse`).
     Impulse {

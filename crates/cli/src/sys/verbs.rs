@@ -9,7 +9,11 @@ use pendulab_lti::analysis::{ctrb, obsv, rank};
 use pendulab_lti::design::{lqe, place};
 use pendulab_lti::discretization::Discretization;
 use pendulab_lti::frequency_response::{freqresp, frequency_grid, logspace};
+use pendulab_lti::margins::stability_margins;
+use pendulab_lti::norms::{h2_norm, hinf_norm};
+use pendulab_lti::reduction::{BalredMethod, balred, hsvd, minreal};
 use pendulab_lti::response::{InputHold, LsimOptions, impulse, initial, lsim, step, time_vector};
+use pendulab_lti::stepinfo::{StepInfo, StepInfoOptions, stepinfo};
 use pendulab_lti::{Mat, Trajectory};
 use pendulab_plot::{Bode, Channel, Figure, SignalPanel, TimeResponse};
 use serde::Serialize;
@@ -45,6 +49,137 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
         }
         SysCommand::Step { sys, time, fig } => channels(&sys.load()?, time, fig, false),
         SysCommand::Impulse { sys, time, fig } => channels(&sys.load()?, time, fig, true),
+        SysCommand::Stepinfo { sys, time, json } => {
+            let s = sys.load()?;
+            let t = time_grid(&s, time)?;
+            let info = with_sys!(&s, |v| stepinfo(v, &t, &StepInfoOptions::default()))?;
+            let rows: Vec<Vec<serde_json::Value>> = info
+                .iter()
+                .map(|per_in| per_in.iter().map(stepinfo_json).collect())
+                .collect();
+            if *json {
+                println!("{}", json!({ "stepinfo": rows, "t_final": t.last() }));
+                return Ok(());
+            }
+            for (i, per_in) in info.iter().enumerate() {
+                for (j, si) in per_in.iter().enumerate() {
+                    println!(
+                        "u{} → y{}: rise {:.6} s, settling {:.6} s, overshoot {:.4} %, undershoot {:.4} %, peak {:.6} at {:.6} s, final {:.6}",
+                        j + 1,
+                        i + 1,
+                        si.rise_time,
+                        si.settling_time,
+                        si.overshoot,
+                        si.undershoot,
+                        si.peak,
+                        si.peak_time,
+                        si.steady_state_value
+                    );
+                }
+            }
+            Ok(())
+        }
+        SysCommand::Margin { sys, json } => margin(&sys.load()?, *json),
+        SysCommand::Norm {
+            sys,
+            inf,
+            tol,
+            json,
+        } => {
+            let s = sys.load()?;
+            if *inf {
+                let h = with_sys!(&s, |v| hinf_norm(v, *tol))?;
+                let out = json!({
+                    "hinf": finite_or_null(h.value),
+                    "peak_frequency": finite_or_null(h.peak_frequency),
+                    "upper_bound": finite_or_null(h.upper_bound),
+                    "unstable": !h.value.is_finite(),
+                });
+                if *json {
+                    println!("{out}");
+                } else {
+                    println!(
+                        "H∞ norm {:.10} at ω = {:.6} rad/s (≤ {:.10})",
+                        h.value, h.peak_frequency, h.upper_bound
+                    );
+                }
+            } else {
+                let h2 = with_sys!(&s, |v| h2_norm(v))?;
+                if *json {
+                    println!(
+                        "{}",
+                        json!({ "h2": finite_or_null(h2), "infinite": !h2.is_finite() })
+                    );
+                } else {
+                    println!("H2 norm {h2:.10}");
+                }
+            }
+            Ok(())
+        }
+        SysCommand::Minreal {
+            sys,
+            tol,
+            save,
+            json,
+        } => {
+            let s = sys.load()?;
+            let (reduced, removed) = match &s {
+                Sys::C(v) => {
+                    let m = minreal(v, *tol)?;
+                    (Sys::C(m.system), m.removed_states)
+                }
+                Sys::D(v) => {
+                    let m = minreal(v, *tol)?;
+                    (Sys::D(m.system), m.removed_states)
+                }
+            };
+            if !*json {
+                println!("{removed} state(s) removed");
+            }
+            ss(&reduced, save.as_deref(), *json)
+        }
+        SysCommand::Hsvd { sys, json } => {
+            let s = sys.load()?;
+            let hsv = with_sys!(&s, |v| hsvd(v))?;
+            if *json {
+                println!("{}", json!({ "hsv": hsv }));
+            } else {
+                println!("Hankel singular values: {}", fmt_row(&hsv));
+            }
+            Ok(())
+        }
+        SysCommand::Balred {
+            sys,
+            order,
+            method,
+            save,
+            json,
+        } => {
+            let s = sys.load()?;
+            let method = match method.as_str() {
+                "truncate" => BalredMethod::Truncate,
+                "matchdc" => BalredMethod::MatchDc,
+                other => bail!("--method {other}: expected truncate or matchdc"),
+            };
+            let (reduced, hsv) = match &s {
+                Sys::C(v) => {
+                    let b = balred(v, *order, method)?;
+                    (Sys::C(b.system), b.hsv)
+                }
+                Sys::D(v) => {
+                    let b = balred(v, *order, method)?;
+                    (Sys::D(b.system), b.hsv)
+                }
+            };
+            let bound = 2.0 * hsv.iter().skip(*order).sum::<f64>();
+            if !*json {
+                println!(
+                    "reduced to {order} state(s); H∞ error bound 2 Σ discarded σ = {bound:.6e}"
+                );
+            }
+            ss(&reduced, save.as_deref(), *json)
+        }
+
         SysCommand::Initial { sys, x0, time, fig } => {
             let s = sys.load()?;
             let x0 = vector_arg(x0, "x0")?;
@@ -179,6 +314,78 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             Ok(())
         }
     }
+}
+
+fn stepinfo_json(si: &StepInfo) -> serde_json::Value {
+    json!({
+        "RiseTime": finite_or_null(si.rise_time),
+        "SettlingTime": finite_or_null(si.settling_time),
+        "SettlingMin": finite_or_null(si.settling_min),
+        "SettlingMax": finite_or_null(si.settling_max),
+        "Overshoot": finite_or_null(si.overshoot),
+        "Undershoot": finite_or_null(si.undershoot),
+        "Peak": finite_or_null(si.peak),
+        "PeakTime": finite_or_null(si.peak_time),
+        "SteadyStateValue": finite_or_null(si.steady_state_value),
+    })
+}
+
+/// `margin`: every crossing of the SISO loop and the reported margins (MATLAB's choices).
+fn margin(s: &Sys, as_json: bool) -> Result<()> {
+    let m = with_sys!(s, |v| stability_margins(v))?;
+    let gm = m.gain_margin();
+    let pm = m.phase_margin();
+    let dm = m.delay_margin();
+    let out = json!({
+        "gain_margin": gm.map(|g| finite_or_null(g.gain_margin)),
+        "gain_margin_db": gm.map(|g| finite_or_null(g.gain_margin_db())),
+        "phase_crossover_frequency": gm.map(|g| g.frequency),
+        "phase_margin_deg": pm.map(|p| p.phase_margin_deg),
+        "gain_crossover_frequency": pm.map(|p| p.frequency),
+        "delay_margin": dm.map(|d| d.delay_margin),
+        "delay_margin_frequency": dm.map(|d| d.frequency),
+        "gain_crossings": m.gain_crossings.iter().map(|g| json!({
+            "frequency": g.frequency, "phase_margin_deg": g.phase_margin_deg, "delay_margin": g.delay_margin,
+        })).collect::<Vec<_>>(),
+        "phase_crossings": m.phase_crossings.iter().map(|p| json!({
+            "frequency": p.frequency, "gain_margin": finite_or_null(p.gain_margin),
+        })).collect::<Vec<_>>(),
+        "boundary_pole_frequencies": m.boundary_pole_frequencies,
+        "dt": m.sample_time,
+        "convention": "null margin = infinite (no crossing); GM = 1/|L| at a phase crossing, PM = mod(∠L, 360°) − 180° at a gain crossing, DM = mod(PM, 360°)/ω",
+    });
+    if as_json {
+        println!("{out}");
+        return Ok(());
+    }
+    match gm {
+        Some(g) => println!(
+            "gain margin {:.6} ({:.4} dB) at ω = {:.6} rad/s",
+            g.gain_margin,
+            g.gain_margin_db(),
+            g.frequency
+        ),
+        None => println!("gain margin ∞ (no phase crossing)"),
+    }
+    match pm {
+        Some(p) => println!(
+            "phase margin {:.4}° at ω = {:.6} rad/s",
+            p.phase_margin_deg, p.frequency
+        ),
+        None => println!("phase margin ∞ (no gain crossing)"),
+    }
+    if let Some(d) = dm {
+        println!(
+            "delay margin {:.6} s at ω = {:.6} rad/s",
+            d.delay_margin, d.frequency
+        );
+    }
+    println!(
+        "{} gain crossing(s), {} phase crossing(s)",
+        m.gain_crossings.len(),
+        m.phase_crossings.len()
+    );
+    Ok(())
 }
 
 fn pairs(p: &[Complex64]) -> Vec<[f64; 2]> {
