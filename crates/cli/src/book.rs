@@ -21,8 +21,8 @@ pub struct BookArgs {
 
 #[derive(Debug, clap::Subcommand)]
 enum BookCommand {
-    /// List every example with its section and title, then the M-file stems that are aliases
-    /// of an example.
+    /// List every example with its section and title, then (without --json) the M-file stems
+    /// that are aliases of an example.
     List {
         /// One JSON object per line instead of a table.
         #[arg(long, conflicts_with = "markdown")]
@@ -101,14 +101,10 @@ pub fn run(args: &BookArgs) -> Result<()> {
                 }
             }
             // The book's M-files without an example of their own, each with the example that
-            // computes what it computes (`pendulab book run` accepts either name).
-            for a in pendulab_book::registry::aliases() {
-                if *json {
-                    println!(
-                        "{}",
-                        serde_json::json!({ "alias": a.stem, "id": a.id, "note": a.note })
-                    );
-                } else {
+            // computes what it computes (`pendulab book run` accepts either name). The JSON
+            // lines list examples only (docs/report.md's line contract).
+            if !*json {
+                for a in pendulab_book::registry::aliases() {
                     println!("{:<44} alias of {}: {}", a.stem, a.id, a.note);
                 }
             }
