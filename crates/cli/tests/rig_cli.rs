@@ -11,7 +11,6 @@ use common::*;
 
 use pendulab_rig::emulator::{Emulator, EmulatorConfig, PlantKind};
 use serde_json::Value;
-use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -182,22 +181,10 @@ fn ctrl_c_and_sigterm_stop_safely_with_every_sample_logged() {
 }
 
 fn emulate(args: &[&str]) -> (Child, String) {
-    let mut child = pendulab()
-        .args(["rig", "emulate", "--listen", "127.0.0.1:0"])
-        .args(args)
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.as_mut().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .trim()
-        .strip_prefix("listening on ")
-        .unwrap_or_else(|| panic!("{line:?}"))
-        .to_string();
-    (child, addr)
+    let mut cmd = pendulab();
+    cmd.args(["rig", "emulate", "--listen", "127.0.0.1:0"])
+        .args(args);
+    spawn_listening(cmd)
 }
 
 fn ok(o: &Output) -> String {

@@ -17,9 +17,8 @@
 mod common;
 use common::*;
 
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::time::Duration;
 
 /// The emulated rig's parameters: the book's with the four identifiable ones 10–20 % off.
@@ -75,22 +74,10 @@ fn bin(dir: &Path) -> Command {
 
 /// Starts an emulator in `dir` with the doc's arguments; its address.
 fn emulate(dir: &Path, args: &[String]) -> (Child, String) {
-    let mut child = bin(dir)
-        .args(args)
-        .args(["--listen", "127.0.0.1:0", "--duration", "120"])
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.as_mut().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .trim()
-        .strip_prefix("listening on ")
-        .unwrap_or_else(|| panic!("{line:?}"))
-        .to_string();
-    (child, addr)
+    let mut cmd = bin(dir);
+    cmd.args(args)
+        .args(["--listen", "127.0.0.1:0", "--duration", "120"]);
+    spawn_listening(cmd)
 }
 
 fn stop(mut emu: Child) {

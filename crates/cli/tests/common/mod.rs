@@ -1,8 +1,9 @@
 //! Helpers shared by the CLI's end-to-end tests: the binary, its stderr, scratch directories.
 #![allow(dead_code)] // each test file uses its own subset
 
+use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::{Child, Command, Output, Stdio};
 
 /// Runs the `pendulab` binary built for these tests with `args`.
 pub fn pendulab(args: &[&str]) -> Output {
@@ -76,4 +77,20 @@ pub fn cdip_csv() -> (String, String) {
     );
     let b = format!("0\n0\n{bc}\n{}\n", -bc * mp * lp / j);
     (a, b)
+}
+
+/// Spawns `cmd` (a `rig emulate` command listening on port 0) with its standard output piped;
+/// the child and the address it printed on its first line, `listening on ADDR`.
+pub fn spawn_listening(mut cmd: Command) -> (Child, String) {
+    let mut child = cmd.stdout(Stdio::piped()).spawn().unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.as_mut().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .trim()
+        .strip_prefix("listening on ")
+        .unwrap_or_else(|| panic!("{line:?}"))
+        .to_string();
+    (child, addr)
 }
