@@ -20,6 +20,23 @@ use serde::Serialize;
 use serde_json::json;
 use std::path::Path;
 
+/// Runs `$body` (giving a system of the same domain and a value) on a system of either domain;
+/// the result rewrapped as a [`Sys`], and the value.
+macro_rules! map_sys {
+    ($sys:expr, |$v:ident| $body:expr) => {
+        match $sys {
+            Sys::C($v) => {
+                let (system, value) = $body;
+                (Sys::C(system), value)
+            }
+            Sys::D($v) => {
+                let (system, value) = $body;
+                (Sys::D(system), value)
+            }
+        }
+    };
+}
+
 /// Runs one MATLAB verb.
 ///
 /// # Errors
@@ -123,16 +140,10 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             json,
         } => {
             let s = sys.load()?;
-            let (reduced, removed) = match &s {
-                Sys::C(v) => {
-                    let m = minreal(v, *tol)?;
-                    (Sys::C(m.system), m.removed_states)
-                }
-                Sys::D(v) => {
-                    let m = minreal(v, *tol)?;
-                    (Sys::D(m.system), m.removed_states)
-                }
-            };
+            let (reduced, removed) = map_sys!(&s, |v| {
+                let m = minreal(v, *tol)?;
+                (m.system, m.removed_states)
+            });
             if !*json {
                 println!("{removed} state(s) removed");
             }
@@ -161,16 +172,10 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
                 "matchdc" => BalredMethod::MatchDc,
                 other => bail!("--method {other}: expected truncate or matchdc"),
             };
-            let (reduced, hsv) = match &s {
-                Sys::C(v) => {
-                    let b = balred(v, *order, method)?;
-                    (Sys::C(b.system), b.hsv)
-                }
-                Sys::D(v) => {
-                    let b = balred(v, *order, method)?;
-                    (Sys::D(b.system), b.hsv)
-                }
-            };
+            let (reduced, hsv) = map_sys!(&s, |v| {
+                let b = balred(v, *order, method)?;
+                (b.system, b.hsv)
+            });
             let bound = 2.0 * hsv.iter().skip(*order).sum::<f64>();
             if !*json {
                 println!(
