@@ -1,4 +1,4 @@
-//! `pendulab design lqr|place|servo|p --lab DIR …`: a controller designed on a lab's plant,
+//! `pendulab design lqr|place|servo|observer|p --lab DIR …`: a controller designed on a lab's plant,
 //! written as a rig controller file that `pendulab simulate` and `pendulab rig run` take
 //! (`docs/lab.md`).
 //!
@@ -13,6 +13,13 @@
 //! - `servo --q "q0 q1 q2 q3 qw" --r R [--reference M --step-time S]`: the LQ integral servo
 //!   on the drive position (`pendulab_lti::design::lq_servo` on `[x; ∫(r − q₀)dt]`, book
 //!   part 1 ch. 7), `u = −K₁ x − K₂ w`;
+//! - `observer (--q "q0 q1 q2 q3" --r R | --poles "p1 p2 p3 p4") --observer-poles "o1 o2 o3 o4"`:
+//!   the state feedback of `lqr` or `place` with a full-order observer of the encoder
+//!   positions `[q₀, q₁]` (`C = [I₂ 0]`), `L` placing `A − LC` at the observer poles
+//!   (`pendulab_lti::design::place_observer`, book part 1 ch. 7 §7.4), `u = −K x̂`; the file is
+//!   `kind = "observer"` with `k` and `l`, its poles the 8 of plant and controller
+//!   (`pendulab_control::spec::observer_design`) and its loop
+//!   `K (sI − A + BK + LC)⁻¹ L C (sI − A)⁻¹ B`;
 //! - `p --kp KP --target R`: the P-control step of the drive, `u = −k_P (q₀ − r)`, the book's
 //!   identification experiment (part 1 §3.2) to run with the pendulum hanging
 //!   (`pendulab rig run --hanging`).
@@ -42,8 +49,10 @@ use crate::lab;
 use crate::lqr::fmt_row;
 use crate::model::state_names;
 use anyhow::{Context, Result, bail};
-use pendulab_control::spec::{ControllerSpec, DesignInput, DesignRecord, build_for};
-use pendulab_lti::design::{lq_servo, lqr, place};
+use pendulab_control::spec::{
+    ControllerSpec, DesignInput, DesignRecord, ObserverSpec, build_for, observer_design,
+};
+use pendulab_lti::design::{lq_servo, lqr, place, place_observer};
 use pendulab_lti::margins::stability_margins;
 use pendulab_lti::{Complex64, Mat, StateSpace};
 use pendulab_plants::spec::PlantSpec;
@@ -126,6 +135,24 @@ enum DesignMethod {
         #[arg(long, default_value_t = 0.0)]
         step_time: f64,
     },
+    /// Observer-based output feedback: u = −K x̂, K by LQR (--q, --r) or placement (--poles),
+    /// x̂ from a full-order observer of [q0, q1] with A − LC at --observer-poles.
+    Observer {
+        #[command(flatten)]
+        common: Common,
+        /// Diagonal of Q, four weights for [q0, q1, dq0, dq1] (with --r).
+        #[arg(long, allow_hyphen_values = true)]
+        q: Option<String>,
+        /// R (> 0, with --q).
+        #[arg(long)]
+        r: Option<f64>,
+        /// Four closed-loop poles of A − BK [1/s] (instead of --q, --r).
+        #[arg(long, allow_hyphen_values = true)]
+        poles: Option<String>,
+        /// Four observer poles, eigenvalues of A − LC [1/s].
+        #[arg(long, allow_hyphen_values = true)]
+        observer_poles: String,
+    },
     /// P control of the drive, u = −kP (q0 − target): the identification experiment, run
     /// with the pendulum hanging (rig run --hanging).
     P {
@@ -163,6 +190,63 @@ fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>> {
         );
     }
     Ok(v)
+}
+
+/// The LQ regulator `Q = diag(q)` (four weights ≥ 0), `R = r` (> 0) on `ss`; errors name the
+/// flag or the Riccati equation without a stabilising solution.
+fn lqr_design(
+    ss: &StateSpace<pendulab_lti::Continuous>,
+    q: &str,
+    r: f64,
+) -> Result<(pendulab_lti::design::Lqr, Vec<f64>)> {
+    let qv = numbers("--q", q, 4)?;
+    if qv.iter().any(|&x| x < 0.0) {
+        bail!("--q {q}: the weights must be ≥ 0");
+    }
+    if !(r.is_finite() && r > 0.0) {
+        bail!("--r {r}: must be a finite number > 0");
+    }
+    let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
+    let l = lqr(ss, &qm, &Mat::from_element(1, 1, r), None)
+        .with_context(|| format!("lqr with Q = diag({q}), R = {r}: no stabilising solution"))?;
+    Ok((l, qv))
+}
+
+/// Four finite poles in the open left half-plane, written as [`parse_pole`] reads them;
+/// errors name `flag`.
+fn four_poles(flag: &str, text: &str) -> Result<Vec<Complex64>> {
+    let p: Vec<Complex64> = text
+        .split([' ', ',', ';'])
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| {
+            parse_pole(s).with_context(|| {
+                format!("{flag}: '{s}' is not a pole (write -3, or -3+2j with -3-2j)")
+            })
+        })
+        .collect::<Result<_>>()?;
+    if p.len() != 4 {
+        bail!("{flag}: 4 poles expected, found {} in '{text}'", p.len());
+    }
+    if let Some(bad) = p.iter().find(|z| !(z.re.is_finite() && z.im.is_finite())) {
+        bail!("{flag}: {bad} is not finite");
+    }
+    if let Some(bad) = p.iter().find(|z| z.re >= 0.0) {
+        bail!(
+            "{flag}: {bad} is not in the open left half-plane: the closed loop would not be stable"
+        );
+    }
+    Ok(p)
+}
+
+/// Poles as `[re, im]` rows (the design record's form).
+fn pole_rows(p: &[Complex64]) -> Vec<Vec<f64>> {
+    p.iter().map(|z| vec![z.re, z.im]).collect()
+}
+
+/// Poles in words, `[-3+1i, …]`.
+fn pole_words(p: &[Complex64]) -> String {
+    let listed: Vec<String> = p.iter().map(|z| format!("{z}")).collect();
+    format!("[{}]", listed.join(", "))
 }
 
 /// A pole `re`, `re+imj` or `re-imj` (also `i`).
@@ -221,6 +305,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         DesignMethod::Place { common, .. } => (common, "place"),
         DesignMethod::Servo { common, .. } => (common, "servo"),
         DesignMethod::P { common, .. } => (common, "p"),
+        DesignMethod::Observer { common, .. } => (common, "observer"),
     };
     let plant = lab::load(&common.lab)?;
     let kind = plant.kind();
@@ -243,20 +328,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
     // the inputs as recorded, extra lines of the header)
     let (table, k, poles, loop_ss, inputs, note, record): Designed = match &args.method {
         DesignMethod::Lqr { q, r, .. } => {
-            let qv = numbers("--q", q, 4)?;
-            if qv.iter().any(|&x| x < 0.0) {
-                bail!("--q {q}: the weights must be ≥ 0");
-            }
-            if !(r.is_finite() && *r > 0.0) {
-                bail!("--r {r}: must be a finite number > 0");
-            }
-            let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
-            let l = lqr(&ss, &qm, &Mat::from_element(1, 1, *r), None).with_context(|| {
-                format!(
-                    "lqr with Q = diag({}), R = {r}: no stabilising solution",
-                    fmt(&qv)
-                )
-            })?;
+            let (l, qv) = lqr_design(&ss, q, *r)?;
             let k: Vec<f64> = l.gain.row(0).iter().copied().collect();
             let loop_ss = StateSpace::new(
                 a.clone(),
@@ -276,42 +348,19 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             )
         }
         DesignMethod::Place { poles, .. } => {
-            let p: Vec<Complex64> = poles
-                .split([' ', ',', ';'])
-                .filter(|s| !s.trim().is_empty())
-                .map(|s| {
-                    parse_pole(s).with_context(|| {
-                        format!("--poles: '{s}' is not a pole (write -3, or -3+2j with -3-2j)")
-                    })
-                })
-                .collect::<Result<_>>()?;
-            if p.len() != 4 {
-                bail!("--poles: 4 poles expected, found {} in '{poles}'", p.len());
-            }
-            if let Some(bad) = p.iter().find(|z| !(z.re.is_finite() && z.im.is_finite())) {
-                bail!("--poles: {bad} is not finite");
-            }
-            if let Some(bad) = p.iter().find(|z| z.re >= 0.0) {
-                bail!(
-                    "--poles: {bad} is not in the open left half-plane: the closed loop would not be stable"
-                );
-            }
+            let p = four_poles("--poles", poles)?;
             let pl = place(&a, &b, &p).with_context(|| format!("place with poles {poles}"))?;
             let k: Vec<f64> = pl.gain.row(0).iter().copied().collect();
             let loop_ss =
                 StateSpace::new(a.clone(), b.clone(), pl.gain, Mat::zeros(1, 1), ss.domain())?;
-            let listed: Vec<String> = p.iter().map(|z| format!("{z}")).collect();
             (
                 format!("kind = \"state-feedback\"\nk = [{}]\n", fmt(&k)),
                 k,
                 pl.achieved_poles,
                 Some(loop_ss),
-                format!("poles = [{}]", listed.join(", ")),
+                format!("poles = {}", pole_words(&p)),
                 "",
-                vec![(
-                    "poles",
-                    DesignInput::Rows(p.iter().map(|z| vec![z.re, z.im]).collect()),
-                )],
+                vec![("poles", DesignInput::Rows(pole_rows(&p)))],
             )
         }
         DesignMethod::Servo {
@@ -373,6 +422,93 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                     ("reference", DesignInput::Number(*reference)),
                     ("step_time", DesignInput::Number(*step_time)),
                 ],
+            )
+        }
+        DesignMethod::Observer {
+            q,
+            r,
+            poles,
+            observer_poles,
+            ..
+        } => {
+            // K: an LQ regulator or a placement, as `lqr` and `place` design it.
+            let (k_mat, k_inputs, k_words) = match (q, r, poles) {
+                (Some(q), Some(r), None) => {
+                    let (l, qv) = lqr_design(&ss, q, *r)?;
+                    let words = format!("K by LQR, Q = diag([{}]), R = {r}", fmt(&qv));
+                    (
+                        l.gain,
+                        vec![("q", DesignInput::List(qv)), ("r", DesignInput::Number(*r))],
+                        words,
+                    )
+                }
+                (None, None, Some(text)) => {
+                    let p = four_poles("--poles", text)?;
+                    let g = place(&a, &b, &p)
+                        .with_context(|| format!("place with poles {text}"))?
+                        .gain;
+                    (
+                        g,
+                        vec![("poles", DesignInput::Rows(pole_rows(&p)))],
+                        format!("K placed at {}", pole_words(&p)),
+                    )
+                }
+                _ => bail!("observer: give the state feedback as --q with --r, or as --poles"),
+            };
+            // L: A − LC at the observer poles, C = [I₂ 0] (the encoder positions).
+            let op = four_poles("--observer-poles", observer_poles)?;
+            let c = Mat::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+            let l_mat = place_observer(&a, &c, &op)
+                .with_context(|| format!("observer placement at {observer_poles}"))?
+                .gain;
+            let k: Vec<f64> = k_mat.row(0).iter().copied().collect();
+            let l_rows: Vec<Vec<f64>> = (0..4)
+                .map(|i| l_mat.row(i).iter().copied().collect())
+                .collect();
+            // The 8 closed-loop poles of plant and observer-based controller, as the
+            // controller kind computes them.
+            let d = observer_design(
+                plant.parameters(),
+                &ObserverSpec {
+                    k: Some(k.clone()),
+                    l: Some(l_rows.clone()),
+                    ..ObserverSpec::default()
+                },
+            )
+            .context("the observer-based loop")?;
+            // The loop broken at the plant input: plant (A, B, C) into the controller
+            // (A − BK − LC, L, K): states [x; x̂], L(s) = K x̂ / u.
+            let mut al = Mat::zeros(8, 8);
+            al.view_mut((0, 0), (4, 4)).copy_from(&a);
+            al.view_mut((4, 0), (4, 4)).copy_from(&(&l_mat * &c));
+            al.view_mut((4, 4), (4, 4))
+                .copy_from(&(&a - &b * &k_mat - &l_mat * &c));
+            let mut bl = Mat::zeros(8, 1);
+            bl.view_mut((0, 0), (4, 1)).copy_from(&b);
+            let mut cl = Mat::zeros(1, 8);
+            cl.view_mut((0, 4), (1, 4)).copy_from(&k_mat);
+            let loop_ss = StateSpace::new(al, bl, cl, Mat::zeros(1, 1), ss.domain())?;
+            let mut rec = k_inputs;
+            rec.push(("observer_poles", DesignInput::Rows(pole_rows(&op))));
+            (
+                format!(
+                    "kind = \"observer\"\nk = [{}]\nl = [{}]\n",
+                    fmt(&k),
+                    l_rows
+                        .iter()
+                        .map(|r| format!("[{}]", fmt(r)))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                k,
+                d.closed_loop_poles,
+                Some(loop_ss),
+                format!(
+                    "{k_words}, observer of [q0, q1] with A − LC at {}",
+                    pole_words(&op)
+                ),
+                "",
+                rec,
             )
         }
         DesignMethod::P { kp, target, .. } => {
@@ -501,7 +637,11 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 phase_margin_deg: pm.map(|g| g.phase_margin_deg),
                 gain_crossover_rad_s: pm.map(|g| g.frequency),
                 delay_margin_s: m.delay_margin().map(|g| g.delay_margin),
-                loop_: "broken at the plant input: L(s) = K (sI − A)⁻¹ B",
+                loop_: if method == "observer" {
+                    "broken at the plant input: L(s) = K (sI − A + BK + LC)⁻¹ L C (sI − A)⁻¹ B"
+                } else {
+                    "broken at the plant input: L(s) = K (sI − A)⁻¹ B"
+                },
             })
         }
         None => None,

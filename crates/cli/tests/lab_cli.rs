@@ -510,6 +510,104 @@ fn design_writes_a_controller_file_that_simulate_takes() {
     assert!(poles_of(&v).iter().all(|p| p.0 < 0.0));
 }
 
+/// The `[controller]` table of a written controller file.
+fn controller_table(file: &str) -> toml::Table {
+    let text = std::fs::read_to_string(file).unwrap();
+    let t: toml::Table = toml::from_str(&text).unwrap();
+    t["controller"].as_table().unwrap().clone()
+}
+
+/// The sorted eigenvalues of a matrix as `(re, im)`.
+fn sorted_eigenvalues(m: Mat) -> Vec<(f64, f64)> {
+    let mut e: Vec<(f64, f64)> = m
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| (z.re, z.im))
+        .collect();
+    e.sort_by(|x, y| x.partial_cmp(y).unwrap());
+    e
+}
+
+#[test]
+fn design_observer_places_the_observer_and_balances() {
+    let d = Dir::new("design-observer");
+    let lab = own_cart(&d, "lab", 1.1, 0.9);
+    for k_args in [
+        vec!["--q", "10 10 0 0", "--r", "1"],
+        vec!["--poles", "-3+1j -3-1j -5 -6"],
+    ] {
+        let mut args = vec!["design", "observer", "--lab", &lab];
+        args.extend(&k_args);
+        args.extend(["--observer-poles", "-20 -21 -25+3j -25-3j", "--json"]);
+        let v = json(&pendulab(&args));
+        let file = v["file"].as_str().unwrap().to_string();
+        let c = controller_table(&file);
+        assert_eq!(c["kind"].as_str(), Some("observer"));
+        // The file's L places eig(A − LC), C = [I₂ 0], at the requested poles.
+        let rows: Vec<Vec<f64>> = c["l"].clone().try_into().unwrap();
+        let l = Mat::from_row_iterator(4, 2, rows.into_iter().flatten());
+        let m = json(&pendulab(&["model", "--lab", &lab, "--json"]));
+        let a = matrix(&m["a"]);
+        let cm = Mat::from_row_slice(2, 4, &[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+        let got = sorted_eigenvalues(&a - &l * &cm);
+        let want = [(-25.0, -3.0), (-25.0, 3.0), (-21.0, 0.0), (-20.0, 0.0)];
+        for (w, g) in want.iter().zip(&got) {
+            assert!(
+                (w.0 - g.0).abs() < 1e-6 && (w.1 - g.1).abs() < 1e-6,
+                "{got:?}"
+            );
+        }
+        // The 8 printed poles: eig(A − BK) (separation principle) and the observer's.
+        let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+        let mut want = closed_loop(&lab, &k);
+        want.extend(got);
+        want.sort_by(|x, y| x.partial_cmp(y).unwrap());
+        let got = poles_of(&v);
+        assert_eq!(got.len(), 8);
+        for (w, g) in want.iter().zip(&got) {
+            assert!(
+                (w.0 - g.0).abs() < 1e-6 && (w.1 - g.1).abs() < 1e-6,
+                "{want:?} {got:?}"
+            );
+        }
+        // simulate takes the file and balances from 5°.
+        let s = json(&simulate(&lab, &file, &["--json"]));
+        assert_eq!(s["left_angle_window"], false);
+        let theta = s["final_state"][1].as_f64().unwrap();
+        assert!(theta.abs() < 1e-2, "final θ = {theta}");
+    }
+    // K given twice, or not at all: an error naming the flags; nothing written.
+    let out = d.path("o.toml");
+    for extra in [
+        vec!["--q", "1 1 0 0", "--r", "1", "--poles", "-1 -2 -3 -4"],
+        vec![],
+    ] {
+        let mut args = vec!["design", "observer", "--lab", &lab, "--out", &out];
+        args.extend(&extra);
+        args.extend(["--observer-poles", "-20 -21 -22 -23"]);
+        fails_with(&pendulab(&args), &["--q", "--poles"]);
+        assert!(!std::path::Path::new(&out).exists());
+    }
+    fails_with(
+        &pendulab(&[
+            "design",
+            "observer",
+            "--lab",
+            &lab,
+            "--out",
+            &out,
+            "--q",
+            "1 1 0 0",
+            "--r",
+            "1",
+            "--observer-poles",
+            "-20 -21 -22 1",
+        ]),
+        &["--observer-poles", "left half-plane"],
+    );
+    assert!(!std::path::Path::new(&out).exists());
+}
+
 #[test]
 fn bad_design_requests_name_what_and_write_nothing() {
     let d = Dir::new("design-bad");
