@@ -1,4 +1,4 @@
-//! `pendulab design lqr|place|servo|observer|p --lab DIR …`: a controller designed on a lab's plant,
+//! `pendulab design lqr|place|servo|lmi-servo|observer|p --lab DIR …`: a controller designed on a lab's plant,
 //! written as a rig controller file that `pendulab simulate` and `pendulab rig run` take
 //! (`docs/lab.md`).
 //!
@@ -13,6 +13,11 @@
 //! - `servo --q "q0 q1 q2 q3 qw" --r R [--reference M --step-time S]`: the LQ integral servo
 //!   on the drive position (`pendulab_lti::design::lq_servo` on `[x; ∫(r − q₀)dt]`, book
 //!   part 1 ch. 7), `u = −K₁ x − K₂ w`;
+//! - `lmi-servo --q "q0 q1 q2 q3 qw" --r R [--reference M --step-time S]`: the same servo
+//!   by the LMI guaranteed-cost LQ design on `[x; w]` (`pendulab_lmi::synthesis::lq_state_feedback`,
+//!   maximise `tr X` under the LQ LMI, `K = −L X⁻¹`; book part 2 §1.2.2, example 1.4), whose
+//!   gain approaches the Riccati one as the margin and the solver tolerance go to zero; the file
+//!   is the same `kind = "lq-servo"`;
 //! - `observer (--q "q0 q1 q2 q3" --r R | --poles "p1 p2 p3 p4") --observer-poles "o1 o2 o3 o4"`:
 //!   the state feedback of `lqr` or `place` with a full-order observer of the encoder
 //!   positions `[q₀, q₁]` (`C = [I₂ 0]`), `L` placing `A − LC` at the observer poles
@@ -52,6 +57,8 @@ use anyhow::{Context, Result, bail};
 use pendulab_control::spec::{
     ControllerSpec, DesignInput, DesignRecord, ObserverSpec, build_for, observer_design,
 };
+use pendulab_lmi::SolveOptions;
+use pendulab_lmi::synthesis::lq_state_feedback;
 use pendulab_lti::design::{lq_servo, lqr, place, place_observer};
 use pendulab_lti::margins::stability_margins;
 use pendulab_lti::{Complex64, Mat, StateSpace};
@@ -152,6 +159,24 @@ enum DesignMethod {
         /// Four observer poles, eigenvalues of A − LC [1/s].
         #[arg(long, allow_hyphen_values = true)]
         observer_poles: String,
+    },
+    /// LMI LQ integral servo of the drive position (book part 2 §1.2.2): the guaranteed-cost
+    /// LQ design by LMIs on [x; w], Q = diag(--q), R = --r.
+    LmiServo {
+        #[command(flatten)]
+        common: Common,
+        /// Diagonal of Q, five weights for [q0, q1, dq0, dq1, w], w = ∫(r − q0) dt.
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// R (> 0).
+        #[arg(long)]
+        r: f64,
+        /// The servo reference of q0 [m or rad] (default 0).
+        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+        reference: f64,
+        /// Time of the reference step [s] (default 0).
+        #[arg(long, default_value_t = 0.0)]
+        step_time: f64,
     },
     /// P control of the drive, u = −kP (q0 − target): the identification experiment, run
     /// with the pendulum hanging (rig run --hanging).
@@ -304,6 +329,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         DesignMethod::Lqr { common, .. } => (common, "lqr"),
         DesignMethod::Place { common, .. } => (common, "place"),
         DesignMethod::Servo { common, .. } => (common, "servo"),
+        DesignMethod::LmiServo { common, .. } => (common, "lmi-servo"),
         DesignMethod::P { common, .. } => (common, "p"),
         DesignMethod::Observer { common, .. } => (common, "observer"),
     };
@@ -369,6 +395,13 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             reference,
             step_time,
             ..
+        }
+        | DesignMethod::LmiServo {
+            q,
+            r,
+            reference,
+            step_time,
+            ..
         } => {
             let qv = numbers("--q", q, 5)?;
             if qv.iter().any(|&x| x < 0.0) {
@@ -390,26 +423,44 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 Mat::zeros(1, 1),
                 ss.domain(),
             )?;
-            let s = lq_servo(&servo_sys, &qm, &Mat::from_element(1, 1, *r)).with_context(|| {
-                format!(
-                    "lq servo with Q = diag({}), R = {r}: no stabilising solution",
-                    fmt(&qv)
-                )
-            })?;
-            let k1: Vec<f64> = s.state_gain.row(0).iter().copied().collect();
-            let k2 = s.integral_gain[(0, 0)];
+            let rm = Mat::from_element(1, 1, *r);
             let (aa, ba) = pendulab_lti::design::integral_augmentation(&servo_sys)?;
-            let loop_ss =
-                StateSpace::new(aa, ba, s.lqr.gain.clone(), Mat::zeros(1, 1), ss.domain())?;
-            let mut k = k1.clone();
-            k.push(k2);
+            // The gain on [x; w] (1 × 5, u = −K [x; w]) and its closed-loop poles: by the
+            // Riccati equation (`servo`), or by the LMI guaranteed-cost LQ design on the same
+            // augmented model (`lmi-servo`, book part 2 §1.2.2).
+            let (gain, cl_poles) = if method == "lmi-servo" {
+                let d = lq_state_feedback(&aa, &ba, &qm, &rm, &SolveOptions::default())
+                    .with_context(|| {
+                        format!("LMI LQ servo with Q = diag({}), R = {r}", fmt(&qv))
+                    })?;
+                let Some(f) = d.feedback else {
+                    bail!(
+                        "LMI LQ servo with Q = diag({}), R = {r}: the LMIs were not solved (status {:?}); nothing written",
+                        fmt(&qv),
+                        d.status
+                    );
+                };
+                let poles = f.closed_loop_poles.into_iter().next().unwrap_or_default();
+                (f.gain, poles)
+            } else {
+                let s = lq_servo(&servo_sys, &qm, &rm).with_context(|| {
+                    format!(
+                        "lq servo with Q = diag({}), R = {r}: no stabilising solution",
+                        fmt(&qv)
+                    )
+                })?;
+                (s.lqr.gain, s.lqr.closed_loop_poles)
+            };
+            let k: Vec<f64> = gain.row(0).iter().copied().collect();
+            let (k1, k2) = (k[..4].to_vec(), k[4]);
+            let loop_ss = StateSpace::new(aa, ba, gain, Mat::zeros(1, 1), ss.domain())?;
             (
                 format!(
                     "kind = \"lq-servo\"\nk1 = [{}]\nk2 = {k2:?}\nreference = [{reference:?}]\nstep_time = {step_time:?}\n",
                     fmt(&k1)
                 ),
                 k,
-                s.lqr.closed_loop_poles,
+                cl_poles,
                 Some(loop_ss),
                 format!(
                     "Q = diag([{}]), R = {r}, on [x; w], w = ∫(r − q0) dt",
@@ -654,7 +705,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
 
     let k_book: Vec<f64> = k.iter().map(|x| -x).collect();
     let mut states = states;
-    if method == "servo" {
+    if method == "servo" || method == "lmi-servo" {
         states.push("w".into());
     }
     let out = DesignJson {

@@ -609,6 +609,47 @@ fn design_observer_places_the_observer_and_balances() {
 }
 
 #[test]
+fn design_lmi_servo_equals_the_riccati_servo_and_tracks() {
+    let d = Dir::new("design-lmi-servo");
+    let lab = own_cart(&d, "lab", 1.1, 0.9);
+    let gain = |method: &str| {
+        let v = json(&pendulab(&[
+            "design",
+            method,
+            "--lab",
+            &lab,
+            "--q",
+            "10 10 0 0 20",
+            "--r",
+            "1",
+            "--reference",
+            "0.1",
+            "--json",
+        ]));
+        let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+        (Mat::from_row_slice(1, 5, &k), v)
+    };
+    // Two independent algorithms for the same LQ servo gain on [x; w]: the LMI guaranteed
+    // cost (interior point, margin ε = 1e-6, gap 1e-8, amplified by κ(X)) and the CARE.
+    let (k_lmi, v) = gain("lmi-servo");
+    let (k_care, _) = gain("servo");
+    let rel = (&k_lmi - &k_care).norm() / k_care.norm();
+    assert!(rel < 1e-4, "LMI {k_lmi} vs CARE {k_care}: relative {rel:e}");
+    assert_eq!(poles_of(&v).len(), 5);
+    assert!(poles_of(&v).iter().all(|p| p.0 < 0.0));
+    let file = v["file"].as_str().unwrap().to_string();
+    let c = controller_table(&file);
+    assert_eq!(c["kind"].as_str(), Some("lq-servo"));
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(text.contains("method = \"lmi-servo\""), "{text}");
+    // simulate takes it: balanced, the cart near the 0.1 m reference after 5 s.
+    let s = json(&simulate(&lab, &file, &["--json"]));
+    assert_eq!(s["left_angle_window"], false);
+    let z = s["final_state"][0].as_f64().unwrap();
+    assert!((z - 0.1).abs() < 1e-2, "final z = {z}");
+}
+
+#[test]
 fn bad_design_requests_name_what_and_write_nothing() {
     let d = Dir::new("design-bad");
     let lab = init(&d, "lab", "cart");
