@@ -1,4 +1,4 @@
-//! `pendulab design lqr|place|servo|lmi-servo|observer|p --lab DIR …`: a controller designed on a lab's plant,
+//! `pendulab design lqr|place|servo|lmi-servo|robust|observer|p --lab DIR …`: a controller designed on a lab's plant,
 //! written as a rig controller file that `pendulab simulate` and `pendulab rig run` take
 //! (`docs/lab.md`).
 //!
@@ -18,6 +18,11 @@
 //!   maximise `tr X` under the LQ LMI, `K = −L X⁻¹`; book part 2 §1.2.2, example 1.4), whose
 //!   gain approaches the Riccati one as the margin and the solver tolerance go to zero; the file
 //!   is the same `kind = "lq-servo"`;
+//! - `robust --q "q0 q1 q2 q3" --r R --vary NAME=±P% [--vary …]`: one gain with the LMI
+//!   guaranteed LQ cost at every vertex of the box of parameters `value · (1 ± P/100)` (1 to 4
+//!   parameters, `2ⁿ` vertices, each the upright linearisation;
+//!   `pendulab_lmi::synthesis::robust_state_feedback`, book part 2 §1.3), so the bound holds
+//!   on the whole box; `kind = "state-feedback"`, the poles printed the lab plant's;
 //! - `observer (--q "q0 q1 q2 q3" --r R | --poles "p1 p2 p3 p4") --observer-poles "o1 o2 o3 o4"`:
 //!   the state feedback of `lqr` or `place` with a full-order observer of the encoder
 //!   positions `[q₀, q₁]` (`C = [I₂ 0]`), `L` placing `A − LC` at the observer poles
@@ -58,7 +63,7 @@ use pendulab_control::spec::{
     ControllerSpec, DesignInput, DesignRecord, ObserverSpec, build_for, observer_design,
 };
 use pendulab_lmi::SolveOptions;
-use pendulab_lmi::synthesis::lq_state_feedback;
+use pendulab_lmi::synthesis::{Vertex, lq_state_feedback, robust_state_feedback};
 use pendulab_lti::design::{lq_servo, lqr, place, place_observer};
 use pendulab_lti::margins::stability_margins;
 use pendulab_lti::{Complex64, Mat, StateSpace};
@@ -77,7 +82,7 @@ type Designed = (
     Option<StateSpace<pendulab_lti::Continuous>>,
     String,
     &'static str,
-    Vec<(&'static str, DesignInput)>,
+    Vec<(String, DesignInput)>,
 );
 
 /// Arguments of `pendulab design`.
@@ -178,6 +183,22 @@ enum DesignMethod {
         #[arg(long, default_value_t = 0.0)]
         step_time: f64,
     },
+    /// Robust LQ state feedback (book part 2 §1.3): one gain with the LMI guaranteed LQ cost at
+    /// every vertex of a box of parameters around the lab's values, u = −K x.
+    Robust {
+        #[command(flatten)]
+        common: Common,
+        /// Diagonal of Q, four weights for [q0, q1, dq0, dq1].
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// R (> 0).
+        #[arg(long)]
+        r: f64,
+        /// A parameter's range, NAME=±P% (also NAME=+-P%), 0 < P < 100; repeat for each
+        /// parameter (1 to 4), the vertices being every combination of the ends.
+        #[arg(long = "vary", required = true)]
+        vary: Vec<String>,
+    },
     /// P control of the drive, u = −kP (q0 − target): the identification experiment, run
     /// with the pendulum hanging (rig run --hanging).
     P {
@@ -263,6 +284,70 @@ fn four_poles(flag: &str, text: &str) -> Result<Vec<Complex64>> {
     Ok(p)
 }
 
+/// `NAME=±P%` (or `NAME=+-P%`): the parameter `NAME` of `nominal` and the fraction `P/100`,
+/// `0 < P < 100`; errors name the argument.
+fn parse_vary(text: &str, nominal: &[(String, f64)]) -> Result<(String, f64)> {
+    let Some((name, range)) = text.split_once('=') else {
+        bail!("--vary {text}: write NAME=±P%, e.g. m_p=±10%");
+    };
+    let name = name.trim();
+    if !nominal.iter().any(|(n, _)| n == name) {
+        let names: Vec<&str> = nominal.iter().map(|(n, _)| n.as_str()).collect();
+        bail!(
+            "--vary {text}: '{name}' is not a parameter of the lab's plant ({})",
+            names.join(", ")
+        );
+    }
+    let p = range
+        .trim()
+        .strip_prefix('±')
+        .or_else(|| range.trim().strip_prefix("+-"))
+        .and_then(|r| r.strip_suffix('%'))
+        .and_then(|r| r.trim().parse::<f64>().ok());
+    match p {
+        Some(p) if p > 0.0 && p < 100.0 => Ok((name.to_string(), p / 100.0)),
+        _ => bail!("--vary {text}: the range must be ±P% with 0 < P < 100"),
+    }
+}
+
+/// The upright linearisations at the `2ⁿ` vertices of the box `value · (1 ± fraction)` of the
+/// `n` varied parameters (the others at their lab values), in binary order of the ends
+/// (first parameter slowest).
+fn box_vertices(
+    nominal: &pendulab_plants::spec::PlantParameters,
+    ranges: &[(String, f64)],
+) -> Result<Vec<Vertex>> {
+    let n = ranges.len();
+    (0..1usize << n)
+        .map(|corner| {
+            let entries = nominal.entries().into_iter().map(|(name, v)| {
+                match ranges.iter().position(|(r, _)| *r == name) {
+                    Some(i) => {
+                        let sign = if corner >> (n - 1 - i) & 1 == 1 {
+                            1.0
+                        } else {
+                            -1.0
+                        };
+                        let value = v * (1.0 + sign * ranges[i].1);
+                        (name, value)
+                    }
+                    None => (name, v),
+                }
+            });
+            let p = pendulab_plants::spec::PlantParameters::from_entries(nominal.kind(), entries)
+                .context("a vertex of the --vary box")?;
+            p.validate().context("a vertex of the --vary box")?;
+            let ss = p
+                .linearize_upright(0.0)
+                .context("linearising a vertex of the --vary box")?;
+            Ok(Vertex {
+                a: ss.a().clone(),
+                b: ss.b().clone(),
+            })
+        })
+        .collect()
+}
+
 /// Poles as `[re, im]` rows (the design record's form).
 fn pole_rows(p: &[Complex64]) -> Vec<Vec<f64>> {
     p.iter().map(|z| vec![z.re, z.im]).collect()
@@ -330,6 +415,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         DesignMethod::Place { common, .. } => (common, "place"),
         DesignMethod::Servo { common, .. } => (common, "servo"),
         DesignMethod::LmiServo { common, .. } => (common, "lmi-servo"),
+        DesignMethod::Robust { common, .. } => (common, "robust"),
         DesignMethod::P { common, .. } => (common, "p"),
         DesignMethod::Observer { common, .. } => (common, "observer"),
     };
@@ -370,7 +456,10 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 Some(loop_ss),
                 format!("Q = diag([{}]), R = {r}", fmt(&qv)),
                 "",
-                vec![("q", DesignInput::List(qv)), ("r", DesignInput::Number(*r))],
+                vec![
+                    ("q".to_string(), DesignInput::List(qv)),
+                    ("r".to_string(), DesignInput::Number(*r)),
+                ],
             )
         }
         DesignMethod::Place { poles, .. } => {
@@ -386,7 +475,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 Some(loop_ss),
                 format!("poles = {}", pole_words(&p)),
                 "",
-                vec![("poles", DesignInput::Rows(pole_rows(&p)))],
+                vec![("poles".to_string(), DesignInput::Rows(pole_rows(&p)))],
             )
         }
         DesignMethod::Servo {
@@ -468,11 +557,96 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 ),
                 "",
                 vec![
-                    ("q", DesignInput::List(qv)),
-                    ("r", DesignInput::Number(*r)),
-                    ("reference", DesignInput::Number(*reference)),
-                    ("step_time", DesignInput::Number(*step_time)),
+                    ("q".to_string(), DesignInput::List(qv)),
+                    ("r".to_string(), DesignInput::Number(*r)),
+                    ("reference".to_string(), DesignInput::Number(*reference)),
+                    ("step_time".to_string(), DesignInput::Number(*step_time)),
                 ],
+            )
+        }
+        DesignMethod::Robust { q, r, vary, .. } => {
+            let qv = numbers("--q", q, 4)?;
+            if qv.iter().any(|&x| x < 0.0) {
+                bail!("--q {q}: the weights must be ≥ 0");
+            }
+            if !(r.is_finite() && *r > 0.0) {
+                bail!("--r {r}: must be a finite number > 0");
+            }
+            let nominal = plant.parameters().entries();
+            let ranges = vary
+                .iter()
+                .map(|v| parse_vary(v, &nominal))
+                .collect::<Result<Vec<_>>>()?;
+            if ranges.len() > 4 {
+                bail!(
+                    "--vary: at most 4 parameters (16 vertices), {} given",
+                    ranges.len()
+                );
+            }
+            if let Some((i, (name, _))) = ranges
+                .iter()
+                .enumerate()
+                .find(|(i, (n, _))| ranges[..*i].iter().any(|(m, _)| m == n))
+            {
+                bail!("--vary {}: {name} is given twice", vary[i]);
+            }
+            let vertices = box_vertices(plant.parameters(), &ranges)?;
+            let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
+            let d = robust_state_feedback(
+                &vertices,
+                &qm,
+                &Mat::from_element(1, 1, *r),
+                &[],
+                &SolveOptions::default(),
+            )
+            .with_context(|| format!("robust LQ with Q = diag({}), R = {r}", fmt(&qv)))?;
+            let Some(f) = d.feedback else {
+                bail!(
+                    "robust LQ with Q = diag({}), R = {r}: no common gain found for the {} vertices (status {:?}); nothing written",
+                    fmt(&qv),
+                    vertices.len(),
+                    d.status
+                );
+            };
+            let worst = f
+                .closed_loop_poles
+                .iter()
+                .flatten()
+                .map(|z| z.re)
+                .fold(f64::NEG_INFINITY, f64::max);
+            if worst >= 0.0 {
+                bail!(
+                    "robust LQ: a vertex's closed loop has a pole with real part {worst}; nothing written"
+                );
+            }
+            let k: Vec<f64> = f.gain.row(0).iter().copied().collect();
+            let nominal_poles = pendulab_lti::linalg::eigenvalues(&(&a - &b * &f.gain))?;
+            let loop_ss =
+                StateSpace::new(a.clone(), b.clone(), f.gain, Mat::zeros(1, 1), ss.domain())?;
+            let words: Vec<String> = ranges
+                .iter()
+                .map(|(n, frac)| format!("{n} ± {}%", frac * 100.0))
+                .collect();
+            let mut rec = vec![
+                ("q".to_string(), DesignInput::List(qv.clone())),
+                ("r".to_string(), DesignInput::Number(*r)),
+            ];
+            for (n, frac) in &ranges {
+                rec.push((format!("vary_{n}"), DesignInput::Number(*frac)));
+            }
+            (
+                format!("kind = \"state-feedback\"\nk = [{}]\n", fmt(&k)),
+                k,
+                nominal_poles,
+                Some(loop_ss),
+                format!(
+                    "Q = diag([{}]), R = {r}, robust over the {} vertices of {} (largest closed-loop real part over the vertices {worst:.4} 1/s; the poles printed are the lab's nominal plant's)",
+                    fmt(&qv),
+                    vertices.len(),
+                    words.join(", ")
+                ),
+                "",
+                rec,
             )
         }
         DesignMethod::Observer {
@@ -489,7 +663,10 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                     let words = format!("K by LQR, Q = diag([{}]), R = {r}", fmt(&qv));
                     (
                         l.gain,
-                        vec![("q", DesignInput::List(qv)), ("r", DesignInput::Number(*r))],
+                        vec![
+                            ("q".to_string(), DesignInput::List(qv)),
+                            ("r".to_string(), DesignInput::Number(*r)),
+                        ],
                         words,
                     )
                 }
@@ -500,7 +677,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                         .gain;
                     (
                         g,
-                        vec![("poles", DesignInput::Rows(pole_rows(&p)))],
+                        vec![("poles".to_string(), DesignInput::Rows(pole_rows(&p)))],
                         format!("K placed at {}", pole_words(&p)),
                     )
                 }
@@ -540,7 +717,10 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             cl.view_mut((0, 4), (1, 4)).copy_from(&k_mat);
             let loop_ss = StateSpace::new(al, bl, cl, Mat::zeros(1, 1), ss.domain())?;
             let mut rec = k_inputs;
-            rec.push(("observer_poles", DesignInput::Rows(pole_rows(&op))));
+            rec.push((
+                "observer_poles".to_string(),
+                DesignInput::Rows(pole_rows(&op)),
+            ));
             (
                 format!(
                     "kind = \"observer\"\nk = [{}]\nl = [{}]\n",
@@ -585,8 +765,8 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 "# The drive's P-control step (book part 1 §3.2) with the pendulum hanging: run it\n\
                  # with `pendulab rig run --hanging`, identify with `pendulab identify`.\n",
                 vec![
-                    ("kp", DesignInput::Number(*kp)),
-                    ("target", DesignInput::Number(*target)),
+                    ("kp".to_string(), DesignInput::Number(*kp)),
+                    ("target".to_string(), DesignInput::Number(*target)),
                 ],
             )
         }
@@ -632,10 +812,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
         vec![0.0; 4],
         None,
         method,
-        record
-            .into_iter()
-            .map(|(k, v)| (k.to_string(), v))
-            .collect(),
+        record.into_iter().collect(),
     );
     #[derive(Serialize)]
     struct File<'a> {

@@ -650,6 +650,68 @@ fn design_lmi_servo_equals_the_riccati_servo_and_tracks() {
 }
 
 #[test]
+fn design_robust_is_stable_at_every_vertex() {
+    let d = Dir::new("design-robust");
+    let lab = own_cart(&d, "lab", 1.0, 1.0);
+    let v = json(&pendulab(&[
+        "design",
+        "robust",
+        "--lab",
+        &lab,
+        "--q",
+        "10 10 0 0",
+        "--r",
+        "1",
+        "--vary",
+        "a_c=±20%",
+        "--vary",
+        "b_c=+-20%",
+        "--json",
+    ]));
+    let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+    // Each vertex as its own lab, linearised by `model`: eig(A − BK) in the open left
+    // half-plane at all four corners of the box.
+    for (i, (fa, fb)) in [(0.8, 0.8), (0.8, 1.2), (1.2, 0.8), (1.2, 1.2)]
+        .into_iter()
+        .enumerate()
+    {
+        let corner = own_cart(&d, &format!("vertex{i}"), fa, fb);
+        let e = closed_loop(&corner, &k);
+        assert!(
+            e.iter().all(|p| p.0 < 0.0),
+            "vertex a_c·{fa}, b_c·{fb}: {e:?}"
+        );
+    }
+    // The printed poles are the lab plant's eig(A − BK).
+    for (w, g) in closed_loop(&lab, &k).iter().zip(&poles_of(&v)) {
+        assert!((w.0 - g.0).abs() < 1e-8 && (w.1 - g.1).abs() < 1e-8);
+    }
+    let file = v["file"].as_str().unwrap().to_string();
+    assert_eq!(
+        controller_table(&file)["kind"].as_str(),
+        Some("state-feedback")
+    );
+    let s = json(&simulate(&lab, &file, &["--json"]));
+    assert_eq!(s["left_angle_window"], false);
+    // Bad ranges name the argument; nothing written.
+    let out = d.path("r.toml");
+    for (vary, needle) in [
+        ("x=±10%", "'x' is not a parameter"),
+        ("m_p=10%", "±P%"),
+        ("m_p=±100%", "0 < P < 100"),
+    ] {
+        fails_with(
+            &pendulab(&[
+                "design", "robust", "--lab", &lab, "--out", &out, "--q", "1 1 0 0", "--r", "1",
+                "--vary", vary,
+            ]),
+            &["--vary", needle],
+        );
+        assert!(!std::path::Path::new(&out).exists());
+    }
+}
+
+#[test]
 fn bad_design_requests_name_what_and_write_nothing() {
     let d = Dir::new("design-bad");
     let lab = init(&d, "lab", "cart");
