@@ -109,6 +109,23 @@ struct Common {
     json: bool,
 }
 
+/// What the servo designs (`servo`, `lmi-servo`) take.
+#[derive(Debug, clap::Args)]
+struct ServoArgs {
+    /// Diagonal of Q, five weights for [q0, q1, dq0, dq1, w], w = ∫(r − q0) dt.
+    #[arg(long, allow_hyphen_values = true)]
+    q: String,
+    /// R (> 0).
+    #[arg(long)]
+    r: f64,
+    /// The servo reference of q0 [m or rad] (default 0).
+    #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
+    reference: f64,
+    /// Time of the reference step [s] (default 0).
+    #[arg(long, default_value_t = 0.0)]
+    step_time: f64,
+}
+
 #[derive(Debug, clap::Subcommand)]
 enum DesignMethod {
     /// LQ regulator: Q = diag(--q), R = --r (u = −K x).
@@ -134,18 +151,8 @@ enum DesignMethod {
     Servo {
         #[command(flatten)]
         common: Common,
-        /// Diagonal of Q, five weights for [q0, q1, dq0, dq1, w], w = ∫(r − q0) dt.
-        #[arg(long, allow_hyphen_values = true)]
-        q: String,
-        /// R (> 0).
-        #[arg(long)]
-        r: f64,
-        /// The servo reference of q0 [m or rad] (default 0).
-        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
-        reference: f64,
-        /// Time of the reference step [s] (default 0).
-        #[arg(long, default_value_t = 0.0)]
-        step_time: f64,
+        #[command(flatten)]
+        servo: ServoArgs,
     },
     /// Observer-based output feedback: u = −K x̂, K by LQR (--q, --r) or placement (--poles),
     /// x̂ from a full-order observer of [q0, q1] with A − LC at --observer-poles.
@@ -170,18 +177,8 @@ enum DesignMethod {
     LmiServo {
         #[command(flatten)]
         common: Common,
-        /// Diagonal of Q, five weights for [q0, q1, dq0, dq1, w], w = ∫(r − q0) dt.
-        #[arg(long, allow_hyphen_values = true)]
-        q: String,
-        /// R (> 0).
-        #[arg(long)]
-        r: f64,
-        /// The servo reference of q0 [m or rad] (default 0).
-        #[arg(long, allow_hyphen_values = true, default_value_t = 0.0)]
-        reference: f64,
-        /// Time of the reference step [s] (default 0).
-        #[arg(long, default_value_t = 0.0)]
-        step_time: f64,
+        #[command(flatten)]
+        servo: ServoArgs,
     },
     /// Robust LQ state feedback (book part 2 §1.3): one gain with the LMI guaranteed LQ cost at
     /// every vertex of a box of parameters around the lab's values, u = −K x.
@@ -479,17 +476,23 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             )
         }
         DesignMethod::Servo {
-            q,
-            r,
-            reference,
-            step_time,
+            servo:
+                ServoArgs {
+                    q,
+                    r,
+                    reference,
+                    step_time,
+                },
             ..
         }
         | DesignMethod::LmiServo {
-            q,
-            r,
-            reference,
-            step_time,
+            servo:
+                ServoArgs {
+                    q,
+                    r,
+                    reference,
+                    step_time,
+                },
             ..
         } => {
             let qv = numbers("--q", q, 5)?;

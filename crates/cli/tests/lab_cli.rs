@@ -418,14 +418,7 @@ fn identify_save_writes_the_drive_into_the_lab_with_its_provenance() {
 fn closed_loop(lab: &str, k: &[f64]) -> Vec<(f64, f64)> {
     let m = json(&pendulab(&["model", "--lab", lab, "--json"]));
     let (a, b) = (matrix(&m["a"]), matrix(&m["b"]));
-    let k = Mat::from_row_slice(1, 4, k);
-    let mut e: Vec<(f64, f64)> = (a - b * k)
-        .complex_eigenvalues()
-        .iter()
-        .map(|z| (z.re, z.im))
-        .collect();
-    e.sort_by(|x, y| x.partial_cmp(y).unwrap());
-    e
+    sorted_eigenvalues(a - b * Mat::from_row_slice(1, 4, k))
 }
 
 fn poles_of(v: &serde_json::Value) -> Vec<(f64, f64)> {
