@@ -22,7 +22,10 @@
 //!   guaranteed LQ cost at every vertex of the box of parameters `value · (1 ± P/100)` (1 to 4
 //!   parameters, `2ⁿ` vertices, each the upright linearisation;
 //!   `pendulab_lmi::synthesis::robust_state_feedback`, book part 2 §1.3), so the bound holds
-//!   on the whole box; `kind = "state-feedback"`, the poles printed the lab plant's;
+//!   on the whole box; `--decay-rate α` and `--speed-limit β` add the pole regions
+//!   `−β < Re λ < −α` at every vertex (the book's examples use both: maximising `tr X`
+//!   alone can give very fast poles and large gains when `Q` is singular);
+//!   `kind = "state-feedback"`, the poles printed the lab plant's;
 //! - `observer (--q "q0 q1 q2 q3" --r R | --poles "p1 p2 p3 p4") --observer-poles "o1 o2 o3 o4"`:
 //!   the state feedback of `lqr` or `place` with a full-order observer of the encoder
 //!   positions `[q₀, q₁]` (`C = [I₂ 0]`), `L` placing `A − LC` at the observer poles
@@ -63,7 +66,7 @@ use pendulab_control::spec::{
     ControllerSpec, DesignInput, DesignRecord, ObserverSpec, build_for, observer_design,
 };
 use pendulab_lmi::SolveOptions;
-use pendulab_lmi::synthesis::{Vertex, lq_state_feedback, robust_state_feedback};
+use pendulab_lmi::synthesis::{Region, Vertex, lq_state_feedback, robust_state_feedback};
 use pendulab_lti::design::{lq_servo, lqr, place, place_observer};
 use pendulab_lti::margins::stability_margins;
 use pendulab_lti::{Complex64, Mat, StateSpace};
@@ -195,6 +198,13 @@ enum DesignMethod {
         /// parameter (1 to 4), the vertices being every combination of the ends.
         #[arg(long = "vary", required = true)]
         vary: Vec<String>,
+        /// Decay rate α > 0 [1/s]: every vertex's poles with Re λ < −α.
+        #[arg(long)]
+        decay_rate: Option<f64>,
+        /// Speed limit β > 0 [1/s]: every vertex's poles with Re λ > −β (bounds the gain; the
+        /// book's examples use one).
+        #[arg(long)]
+        speed_limit: Option<f64>,
     },
     /// P control of the drive, u = −kP (q0 − target): the identification experiment, run
     /// with the pendulum hanging (rig run --hanging).
@@ -567,7 +577,27 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 ],
             )
         }
-        DesignMethod::Robust { q, r, vary, .. } => {
+        DesignMethod::Robust {
+            q,
+            r,
+            vary,
+            decay_rate,
+            speed_limit,
+            ..
+        } => {
+            let mut regions = Vec::new();
+            if let Some(alpha) = decay_rate {
+                if !(alpha.is_finite() && *alpha > 0.0) {
+                    bail!("--decay-rate {alpha}: must be a finite number > 0");
+                }
+                regions.push(Region::DecayRate { alpha: *alpha });
+            }
+            if let Some(beta) = speed_limit {
+                if !(beta.is_finite() && *beta > decay_rate.unwrap_or(0.0)) {
+                    bail!("--speed-limit {beta}: must be a finite number > 0 and > --decay-rate");
+                }
+                regions.push(Region::SpeedLimit { beta: *beta });
+            }
             let qv = numbers("--q", q, 4)?;
             if qv.iter().any(|&x| x < 0.0) {
                 bail!("--q {q}: the weights must be ≥ 0");
@@ -599,7 +629,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 &vertices,
                 &qm,
                 &Mat::from_element(1, 1, *r),
-                &[],
+                &regions,
                 &SolveOptions::default(),
             )
             .with_context(|| format!("robust LQ with Q = diag({}), R = {r}", fmt(&qv)))?;
@@ -617,6 +647,11 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 .flatten()
                 .map(|z| z.re)
                 .fold(f64::NEG_INFINITY, f64::max);
+            if !f.poles_in_regions {
+                bail!(
+                    "robust LQ: a vertex's closed-loop poles are not all inside the requested region; nothing written"
+                );
+            }
             if worst >= 0.0 {
                 bail!(
                     "robust LQ: a vertex's closed loop has a pole with real part {worst}; nothing written"
@@ -634,6 +669,12 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                 ("q".to_string(), DesignInput::List(qv.clone())),
                 ("r".to_string(), DesignInput::Number(*r)),
             ];
+            if let Some(alpha) = decay_rate {
+                rec.push(("decay_rate".to_string(), DesignInput::Number(*alpha)));
+            }
+            if let Some(beta) = speed_limit {
+                rec.push(("speed_limit".to_string(), DesignInput::Number(*beta)));
+            }
             for (n, frac) in &ranges {
                 rec.push((format!("vary_{n}"), DesignInput::Number(*frac)));
             }
