@@ -82,7 +82,11 @@ def test_simulate_batch_equals_simulate():
 
 
 SCRIPT = """
-import sys, time
+import signal, sys, time
+# A process started with SIGINT ignored (a background job of a non-interactive shell, as CI
+# may start the tests) keeps it ignored and Python then installs no KeyboardInterrupt handler;
+# Ctrl-C at a terminal always has one, so the test puts Python's own handler in place.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import numpy as np
 from pendulab import plants
 which = sys.argv[1]

@@ -33,8 +33,10 @@ def as_json_value(v):
 
 @needs_cli
 def test_list_equals_the_cli():
-    out = subprocess.run([str(CLI), "book", "list"], check=True, capture_output=True, text=True).stdout
-    cli_ids = [line.split()[0] for line in out.splitlines() if line.strip()]
+    out = subprocess.run(
+        [str(CLI), "book", "list", "--json"], check=True, capture_output=True, text=True
+    ).stdout
+    cli_ids = [json.loads(line)["id"] for line in out.splitlines() if line.strip()]
     assert book.ids() == cli_ids
     assert all(e["section"] for e in book.list())
 
