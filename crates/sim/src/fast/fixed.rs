@@ -71,7 +71,9 @@ use crate::sampled::{
 };
 use pendulab_lti::{Mat, Trajectory};
 
-use super::strategy::{Fused, MulAdd, MulAddPath, Separate};
+#[cfg(target_arch = "x86_64")]
+use super::strategy::Fused;
+use super::strategy::{MulAdd, MulAddPath, Separate};
 
 /// An autonomous single-input plant `ẋ = f(x, u)` with `N` states, evaluated on arrays.
 ///
@@ -360,7 +362,9 @@ struct Run<'a, C, M: ?Sized> {
     samples: usize,
     nsub: usize,
     every: Option<usize>,
-    /// Whether to take the FMA-compiled loop ([`FixedLoop::multiply_add`] is `Fused`).
+    /// Whether to take the FMA-compiled loop ([`FixedLoop::multiply_add`] is `Fused`); read on
+    /// x86-64 only, the one target with an FMA-compiled copy.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     fused: bool,
     x0: &'a [f64],
     monitor: &'a mut M,
