@@ -29,6 +29,18 @@ pub struct FigureArgs {
     pub json: bool,
 }
 
+/// Output of the verbs that produce a system (`ss`, `c2d`, `d2c`, `minreal`, `balred`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct SystemOut {
+    /// Write the resulting system to this file (`.toml` or `.json`), as a system file the next
+    /// verb reads.
+    #[arg(long, value_name = "FILE")]
+    pub save: Option<PathBuf>,
+    /// Print one JSON object instead of a summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
 /// Time grid options of `step`, `impulse` and `initial`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct TimeArgs {
@@ -49,12 +61,8 @@ pub enum SysCommand {
     Ss {
         #[command(flatten)]
         sys: SysArgs,
-        /// Write the system to this file (`.toml` or `.json`).
-        #[arg(long, value_name = "FILE")]
-        save: Option<PathBuf>,
-        /// Print one JSON object instead of a summary.
-        #[arg(long)]
-        json: bool,
+        #[command(flatten)]
+        out: SystemOut,
     },
     /// Poles of a system with natural frequency, damping ratio and time constant (MATLAB `eig`,
     /// `damp`).
@@ -133,12 +141,8 @@ pub enum SysCommand {
         /// Rank tolerance (default: the staircase's own, scaled to the data).
         #[arg(long)]
         tol: Option<f64>,
-        /// Write the minimal system to this file (`.toml` or `.json`).
-        #[arg(long, value_name = "FILE")]
-        save: Option<PathBuf>,
-        /// Print one JSON object instead of a summary.
-        #[arg(long)]
-        json: bool,
+        #[command(flatten)]
+        out: SystemOut,
     },
     /// Hankel singular values of a stable system (MATLAB `hsvd`).
     Hsvd {
@@ -159,12 +163,8 @@ pub enum SysCommand {
         /// truncate (default) or matchdc.
         #[arg(long, default_value = "truncate")]
         method: String,
-        /// Write the reduced system to this file (`.toml` or `.json`).
-        #[arg(long, value_name = "FILE")]
-        save: Option<PathBuf>,
-        /// Print one JSON object instead of a summary.
-        #[arg(long)]
-        json: bool,
+        #[command(flatten)]
+        out: SystemOut,
     },
     /// Impulse response, one per input (MATLAB `impulse`).
     Impulse {
@@ -234,12 +234,8 @@ pub enum SysCommand {
         /// Tustin prewarp frequency in rad/s.
         #[arg(long, allow_hyphen_values = true)]
         prewarp: Option<f64>,
-        /// Write the discrete system to this file (`.toml` or `.json`).
-        #[arg(long, value_name = "FILE")]
-        save: Option<PathBuf>,
-        /// Print one JSON object instead of a summary.
-        #[arg(long)]
-        json: bool,
+        #[command(flatten)]
+        out: SystemOut,
     },
     /// Convert a discrete system to continuous time (MATLAB `d2c`).
     D2c {
@@ -251,12 +247,8 @@ pub enum SysCommand {
         /// Tustin prewarp frequency in rad/s.
         #[arg(long, allow_hyphen_values = true)]
         prewarp: Option<f64>,
-        /// Write the continuous system to this file (`.toml` or `.json`).
-        #[arg(long, value_name = "FILE")]
-        save: Option<PathBuf>,
-        /// Print one JSON object instead of a summary.
-        #[arg(long)]
-        json: bool,
+        #[command(flatten)]
+        out: SystemOut,
     },
     /// State-feedback gain K placing the poles of A − BK (MATLAB `place`).
     Place {

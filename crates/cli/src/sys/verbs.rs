@@ -1,7 +1,7 @@
 //! The verbs' bodies: each calls the `pendulab-lti` function of its MATLAB name and prints.
 
 use super::input::{Sys, matrix_arg, vector_arg, with_sys};
-use super::{FigureArgs, SysCommand, TimeArgs};
+use super::{FigureArgs, SysCommand, SystemOut, TimeArgs};
 use crate::lqr::{fmt_row, read_matrix, rows_of};
 use anyhow::{Context, Result, anyhow, bail};
 use pendulab_lti::Complex64;
@@ -44,7 +44,7 @@ macro_rules! map_sys {
 /// what failed); a figure or system file that cannot be written.
 pub fn run(cmd: &SysCommand) -> Result<()> {
     match cmd {
-        SysCommand::Ss { sys, save, json } => ss(&sys.load()?, save.as_deref(), *json),
+        SysCommand::Ss { sys, out } => ss(&sys.load()?, out),
         SysCommand::Eig { sys, json } => eig(&sys.load()?, *json),
         SysCommand::Ctrb { sys, json } => {
             let s = sys.load()?;
@@ -133,21 +133,16 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             }
             Ok(())
         }
-        SysCommand::Minreal {
-            sys,
-            tol,
-            save,
-            json,
-        } => {
+        SysCommand::Minreal { sys, tol, out } => {
             let s = sys.load()?;
             let (reduced, removed) = map_sys!(&s, |v| {
                 let m = minreal(v, *tol)?;
                 (m.system, m.removed_states)
             });
-            if !*json {
+            if !out.json {
                 println!("{removed} state(s) removed");
             }
-            ss(&reduced, save.as_deref(), *json)
+            ss(&reduced, out)
         }
         SysCommand::Hsvd { sys, json } => {
             let s = sys.load()?;
@@ -163,8 +158,7 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             sys,
             order,
             method,
-            save,
-            json,
+            out,
         } => {
             let s = sys.load()?;
             let method = match method.as_str() {
@@ -177,12 +171,12 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
                 (b.system, b.hsv)
             });
             let bound = 2.0 * hsv.iter().skip(*order).sum::<f64>();
-            if !*json {
+            if !out.json {
                 println!(
                     "reduced to {order} state(s); H∞ error bound 2 Σ discarded σ = {bound:.6e}"
                 );
             }
-            ss(&reduced, save.as_deref(), *json)
+            ss(&reduced, out)
         }
 
         SysCommand::Initial { sys, x0, time, fig } => {
@@ -235,8 +229,7 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             ts,
             method,
             prewarp,
-            save,
-            json,
+            out,
         } => {
             let s = sys.load()?;
             let Sys::C(c) = &s else {
@@ -246,21 +239,20 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
                 );
             };
             let d = c.c2d(*ts, method_of(method, *prewarp)?)?;
-            ss(&Sys::D(d), save.as_deref(), *json)
+            ss(&Sys::D(d), out)
         }
         SysCommand::D2c {
             sys,
             method,
             prewarp,
-            save,
-            json,
+            out,
         } => {
             let s = sys.load()?;
             let Sys::D(d) = &s else {
                 bail!("d2c converts a discrete system; this one is continuous (give dt)");
             };
             let c = d.d2c(method_of(method, *prewarp)?)?;
-            ss(&Sys::C(c), save.as_deref(), *json)
+            ss(&Sys::C(c), out)
         }
         SysCommand::Place { sys, poles, json } => {
             let s = sys.load()?;
@@ -509,7 +501,8 @@ fn system_json(s: &Sys) -> serde_json::Value {
 }
 
 /// `ss`, `c2d`, `d2c`: prints the realisation and its poles, and writes it with `--save`.
-fn ss(s: &Sys, save: Option<&Path>, as_json: bool) -> Result<()> {
+fn ss(s: &Sys, out: &SystemOut) -> Result<()> {
+    let (save, as_json) = (out.save.as_deref(), out.json);
     let poles = with_sys!(s, |v| v.poles())?;
     if let Some(path) = save {
         write_system(s, path)?;
