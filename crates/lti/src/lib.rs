@@ -10,6 +10,7 @@
 //! | [`analysis`] | poles, zeros, DC gain, stability, damping, controllability/observability (staircase, PBH), gramians, canonical forms | `pole`, `tzero`, `dcgain`, `isstable`, `damp`, `ctrb`, `obsv`, `ctrbf`, `gram`, `canon` |
 //! | [`frequency_response`] | frequency response, Bode data with unwrapped phase | `freqresp`, `bode`, `logspace` |
 //! | [`margins`] | every gain/phase crossing of a SISO loop with gain, phase and delay margins; the gang of four | `allmargin`, `margin`, `loopsens` |
+//! | [`nyquist`], [`rlocus`], [`disk_margin`], [`sigma`] | Nyquist curve with the encirclement count and the Nyquist criterion, Nichols curve, root locus (branches, asymptotes, break points, gain at a point), disk margins, singular values over frequency | `nyquist`, `nichols`, `rlocus`, `rlocfind`, `diskmargin`, `sigma` |
 //! | [`stepinfo`] | step-response characteristics (rise, settling, overshoot, undershoot, peak) | `stepinfo` |
 //! | [`reduction`] | minimal realisation, Hankel singular values, balanced realisation and truncation (truncate, matched DC) | `minreal`, `hsvd`, `balreal`, `balred` |
 //! | [`norms`] | H2 norm (Gramian), H∞ norm with its peak frequency (Hamiltonian bisection), continuous and discrete | `norm`, `hinfnorm` |
@@ -49,6 +50,7 @@
 pub mod analysis;
 pub mod design;
 pub mod discretization;
+pub mod disk_margin;
 pub mod domain;
 pub mod equations;
 pub mod error;
@@ -58,9 +60,12 @@ pub mod linalg;
 pub mod margins;
 pub mod matrix_functions;
 pub mod norms;
+pub mod nyquist;
 pub mod polynomial;
 pub mod reduction;
 pub mod response;
+pub mod rlocus;
+pub mod sigma;
 pub mod state_space;
 pub mod stepinfo;
 pub mod trajectory;
