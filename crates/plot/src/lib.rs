@@ -19,7 +19,10 @@
 //! - [`Surface`] — a 3-D surface z = f(x, y) (the book's Lyapunov function plot).
 //! - Ready-made book figures: [`TimeResponse`] (runs × [`SignalPanel`]s of a trajectory),
 //!   [`Bode`], [`PoleZeroMap`], [`GainCurves`] (K(θ₁) against constant LQ gains),
-//!   [`IdentFit`] (measured against model, with fit %), [`region_of_attraction`].
+//!   [`IdentFit`] (measured against model, with fit %), [`region_of_attraction`]; loop
+//!   analysis: [`Nyquist`] (unit circle, −1, direction arrows), [`RootLocusPlot`] (poles ×,
+//!   zeros ○, asymptotes, gain annotations), [`Nichols`] (with the closed-loop M/N grid),
+//!   [`SigmaPlot`].
 //! - [`Animation`] — the cart-type ([`CartGeometry`]) and arm-type ([`ArmGeometry`]) pendulums
 //!   as looping GIF ([`Animation::save_gif`]) and SMIL-animated SVG ([`Animation::save_svg`]),
 //!   frames resampled from any sample rate at [`AnimationOptions::fps`].
@@ -58,6 +61,7 @@ mod axes;
 mod canvas;
 mod charts;
 mod color;
+mod control_charts;
 mod error;
 mod figure;
 mod font;
@@ -72,6 +76,7 @@ pub use charts::{
     Bode, CHATTER_RATIO, Channel, FrequencyUnit, GainCurves, IdentFit, PoleZeroMap, SignalPanel,
     TimeResponse, chatters, fit_percent, region_of_attraction,
 };
+pub use control_charts::{Nichols, Nyquist, RootLocusPlot, SigmaPlot};
 pub use color::{Color, ColorMap, PALETTE, palette};
 pub use error::{PlotError, Result};
 pub use figure::{DEFAULT_WIDTH, Figure, MAX_OUTSIDE_LEGEND, Panel, Raster, SavedFigure};
