@@ -76,8 +76,8 @@ pub use charts::{
     Bode, CHATTER_RATIO, Channel, FrequencyUnit, GainCurves, IdentFit, PoleZeroMap, SignalPanel,
     TimeResponse, chatters, fit_percent, region_of_attraction,
 };
-pub use control_charts::{Nichols, Nyquist, RootLocusPlot, SigmaPlot};
 pub use color::{Color, ColorMap, PALETTE, palette};
+pub use control_charts::{Nichols, Nyquist, RootLocusPlot, SigmaPlot};
 pub use error::{PlotError, Result};
 pub use figure::{DEFAULT_WIDTH, Figure, MAX_OUTSIDE_LEGEND, Panel, Raster, SavedFigure};
 pub use font::ensure_font;
