@@ -246,6 +246,24 @@ pub enum LtiError {
         /// Inputs.
         nu: usize,
     },
+    /// A standard plant violates an assumption of the H∞/H2 Riccati syntheses
+    /// ([`StandardPlant::check_assumptions`](crate::design::StandardPlant::check_assumptions)).
+    #[error("the standard plant violates the synthesis assumption {assumption}: {detail}")]
+    SynthesisAssumption {
+        /// The assumption that fails.
+        assumption: crate::design::PlantAssumption,
+        /// What was found (rank, zero, mode).
+        detail: String,
+    },
+    /// No controller reaches the H∞ level `γ`: the existence condition that failed
+    /// ([`design::hinf_syn`](crate::design::hinf_syn)).
+    #[error("no controller achieves ‖T_zw‖∞ < γ = {gamma}: {condition}")]
+    HinfInfeasible {
+        /// The level tried.
+        gamma: f64,
+        /// The first condition that fails.
+        condition: crate::design::HinfCondition,
+    },
     /// Any other invalid argument, with a message naming it.
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

@@ -11,15 +11,31 @@
 //! | LQ integral servo | [`integral_augmentation`], [`lq_servo`] | — |
 //! | observer-based output feedback | [`observer_controller`] | `reg` |
 //! | minimal-order (Gopinath) observer | [`minimal_order_observer`] | — |
+//! | standard plant `P = [A B₁ B₂; C₁ D₁₁ D₁₂; C₂ D₂₁ D₂₂]`, its assumptions, `F_l(P, K)` | [`StandardPlant`] | `lft` |
+//! | H∞ synthesis (Riccati, DGKF), γ-iteration, state feedback | [`hinf_syn`], [`hinf_syn_optimal`], [`hinf_state_feedback`] | `hinfsyn` |
+//! | H2 synthesis (Riccati), state feedback | [`h2_syn`], [`h2_state_feedback`] | `h2syn` |
+//! | mixed-sensitivity augmented plant | [`augw`] | `augw` |
 //!
 //! **Sign convention.** Every gain here is for `u = −K x` (closed loop `A − BK`), observer
 //! gains for `A − LC`. The textbook writes `u = +K x` with `K_book = −K`;
 //! [`StateFeedback`] converts explicitly ([`StateFeedback::from_book`],
 //! [`StateFeedback::book_gain`]).
 
+mod augw;
+mod h2;
+mod hinf;
 mod lqr;
 mod place;
 mod servo;
+mod standard_plant;
+
+pub use augw::augw;
+pub use h2::{H2Controller, H2StateFeedback, h2_state_feedback, h2_syn};
+pub use hinf::{
+    GammaIteration, GammaOptimal, HinfCondition, HinfController, HinfRiccati, HinfStateFeedback,
+    IMAGINARY_TOLERANCE, PSD_TOLERANCE, RESIDUAL_TOLERANCE, hinf_state_feedback,
+    hinf_state_feedback_optimal, hinf_syn, hinf_syn_optimal,
+};
 
 pub use lqr::{
     Kalman, LQ_WEIGHT_TOLERANCE, Lqr, SampledDataCost, SampledDataLqr, lqe, lqr, lqr_sampled_data,
@@ -30,6 +46,7 @@ pub use servo::{
     LqServo, ReducedOrderObserver, integral_augmentation, lq_servo, minimal_order_observer,
     observer_controller,
 };
+pub use standard_plant::{PlantAssumption, RANK_TOLERANCE, StandardPlant};
 
 use crate::domain::TimeDomain;
 use crate::error::Result;
