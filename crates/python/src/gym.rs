@@ -469,6 +469,8 @@ pub struct RigCore {
     autoreset: bool,
     /// The encoders' quantisers of states 0 and 1, if observations are quantised.
     encoders: Option<[Quantizer; 2]>,
+    /// The rig's D/A converter (`RigSpec::dac`), if actions are quantised by it.
+    dac: Option<Quantizer>,
     threads: usize,
     config: EnvConfig,
     travel: f64,
@@ -587,11 +589,14 @@ impl RigCore {
     /// steps, the drive's travel `travel` (m for the cart, rad for the arm; beyond it the
     /// episode terminates), the plant's parameters (`params`: a dict of the book's symbols,
     /// unspecified ones from the book's table), the observed positions quantised by the
-    /// rig's encoders if `quantize`.
+    /// rig's encoders if `quantize`, the voltage quantised by the rig's D/A converter
+    /// (`RigSpec::dac`: 16 bits over ±5 V, step `10/2¹⁶` V, round to nearest; applied with the
+    /// ±5 V saturation, whose bounds are converter levels, so the order does not matter) if
+    /// `dac`.
     ///
     /// Raises `ValueError` naming the offending argument or parameter.
     #[new]
-    #[pyo3(signature = (rig, n, *, task = "balance", autoreset = false, dt = 0.02, substeps = 1, max_steps = 500, travel = None, quantize = false, params = None, threads = 1))]
+    #[pyo3(signature = (rig, n, *, task = "balance", autoreset = false, dt = 0.02, substeps = 1, max_steps = 500, travel = None, quantize = false, dac = false, params = None, threads = 1))]
     fn new(
         rig: &str,
         n: usize,
@@ -602,6 +607,7 @@ impl RigCore {
         max_steps: usize,
         travel: Option<f64>,
         quantize: bool,
+        dac: bool,
         params: Option<HashMap<String, f64>>,
         threads: usize,
     ) -> PyResult<Self> {
@@ -648,11 +654,18 @@ impl RigCore {
         } else {
             None
         };
+        let dac = if dac {
+            let d = spec.dac;
+            Some(Quantizer::from_bits(d.bits, d.max - d.min).map_err(|e| sim_error(&e))?)
+        } else {
+            None
+        };
         Ok(Self {
             envs,
             task,
             autoreset,
             encoders,
+            dac,
             threads: threads.max(1),
             config,
             travel,
@@ -773,7 +786,8 @@ impl RigCore {
         matrix(py, obs, n)
     }
 
-    /// Steps every environment with its voltage `actions[i]` (V, clipped to ±5 V). With
+    /// Steps every environment with its voltage `actions[i]` (V, clipped to ±5 V, and
+    /// quantised by the D/A converter if the core was made with `dac`). With
     /// autoreset, the environments done on the previous step start a new episode instead
     /// (their generators continuing), with reward 0 and no termination or truncation.
     /// Returns `(obs (n, 4), reward (n,), terminated (n,), truncated (n,))`.
@@ -801,6 +815,14 @@ impl RigCore {
                 None,
             ));
         }
+        let quantised: Vec<f64>;
+        let acts = match &self.dac {
+            Some(q) => {
+                quantised = acts.iter().map(|&a| q.apply(a)).collect();
+                &quantised[..]
+            }
+            None => acts,
+        };
         let mut out = vec![RigOut::default(); n];
         let mut envs = std::mem::replace(&mut self.envs, RigEnvs::Cart(Vec::new()));
         let this = &*self;

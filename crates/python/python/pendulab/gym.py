@@ -215,6 +215,8 @@ class RigEnv(gymnasium.Env):
         3 rad for the arm; ``docs/model.md``).
     quantize : observe the positions quantised by the rig's encoders (cart
         4.8414·10⁻⁵ m and 2π/14400 rad per count; arm 2π/200000 and 2π/14400 rad).
+    dac : the voltage quantised by the rig's 16-bit D/A converter over ±5 V (steps of
+        10/2¹⁶ V, round to nearest; ``RigSpec::dac``).
     params : the plant's parameters by the book's symbols (others from tables 3.5 / 3.7).
 
     The action is the motor voltage, ``Box(-5, 5, (1,), float32)``, clipped to ±5 V.
@@ -269,7 +271,7 @@ class RigVectorEnv(VectorEnv):
     same arguments (environment ``i`` seeded with ``seed + i``, autoreset on the next step,
     each environment's generator continuing). ``threads`` (default: all cores) rayon threads
     step batches larger than 512 environments. Other arguments (``dt``, ``substeps``,
-    ``max_steps``, ``travel``, ``quantize``, ``params``) as :class:`RigEnv`.
+    ``max_steps``, ``travel``, ``quantize``, ``dac``, ``params``) as :class:`RigEnv`.
     """
 
     metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}

@@ -33,6 +33,7 @@ class RigOptions(TypedDict, total=False):
     max_steps: int
     travel: Optional[float]
     quantize: bool
+    dac: bool
     params: Optional[dict[str, float]]
 
 class RigEnv(gymnasium.Env):
