@@ -11,17 +11,31 @@
 //! block of `H` (Nesterov–Todd scaling), with Clarabel's simplicial LDLᵀ (QDLDL) or faer's
 //! supernodal LDLᵀ ([`crate::KktSolver`]). Its SDP path calls BLAS/LAPACK routines, which
 //! `pendulab-lapack` provides.
+//!
+//! **Feature `clarabel`** (default). Without it (`default-features = false`, as the browser
+//! lab builds for `wasm32-unknown-unknown`, where Clarabel's SDP path and its sparse KKT
+//! solver do not compile) there is no Clarabel: [`solve`] reports [`LmiError::Solver`], so
+//! [`crate::Backend::Clarabel`] is an error and [`crate::Backend::Auto`] is one whenever
+//! the dense method's answer does not pass its rechecks; [`crate::Backend::Dense`] works as
+//! with the feature. [`capture_conic_problems`] then records nothing.
 
-use crate::conic::{ConeKind, ConicData, RawSolution, RawStatus, Settings};
+#[cfg(feature = "clarabel")]
+use crate::conic::{ConeKind, RawStatus};
+use crate::conic::{ConicData, RawSolution, Settings};
 use crate::error::{LmiError, Result};
 use crate::problem::Problem;
+#[cfg(feature = "clarabel")]
 use clarabel::algebra::CscMatrix;
+#[cfg(feature = "clarabel")]
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
+#[cfg(feature = "clarabel")]
 use pendulab_lapack as _;
 use std::cell::RefCell;
+#[cfg(feature = "clarabel")]
 use std::panic::{AssertUnwindSafe, catch_unwind};
+#[cfg(feature = "clarabel")]
 use std::time::Instant;
 
 /// The exact conic problem handed to Clarabel by one solve, with the settings used and what
@@ -94,6 +108,7 @@ pub fn capture_conic_problems<R>(f: impl FnOnce() -> R) -> (R, Vec<ConicProblem>
 }
 
 /// The Clarabel settings [`solve`] sets, by Clarabel's names (for [`ConicProblem`]).
+#[cfg(feature = "clarabel")]
 fn capture_settings(s: &Settings) -> Vec<(&'static str, f64)> {
     let mut v = vec![
         ("max_iter", f64::from(s.max_iterations)),
@@ -122,6 +137,7 @@ fn capture_settings(s: &Settings) -> Vec<(&'static str, f64)> {
 }
 
 /// Clarabel's `chordal_decomposition_merge_method` for [`Settings::merge_cliques`].
+#[cfg(feature = "clarabel")]
 fn merge_method(s: &Settings) -> &'static str {
     if s.merge_cliques {
         "clique_graph"
@@ -130,6 +146,22 @@ fn merge_method(s: &Settings) -> &'static str {
     }
 }
 
+/// Without the `clarabel` feature: no Clarabel to hand the problem to (module docs).
+#[cfg(not(feature = "clarabel"))]
+pub(crate) fn solve(
+    _problem: &Problem,
+    data: &ConicData,
+    _settings: &Settings,
+) -> Result<RawSolution> {
+    Err(LmiError::Solver(format!(
+        "Clarabel is not built in (pendulab-lmi without its `clarabel` feature); the dense \
+         method did not solve this problem ({} variables, {} rows)",
+        data.n, data.m
+    )))
+}
+
+/// Solves the conic form with Clarabel (module docs).
+#[cfg(feature = "clarabel")]
 pub(crate) fn solve(
     problem: &Problem,
     data: &ConicData,

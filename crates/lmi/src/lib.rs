@@ -62,10 +62,21 @@
 //! nonnegative and PSD cones, the PSD rows as the `svec` of the upper triangle column by
 //! column with off-diagonals × √2) and maps answers back; `dense.rs` is the dense method;
 //! exactly one file (`clarabel_backend.rs`) knows Clarabel's interface.
+//!
+//! ## Features
+//!
+//! - `clarabel` (default): the Clarabel backend. Without it the crate has no C or BLAS
+//!   dependency and builds for `wasm32-unknown-unknown` (the browser lab, `docs/web.md`);
+//!   [`Backend::Dense`] solves as before, [`Backend::Clarabel`] is an [`LmiError::Solver`],
+//!   and [`Backend::Auto`] is one whenever it would fall back to Clarabel. On
+//!   `wasm32-unknown-unknown` (no clock in `std`) the timing fields of a [`Solution`] are 0.
 
 #![warn(missing_docs)]
 
 mod clarabel_backend;
+mod clock;
+// Without Clarabel, the settings only it reads and the statuses only it reports are unused.
+#[cfg_attr(not(feature = "clarabel"), allow(dead_code))]
 mod conic;
 mod dense;
 pub mod error;

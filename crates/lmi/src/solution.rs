@@ -2,6 +2,7 @@
 //! infeasibility certificates.
 
 use crate::clarabel_backend;
+use crate::clock::Instant;
 pub use crate::conic::Dims;
 use crate::conic::{ConicData, RawSolution, RawStatus, Settings};
 use crate::dense;
@@ -10,7 +11,6 @@ use crate::expr::{Affine, Expr};
 use crate::problem::{Cone, ConstraintId, Origin, Problem, Relation, SosId};
 use crate::sos;
 use pendulab_lti::Mat;
-use std::time::Instant;
 
 /// Stopping tolerances of the interior-point methods (Clarabel's meaning, which the dense
 /// method follows: see the `dense` module docs; all relative to the problem data as the

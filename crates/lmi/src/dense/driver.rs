@@ -9,8 +9,8 @@ use super::kernels::{dot, norm};
 use super::kkt::{Kkt, KktSolution, Structure};
 use super::scaling::Cone;
 use super::{EXPON, MIN_STEP, NO_PROGRESS, Outcome, PROGRESS, STALL, STEP};
+use crate::clock::Instant;
 use crate::conic::{ConicData, RawStatus, Settings};
-use std::time::Instant;
 
 /// Solves `data` by the dense method (module docs).
 pub(crate) fn solve(data: &ConicData, settings: &Settings) -> Outcome {
