@@ -8,7 +8,9 @@ control.linfnorm; AB13BD through control.norm(sys, 2)).
 
 Writes crates/lti/tests/data/hinf_reference.json with, per standard plant
 P = [A B1 B2; C1 D11 D12; C2 D21 D22] (the whole system A, B, C, D, with nmeas, ncon):
-  - gamma_slycot: the level SB10AD returns (its estimate of the optimal γ to GTOL = 1e-8; a tighter GTOL returns unstable closed loops on some plants);
+  - gamma_slycot: the level SB10AD returns (its estimate of the optimal γ to GTOL, the
+    tightest of 1e-8, 1e-6, 1e-4 whose controller closes a stable loop, stored as gtol: a
+    tighter GTOL returns unstable closed loops on some plants);
   - gamma_closed_loop: ‖T_zw‖∞ of SB10AD's controller in closed loop (control.linfnorm,
     tol 1e-10): any stabilising controller's norm bounds the optimum from above;
   - h2_optimal (plants with D11 = 0): ‖T_zw‖₂ of control.h2syn's controller in closed loop,
@@ -22,7 +24,8 @@ Plants:
     weights of part 2 §2.3.4 (Q = diag(10, 10, 0, 0), R = 1) as z = [√10 z_c; √10 θ; u],
     w = [input disturbance; encoder noise of the two positions × 0.1], y = [z_c; θ] + noise;
   - "random6" and "random6_d22": a random 6-state plant (seed 8), nw = 3, ncon = 2, nz = 4,
-    nmeas = 2, D11 = 0, with D22 = 0 and with a random D22 (loop shift);
+    nmeas = 2, D11 = 0, with D22 = 0 and with a random D22 (loop shift); "random6_d11": the
+    same with a random D11 (3 × standard normal; the LMI synthesis only);
   - "mixsyn_d11": the mixed-sensitivity plant of control.augw for
     G = 200/((10s + 1)(0.05s + 1)²) (Skogestad & Postlethwaite, Multivariable Feedback
     Control, example 2.11), W1 = (s/M + ω_b)/(s + ω_b A) with M = 1.5, ω_b = 10, A = 1e-4,
@@ -105,6 +108,8 @@ def plants():
     Z11 = np.zeros((nz, nw))
     out["random6"] = (*assemble(A, B1, B2, C1, C2, Z11, D12, D21, np.zeros((ny, nu))), ny, nu)
     out["random6_d22"] = (*assemble(A, B1, B2, C1, C2, Z11, D12, D21, D22), ny, nu)
+    D11 = 3.0 * rng.standard_normal((nz, nw))
+    out["random6_d11"] = (*assemble(A, B1, B2, C1, C2, D11, D12, D21, np.zeros((ny, nu))), ny, nu)
     s = control.tf("s")
     G = 200 / ((10 * s + 1) * (0.05 * s + 1) ** 2)
     M, wb, Aw = 1.5, 10.0, 1e-4
@@ -124,11 +129,15 @@ def main():
     for name, (A, B, C, D, nmeas, ncon) in plants().items():
         A, B, C, D = (np.atleast_2d(np.asarray(m, dtype=float)) for m in (A, B, C, D))
         n, m, np_ = A.shape[0], B.shape[1], C.shape[0]
-        gam, Ak, Bk, Ck, Dk, Ac, Bc, Cc, Dc, rcond = slycot.sb10ad(
-            n, m, np_, ncon, nmeas, 1e6, A, B, C, D, job=3, gtol=1e-8
-        )
-        cl = control.ss(Ac, Bc, Cc, Dc)
+        # The tightest GTOL of 1e-8, 1e-6, 1e-4 whose controller closes a stable loop.
+        for gtol in (1e-8, 1e-6, 1e-4):
+            gam, Ak, Bk, Ck, Dk, Ac, Bc, Cc, Dc, rcond = slycot.sb10ad(
+                n, m, np_, ncon, nmeas, 1e6, A, B, C, D, job=3, gtol=gtol
+            )
+            if np.all(np.linalg.eigvals(Ac).real < 0):
+                break
         assert np.all(np.linalg.eigvals(Ac).real < 0), name
+        cl = control.ss(Ac, Bc, Cc, Dc)
         norm_cl = float(control.linfnorm(cl, tol=1e-10)[0])
         case = {
             "name": name,
@@ -139,6 +148,7 @@ def main():
             "nmeas": nmeas,
             "ncon": ncon,
             "gamma_slycot": float(gam),
+            "gtol": gtol,
             "gamma_closed_loop": norm_cl,
         }
         nz, nw = np_ - nmeas, m - ncon

@@ -9,18 +9,28 @@
 //!   (invariant-ellipsoid) conditions, all with a common Lyapunov matrix `X` and gain factor
 //!   `L`, `K = −L X⁻¹`;
 //! - [`gain_scheduled_lq`]: parameter-dependent `X(ρ)`, `L(ρ)` with bounded `ρ̇`, SOS
-//!   multipliers, γ minimisation, `K(ρ) = −L(ρ) X(ρ)⁻¹` as a callable ([`GainSchedule`]).
+//!   multipliers, γ minimisation, `K(ρ) = −L(ρ) X(ρ)⁻¹` as a callable ([`GainSchedule`]);
+//! - [`hinf_lmi`] (output feedback, Gahinet–Apkarian projected LMIs and controller
+//!   reconstruction), [`hinf_state_feedback_lmi`] and [`h2_state_feedback_lmi`]: H∞ and H2
+//!   synthesis on `pendulab-lti`'s standard plant.
 //!
 //! Convention: the control law is `u = −K x` throughout (the textbook writes `u = +K̃ x`
 //! with `K̃ = L X⁻¹`, i.e. `K̃ = −K`).
 
 mod gain_schedule;
+mod h2;
+mod hinf;
 mod scaling;
 mod stability;
 mod state_feedback;
 
 pub use gain_schedule::{
     GainSchedule, GainScheduleSpec, LpvPlant, ScheduledGain, gain_scheduled_lq,
+};
+pub use h2::{H2StateFeedbackLmi, h2_state_feedback_lmi};
+pub use hinf::{
+    HinfLmi, HinfLmiController, HinfLmiOptions, HinfStateFeedbackLmi, hinf_lmi, hinf_lmi_at,
+    hinf_state_feedback_lmi,
 };
 pub use stability::{AlphaStability, DecayRate, alpha_stability, max_decay_rate};
 pub use state_feedback::{
