@@ -6,7 +6,10 @@ python-control's and MATLAB's names. Linear-systems functions live at the top le
 ``pendulab.plants``; the LMI syntheses in ``pendulab.lmi``; identification in
 ``pendulab.ident``; sliding mode, swing-up, NMPC, quantizers and Kalman filters in
 ``pendulab.control``; the book's examples and the lab report in ``pendulab.book``; the
-Gymnasium environments in ``pendulab.gym``.
+Gymnasium environments in ``pendulab.gym``; regions of attraction and Monte Carlo studies,
+cut into deterministic chunks run locally or on Ray, in ``pendulab.study`` and
+``pendulab.ray``; a swing-up policy trained by Evolution Strategies with its rollouts as Ray
+tasks on the native vector env in ``pendulab.rl`` (``docs/studies.md``).
 """
 
 from ._native import __version__
