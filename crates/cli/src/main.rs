@@ -75,6 +75,7 @@ mod lqr;
 mod model;
 mod plot;
 mod report;
+mod report_studies;
 mod rig;
 mod simulate;
 mod sys;

@@ -325,6 +325,7 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
         }
         s.push_str("</div>\n");
     }
+    crate::report_studies::write_studies(lab, &figs, &mut s)?;
     s.push_str("</body>\n</html>\n");
     let index = out.join("index.html");
     crate::lab::write_whole(&index, s.as_bytes())?;

@@ -356,6 +356,18 @@ def assemble(parts: Sequence[Mapping[str, np.ndarray]]) -> Dict[str, np.ndarray]
     return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
 
 
+def _json_safe(v: Any) -> Any:
+    """``v`` with every non-finite float replaced by ``"inf"``, ``"-inf"`` or ``"nan"``
+    (strict JSON has no such numbers)."""
+    if isinstance(v, float) and not math.isfinite(v):
+        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
+    if isinstance(v, Mapping):
+        return {k: _json_safe(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_json_safe(x) for x in v]
+    return v
+
+
 class StudyResult:
     """A finished study: ``study`` (its specification), ``arrays`` (per-sample outcomes, also
     as attributes: ``result.caught``), ``stats`` (a dict of summary statistics) and
@@ -432,6 +444,36 @@ class StudyResult:
         study_histogram_figure(path, edges.tolist(), counts.astype(float).tolist(),
                                f"{field} [{units.get(field, '')}]",
                                f"Monte Carlo, {v.size} of {self.arrays[field].size} runs")
+
+    def save(self, lab_dir: Union[str, os.PathLike], name: Optional[str] = None, **figure_options: Any) -> str:
+        """Writes the study into a lab directory for ``pendulab report --lab`` (``docs/lab.md``):
+        ``lab_dir/studies/<name>/summary.json`` (``kind``, ``stats``, ``spec``, ``key``,
+        ``pendulab_version``, ``figure``; NaN statistics written as ``null``, a non-finite
+        number of the spec as the string ``"inf"``, ``"-inf"`` or ``"nan"``) and
+        ``figure.svg`` (:meth:`save_figure` with ``figure_options``), both written whole
+        (a temporary file renamed). ``name`` defaults to ``<kind>-<key>``; it must be a plain
+        file name. Returns the study's folder."""
+        name = name or f"{self.study.kind}-{self.study.key}"
+        if not name or os.sep in name or (os.altsep and os.altsep in name) or name.startswith("."):
+            raise InvalidArgumentError(f"study: name {name!r} must be a plain folder name")
+        folder = os.path.join(os.fspath(lab_dir), "studies", name)
+        os.makedirs(folder, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=folder, suffix=".svg")
+        os.close(fd)
+        try:
+            self.save_figure(tmp, **figure_options)
+            os.replace(tmp, os.path.join(folder, "figure.svg"))
+        finally:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+        stats = {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in self.stats.items()}
+        summary = {"kind": self.study.kind, "stats": stats, "spec": _json_safe(self.study.spec), "key": self.study.key,
+                   "pendulab_version": __version__, "figure": "figure.svg"}
+        fd, tmp = tempfile.mkstemp(dir=folder, suffix=".json")
+        with os.fdopen(fd, "w") as f:
+            json.dump(summary, f, indent=1, sort_keys=True, allow_nan=False)
+        os.replace(tmp, os.path.join(folder, "summary.json"))
+        return folder
 
     def __repr__(self) -> str:
         return f"StudyResult({self.study.kind}, {self.stats})"

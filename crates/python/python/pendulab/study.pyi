@@ -34,6 +34,9 @@ class StudyResult:
         bins: int = ...,
         at: Optional[Mapping[str, int]] = ...,
     ) -> None: ...
+    def save(
+        self, lab_dir: Union[str, os.PathLike], name: Optional[str] = ..., **figure_options: Any
+    ) -> str: ...
 
 class ChunkCache:
     dir: str
