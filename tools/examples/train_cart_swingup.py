@@ -44,6 +44,9 @@ def main(argv=None):
     p.add_argument("--balance-weight", type=float, default=0.5)
     p.add_argument("--sigma", type=float, default=0.5)
     p.add_argument("--learning-rate", type=float, default=0.2)
+    p.add_argument("--swingup-sigma", type=float, default=None, help="stage 2's σ (default --sigma)")
+    p.add_argument("--swingup-learning-rate", type=float, default=None,
+                   help="stage 2's Adam step (default --learning-rate)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--backend", choices=("local", "ray"), default="local")
     p.add_argument("--address", default=None, help="a Ray cluster's HOST:PORT (default: a local one)")
@@ -58,8 +61,9 @@ def main(argv=None):
     # Stage 2: the swing-up env, from the stage-1 policy; `anywhere` of the episodes start
     # within ±anywhere_angle of upright (balance episodes when inside 12°: their fitness stops
     # when the pendulum leaves the window), the others from the env's hanging start.
+    stage2 = dict(common, sigma=a.swingup_sigma or a.sigma, learning_rate=a.swingup_learning_rate or a.learning_rate)
     swingup = rl.ESConfig(anywhere=a.anywhere, anywhere_angle=a.anywhere_angle, balance_weight=a.balance_weight,
-                          curriculum=a.curriculum, **common)
+                          curriculum=a.curriculum, **stage2)
 
     def progress(stage):
         def report(g, s):
@@ -73,8 +77,11 @@ def main(argv=None):
     first = rl.train(balance, a.balance_generations, progress=progress("balance"), **opts)
     res = rl.train(swingup, a.generations, initial=first.policy, progress=progress("swing-up"), **opts)
     seconds = time.perf_counter() - t0
-    command = "python tools/examples/train_cart_swingup.py " + " ".join(
-        x for x in sys.argv[1:] if not x.startswith("--out"))
+    args = list(argv if argv is not None else sys.argv[1:])
+    if "--out" in args:  # the output path is not part of the recipe
+        i = args.index("--out")
+        del args[i:i + 2]
+    command = "python tools/examples/train_cart_swingup.py " + " ".join(x for x in args if not x.startswith("--out="))
     res.policy.save(a.out, seed=a.seed, command=command.strip(), train_seconds=round(seconds, 1),
                     balance_stage=balance.to_dict(), balance_generations=a.balance_generations,
                     balance_stage_mean_return=first.history["mean_return"].round(3).tolist(),
