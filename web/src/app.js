@@ -30,7 +30,7 @@
   }
 
   const state = {
-    plant: "cart", method: "lqr", q: [], r: 1, poles: [], design: null,
+    plant: "cart", method: "lqr", q: [], r: 1, alpha: 1, poles: [], design: null, lmiMs: [],
     paused: false, responseDirty: true, lastDesignUs: [], frameMs: [], intervalMs: [],
     simStart: 0, wallStart: 0,
     hist: { t: new Float64Array(HISTORY), q0: new Float64Array(HISTORY), q1: new Float64Array(HISTORY),
@@ -64,7 +64,21 @@
     if (state.method === "place") return buildPoles();
     state.q.forEach((v, i) => box.appendChild(slider(`q${i}`, Q_LABELS[i], v, (q) => { state.q[i] = q; redesign(); })));
     box.appendChild(slider("r", "R", state.r, (r) => { if (r > 0) { state.r = r; redesign(); } }));
+    $("lmi-panel").hidden = !isLmi();
+    if (isLmi()) {
+      // The decay rate α of the pole region Re λ < −α (linear, 0 … 10 1/s).
+      const wrap = document.createElement("div");
+      wrap.className = "slider";
+      wrap.innerHTML = `<label for="alpha">α [1/s]</label><input id="alpha" type="range" min="0" max="10" step="0.25"><output for="alpha"></output>`;
+      const input = wrap.querySelector("input"), out = wrap.querySelector("output");
+      input.value = state.alpha; out.textContent = String(state.alpha);
+      input.addEventListener("input", () => { state.alpha = +input.value; out.textContent = String(state.alpha); redesign(); });
+      box.appendChild(wrap);
+    }
   }
+
+  const isLmi = () => state.method === "lmi" || state.method === "lmi-servo";
+  const servoWeights = () => state.method === "servo" || state.method === "lmi-servo";
 
   function buildPoles() {
     const box = $("poles-input");
@@ -91,21 +105,30 @@
     try {
       const d = state.method === "place"
         ? lab.design("place", { poles: state.poles })
+        : isLmi() ? lab.design("lmi", { q: state.q, r: state.r, alpha: state.alpha })
         : lab.design(state.method, { q: state.q, r: state.r });
       const us = (performance.now() - t0) * 1000;
-      state.lastDesignUs.push(us);
-      if (state.lastDesignUs.length > 200) state.lastDesignUs.shift();
+      if (isLmi()) {
+        state.lmiMs.push(us / 1000);
+        if (state.lmiMs.length > 200) state.lmiMs.shift();
+        $("lmi-cert").textContent = d.lmi.text;
+        $("lmi-time").textContent = `${(us / 1000).toFixed(1)} ms (median ${median(state.lmiMs).toFixed(1)} ms of ${state.lmiMs.length}), in WebAssembly`;
+      } else {
+        state.lastDesignUs.push(us);
+        if (state.lastDesignUs.length > 1000) state.lastDesignUs.shift();
+      }
       state.design = d;
       state.responseDirty = true;
       const g = $("gain");
       g.textContent = "[" + d.gain.map((v) => v.toFixed(4)).join(", ") + "]";
       g.dataset.gain = JSON.stringify(d.gain);
       $("poles").textContent = d.poles.map(([re, im]) => im === 0 ? re.toFixed(3) : `${re.toFixed(3)}${im >= 0 ? "+" : "−"}${Math.abs(im).toFixed(3)}i`).join(", ");
-      $("redesign-time").textContent = `${median(state.lastDesignUs).toFixed(1)} µs (median of ${state.lastDesignUs.length})`;
+      if (!isLmi()) $("redesign-time").textContent = `${median(state.lastDesignUs).toFixed(1)} µs (median of ${state.lastDesignUs.length})`;
       window.PendulabPlot.poleMap($("polemap"), d.open, d.poles);
       status("");
     } catch (e) {
       status(e.message, true);
+      if (isLmi()) $("lmi-cert").textContent = e.message;
     }
   }
 
@@ -140,7 +163,7 @@
     state.plant = kind;
     const d = DEFAULTS[kind];
     if (!keepPlant) lab.init(kind);
-    state.q = (state.method === "servo" ? d.servo : d.lqr).slice();
+    state.q = (servoWeights() ? d.servo : d.lqr).slice();
     state.r = d.r;
     state.poles = d.poles.map((p) => p.slice());
     $("ref-unit").textContent = `[${d.unit}]`;
@@ -288,7 +311,7 @@
     el.addEventListener("change", () => {
       state.method = el.value;
       const d = DEFAULTS[state.plant];
-      state.q = (state.method === "servo" ? d.servo : d.lqr).slice();
+      state.q = (servoWeights() ? d.servo : d.lqr).slice();
       buildWeights();
       redesign();
     });
@@ -354,6 +377,43 @@
     if (ev.key === "ArrowRight") { lab.poke(0, 5 * DEG); ev.preventDefault(); }
   });
 
+  // --- the gain-scheduled arm servo beside the constant LQ servo (crates/web/src/compare.rs) --
+  // The schedule's controller file and its weights come from gain_schedule.js (tools/build-web).
+  function compareServos() {
+    const gs = window.PENDULAB_GAIN_SCHEDULE;
+    if (!gs) { $("gs-summary").textContent = "No schedule in this build (tools/build-web writes gain_schedule.js)."; return null; }
+    if (state.plant !== "arm") { $("plant").value = "arm"; choosePlant("arm"); }
+    const amp = +$("gs-amplitude").value * DEG;
+    const t0 = performance.now();
+    try {
+      const r = lab.compare(gs.file, gs.q, gs.r, [[0.5, amp], [6.5, 0]], 12, 10);
+      const ms = performance.now() - t0;
+      const deg = (a) => a.map((v) => v / DEG);
+      const GS = "#1f6feb", LQ = "#d4760a";
+      window.PendulabPlot.stacked($("gs-plot"), innerWidth > 760 ? 0.33 : 0.9, 0, 12, [
+        { title: "θ₁ [°]: reference (grey), gain-scheduled (blue), constant LQ (orange)", series: [
+          { t: r.t, y: deg(r.r), color: "#8c959f" }, { t: r.t, y: deg(r.gs.q0), color: GS }, { t: r.t, y: deg(r.lq.q0), color: LQ }] },
+        { title: "θ₂ [°]", series: [{ t: r.t, y: deg(r.gs.q1).map((v) => Math.max(-45, Math.min(45, v))), color: GS },
+          { t: r.t, y: deg(r.lq.q1).map((v) => Math.max(-45, Math.min(45, v))), color: LQ }] },
+        { title: "v [V]", series: [{ t: r.t, y: r.gs.u, color: GS }, { t: r.t, y: r.lq.u, color: LQ }] },
+      ]);
+      const maxAbs = (a) => Math.max(...a.map(Math.abs)) / DEG;
+      const fell = (a) => maxAbs(a) > 90;
+      const at = r.t.findIndex((t) => t >= 6.4);
+      const err = (a) => Math.abs(a[at] - amp) / DEG;
+      const says = (name, run) => fell(run.q1) ? `${name}: the pendulum falls (|θ₂| > 90°)`
+        : `${name}: |θ₁ − r| = ${err(run.q0).toFixed(1)}° at 6.4 s, max |θ₂| = ${maxAbs(run.q1).toFixed(1)}°`;
+      $("gs-summary").textContent = `${says("gain-scheduled", r.gs)}; ${says("constant LQ", r.lq)}. Both runs (2 × 12 s at 1 kHz) took ${ms.toFixed(0)} ms.`;
+      state.compare = { r, ms };
+      return r;
+    } catch (e) {
+      $("gs-summary").textContent = e.message;
+      status("comparison: " + e.message, true);
+      return null;
+    }
+  }
+  $("gs-run").addEventListener("click", () => compareServos());
+
   // The hooks the browser tests read (web/tests): the lab object and the page's numbers.
   window.pendulab = {
     lab,
@@ -362,10 +422,21 @@
     snapshot: () => state.snap,
     frameStats: () => ({ workMs: state.frameMs.slice(), intervalMs: state.intervalMs.slice() }),
     redesignUs: () => state.lastDesignUs.slice(),
+    lmiMs: () => state.lmiMs.slice(),
+    comparison: () => state.compare || null,
     csv,
     ready: true,
   };
 
+  // Warm-up (docs/web.md, "Redesign time"): the engine compiles a WebAssembly function
+  // lazily at its first call with its baseline compiler and recompiles it optimised only once
+  // it is hot, so the first slider moves would run unoptimised code. A few hundred designs of
+  // each slider method at load make the redesign path hot before anyone moves a slider.
+  lab.init("cart");
+  for (let i = 0; i < 300; i++) {
+    lab.design("lqr", { q: [10, 10, 0, 0], r: 1 + 1e-3 * i });
+    lab.design("servo", { q: [1, 5, 0, 0, 100], r: 1 + 1e-3 * i });
+  }
   choosePlant("cart");
   requestAnimationFrame(frame);
 })();

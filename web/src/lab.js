@@ -48,29 +48,39 @@
         new Uint8Array(mem(), x.pl_text_in(bytes.length), bytes.length).set(bytes);
         check(x.pl_load_plant());
       },
-      // method: "lqr" (q: 4), "servo" (q: 5), "place" (poles: [[re, im] x 4]).
+      // method: "lqr" (q: 4), "servo" (q: 5), "place" (poles: [[re, im] x 4]), "lmi" (q: 4
+      // or 5, r, alpha: the LMI guaranteed-cost LQ design with decay rate alpha, solved by
+      // pendulab-lmi's dense interior-point method; 5 weights: the integral servo).
       design(method, args) {
         const b = io();
-        let m = 0;
-        if (method === "lqr" || method === "servo") {
-          m = method === "lqr" ? 0 : 1;
-          args.q.forEach((v, i) => { b[i] = v; });
-        } else {
-          m = 2;
+        const m = { lqr: 0, servo: 1, place: 2, lmi: 3 }[method];
+        if (m === undefined) throw new Error(`unknown design method ${method}`);
+        if (m === 2) {
           args.poles.forEach(([re, im], i) => { b[2 * i] = re; b[2 * i + 1] = im; });
+        } else {
+          args.q.forEach((v, i) => { b[i] = v; });
         }
-        check(x.pl_design(m, method === "place" ? 0 : args.r));
+        if (m === 3) { b[5] = args.q.length; b[6] = args.alpha; }
+        check(x.pl_design(m, m === 2 ? 0 : args.r));
         const o = io();
         const n = o[5];
         const poles = [];
         for (let i = 0; i < n; i++) poles.push([o[6 + 2 * i], o[7 + 2 * i]]);
-        return {
+        const d = {
           gain: Array.from(o.subarray(0, n)),
           poles,
           a: Array.from(o.subarray(16, 32)),
           b: Array.from(o.subarray(32, 36)),
           open: [0, 1, 2, 3].map((i) => [o[36 + 2 * i], o[37 + 2 * i]]),
         };
+        if (m === 3) {
+          // The certificate (crates/web/src/ffi.rs, DESIGN_LMI) and its sentence.
+          d.lmi = {
+            status: o[44] === 1 ? "solved" : "solved (reduced accuracy)", iterations: o[45],
+            constraints: o[46], minSlack: o[47], traceX: o[48], inRegion: o[49] === 1, text: textOut(),
+          };
+        }
+        return d;
       },
       mode(swingUp) { check(x.pl_mode(swingUp ? 1 : 0)); },
       reset(q0, q1) { check(x.pl_reset(q0, q1)); },
@@ -103,6 +113,27 @@
           t.push(o[4 * i]); q0.push(o[4 * i + 1]); q1.push(o[4 * i + 2]); u.push(o[4 * i + 3]);
         }
         return { t, q0, q1, u };
+      },
+      // The gain-scheduled servo of `file` (a controller file) beside the constant LQ servo of
+      // weights q (5), r on the arm, both following `steps` ([[t, value rad], ...]) for
+      // `duration` s (crates/web/src/compare.rs); every `every`-th sample.
+      compare(file, q, r, steps, duration, every) {
+        const bytes = new TextEncoder().encode(file);
+        new Uint8Array(mem(), x.pl_text_in(bytes.length), bytes.length).set(bytes);
+        const b = io();
+        q.forEach((v, i) => { b[i] = v; });
+        b[5] = r; b[6] = steps.length;
+        steps.forEach(([t, v], i) => { b[7 + 2 * i] = t; b[8 + 2 * i] = v; });
+        const n = check(x.pl_compare(duration, every));
+        const o = io();
+        const out = { t: [], r: [], gs: { q0: [], q1: [], u: [] }, lq: { q0: [], q1: [], u: [] } };
+        for (let i = 0; i < n; i++) {
+          const k = 8 * i;
+          out.t.push(o[k]); out.r.push(o[k + 1]);
+          out.gs.q0.push(o[k + 2]); out.gs.q1.push(o[k + 3]); out.gs.u.push(o[k + 4]);
+          out.lq.q0.push(o[k + 5]); out.lq.q1.push(o[k + 6]); out.lq.u.push(o[k + 7]);
+        }
+        return out;
       },
       controllerToml() { check(x.pl_controller_toml()); return textOut(); },
       plantToml() { check(x.pl_plant_toml()); return textOut(); },

@@ -1,6 +1,13 @@
-//! Designs on a plant's upright linearisation: LQR (`n = 4`), the LQ integral servo (`n = 5`)
-//! and pole placement, each giving the gain, the closed-loop poles and the controller spec that
+//! Designs on a plant's upright linearisation: LQR (`n = 4`), the LQ integral servo (`n = 5`),
+//! pole placement and the LMI guaranteed-cost LQ design with a decay-rate pole region (`n = 4`
+//! or the servo's 5), each giving the gain, the closed-loop poles and the controller spec that
 //! runs the gain (`pendulab_control::spec`).
+//!
+//! The LMI design is `pendulab_lmi::synthesis::state_feedback` solved by pendulab-lmi's dense
+//! interior-point method ([`pendulab_lmi::Backend::Dense`]): the browser's build of
+//! pendulab-lmi has no Clarabel (`docs/web.md`, "LMIs in the browser"). Its certificate (the
+//! solver's status, the recheck of every LMI on the returned `X`, `L`) comes with the gain
+//! ([`LmiCertificate`]).
 //!
 //! The linearisation is the plant spec's own (`PlantParameters::linearize_upright`, the arm at
 //! `θ₁ₑ = 0`; `docs/model.md` §1–2); the designs are `pendulab_lti::design::{lqr, lq_servo,
@@ -14,7 +21,9 @@ use pendulab_control::spec::{
     ControllerSpec, DesignInput, DesignRecord, GainSpec, LqServoSpec, StateFeedbackSpec,
     SwingUpBalanceSpec,
 };
-use pendulab_lti::design::{lq_servo, lqr, place};
+use pendulab_lmi::synthesis::{LqWeights, Region, StateFeedbackSpec as LmiSpec, Vertex};
+use pendulab_lmi::{Backend, SolveOptions, Status};
+use pendulab_lti::design::{integral_augmentation, lq_servo, lqr, place};
 use pendulab_lti::linalg::Complex64;
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_plants::spec::PlantSpec;
@@ -46,6 +55,40 @@ pub enum Method {
         /// The closed-loop poles.
         poles: Vec<Complex64>,
     },
+    /// The LMI guaranteed-cost LQ design (book part 2 §1.2) with a decay-rate region: find
+    /// `X ≻ 0`, `L` maximising `tr X` subject to the LQ cost LMI (`Q = diag(q)`, `R = r`) and,
+    /// for `alpha > 0`, `He(AX + BL) + 2αX ≺ 0` (every closed-loop pole left of `−α`,
+    /// Chilali–Gahinet); `K = −L X⁻¹`. With 4 weights on `[q₀, q₁, q̇₀, q̇₁]` the regulator,
+    /// with 5 the integral servo on `[x; w]`, `w = ∫(r − q₀) dt` (the augmentation of
+    /// [`Method::Servo`]; book part 2 §1.2.2, `p2c122_ex4`).
+    Lmi {
+        /// Diagonal of `Q` (4 or 5 entries, finite, ≥ 0).
+        q: Vec<f64>,
+        /// `R` (> 0) \[1/V²\].
+        r: f64,
+        /// The decay rate `α` \[1/s\] (finite, ≥ 0; 0 imposes no region).
+        alpha: f64,
+    },
+}
+
+/// What certifies an LMI design: the status of pendulab-lmi's dense interior-point method and
+/// the recheck of every constraint on the returned `X`, `L` (`pendulab_lmi::Solution`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LmiCertificate {
+    /// The solver's status of the final solve (`Solved`, `AlmostSolved`).
+    pub status: Status,
+    /// Interior-point iterations, over the optimisation and the feasibility re-solve if one
+    /// was run.
+    pub iterations: u32,
+    /// The rechecked constraints (`X ≻ 0`, the LQ cost LMI, the region).
+    pub constraints: usize,
+    /// The smallest `value − margin` over the rechecked constraints (≥ −tolerance when they
+    /// hold; for `F ≺ 0` with margin `ε`, the smallest eigenvalue of `−F` minus `ε`).
+    pub min_slack: f64,
+    /// `tr X` of the final solve (the objective maximised).
+    pub trace_x: f64,
+    /// Whether every closed-loop pole lies left of `−α` (checked on `eig(A − BK)`).
+    pub poles_in_region: bool,
 }
 
 /// A design's result.
@@ -68,6 +111,8 @@ pub struct Design {
     pub a: Mat,
     /// The linearisation's `B` (4 × 1).
     pub b: Mat,
+    /// The certificate of an LMI design ([`Method::Lmi`]); `None` for the others.
+    pub lmi: Option<LmiCertificate>,
 }
 
 /// Which controller runs a design's gain.
@@ -117,60 +162,184 @@ fn check_weights(q: &[f64], n: usize, r: f64) -> Result<(), WebError> {
 ///
 /// # Errors
 /// [`WebError::Length`]/[`WebError::OutOfRange`] for weights of the wrong length, a negative
-/// or non-finite `q`, `r ≤ 0`; [`WebError::Design`] when the design fails (no stabilising
-/// Riccati solution, poles without their conjugates); [`WebError::Plant`].
+/// or non-finite `q`, `r ≤ 0`, a negative `alpha`; [`WebError::Design`] when the design fails
+/// (no stabilising Riccati solution, poles without their conjugates); [`WebError::Lmi`] when
+/// the LMIs are not solved (infeasible for this `α`, or the solver's rechecks fail);
+/// [`WebError::Plant`].
 pub fn design(plant: &PlantSpec, method: &Method) -> Result<Design, WebError> {
-    let sys = linearization(plant)?;
-    let (a, b) = (sys.a().clone(), sys.b().clone());
-    let (gain, poles) = match method {
-        Method::Lqr { q, r } => {
-            check_weights(q, NX, *r)?;
-            let d = lqr(&sys, &diag(q), &Mat::from_element(1, 1, *r), None)?;
-            (d.gain.iter().copied().collect(), d.closed_loop_poles)
-        }
-        Method::Servo { q, r } => {
-            check_weights(q, NX + 1, *r)?;
-            let c = Mat::from_row_slice(1, NX, &[1.0, 0.0, 0.0, 0.0]);
-            let on_q0 = StateSpace::continuous(a.clone(), b.clone(), c, Mat::zeros(1, 1))?;
-            let d = lq_servo(&on_q0, &diag(q), &Mat::from_element(1, 1, *r))?;
-            (
-                d.lqr.gain.iter().copied().collect(),
-                d.lqr.closed_loop_poles,
-            )
-        }
-        Method::Place { poles } => {
-            if poles.len() != NX {
-                return Err(WebError::Length {
-                    what: "poles",
-                    got: poles.len(),
-                    expected: NX,
-                });
+    Designer::new(plant)?.design(method)
+}
+
+/// What every design on one plant shares, computed once per plant (the page redesigns on
+/// every slider move): the upright linearisation, its open-loop poles, and the design record
+/// of the plant (kind, parameters, provenance) that each design completes with its method and
+/// inputs.
+#[derive(Debug, Clone)]
+pub struct Designer {
+    sys: StateSpace<Continuous>,
+    open_loop: Vec<Complex64>,
+    record: DesignRecord,
+}
+
+impl Designer {
+    /// The shared part of the designs on `plant`.
+    ///
+    /// # Errors
+    /// [`WebError::Plant`] when the model refuses the parameters; [`WebError::Design`] when
+    /// the linearisation's eigenvalues cannot be computed.
+    pub fn new(plant: &PlantSpec) -> Result<Self, WebError> {
+        let sys = linearization(plant)?;
+        Ok(Self {
+            open_loop: sys.poles()?,
+            record: DesignRecord::new(plant, vec![0.0; NX], None, "", Default::default()),
+            sys,
+        })
+    }
+
+    /// [`design`] on this plant.
+    ///
+    /// # Errors
+    /// As [`design`].
+    pub fn design(&self, method: &Method) -> Result<Design, WebError> {
+        let sys = &self.sys;
+        let (a, b) = (sys.a().clone(), sys.b().clone());
+        let mut lmi = None;
+        let (gain, poles) = match method {
+            Method::Lqr { q, r } => {
+                check_weights(q, NX, *r)?;
+                let d = lqr(sys, &diag(q), &Mat::from_element(1, 1, *r), None)?;
+                (d.gain.iter().copied().collect(), d.closed_loop_poles)
             }
-            let d = place(&a, &b, poles)?;
-            (d.gain.iter().copied().collect(), d.achieved_poles)
-        }
+            Method::Servo { q, r } => {
+                check_weights(q, NX + 1, *r)?;
+                let c = Mat::from_row_slice(1, NX, &[1.0, 0.0, 0.0, 0.0]);
+                let on_q0 = StateSpace::continuous(a.clone(), b.clone(), c, Mat::zeros(1, 1))?;
+                let d = lq_servo(&on_q0, &diag(q), &Mat::from_element(1, 1, *r))?;
+                (
+                    d.lqr.gain.iter().copied().collect(),
+                    d.lqr.closed_loop_poles,
+                )
+            }
+            Method::Place { poles } => {
+                if poles.len() != NX {
+                    return Err(WebError::Length {
+                        what: "poles",
+                        got: poles.len(),
+                        expected: NX,
+                    });
+                }
+                let d = place(&a, &b, poles)?;
+                (d.gain.iter().copied().collect(), d.achieved_poles)
+            }
+            Method::Lmi { q, r, alpha } => {
+                let (gain, poles, cert) = lmi_design(sys, q, *r, *alpha)?;
+                lmi = Some(cert);
+                (gain, poles)
+            }
+        };
+        let (name, inputs) = match method {
+            Method::Lqr { q, r } => ("lqr", weights(q, *r)),
+            Method::Lmi { q, r, alpha } => {
+                let mut w = weights(q, *r);
+                w.insert("decay_rate".into(), DesignInput::Number(*alpha));
+                (if q.len() == NX { "lmi-lq" } else { "lmi-servo" }, w)
+            }
+            Method::Servo { q, r } => ("lq-servo", weights(q, *r)),
+            Method::Place { poles } => (
+                "place",
+                [(
+                    "poles".to_string(),
+                    DesignInput::Rows(poles.iter().map(|p| vec![p.re, p.im]).collect()),
+                )]
+                .into(),
+            ),
+        };
+        let mut record = self.record.clone();
+        record.method = name.to_string();
+        record.inputs = inputs;
+        Ok(Design {
+            record,
+            method: method.clone(),
+            gain,
+            poles,
+            open_loop: self.open_loop.clone(),
+            a,
+            b,
+            lmi,
+        })
+    }
+}
+
+/// [`Method::Lmi`] on the linearisation `sys` (`C = I`): the gain (4 or 5 entries), its
+/// closed-loop poles and the certificate.
+fn lmi_design(
+    sys: &StateSpace<Continuous>,
+    q: &[f64],
+    r: f64,
+    alpha: f64,
+) -> Result<(Vec<f64>, Vec<Complex64>, LmiCertificate), WebError> {
+    let n = if q.len() == NX + 1 { NX + 1 } else { NX };
+    check_weights(q, n, r)?;
+    if !(alpha.is_finite() && alpha >= 0.0) {
+        return Err(WebError::OutOfRange {
+            what: "alpha",
+            value: alpha,
+            range: "finite and ≥ 0 [1/s]",
+        });
+    }
+    let (a, b) = if n == NX {
+        (sys.a().clone(), sys.b().clone())
+    } else {
+        let c = Mat::from_row_slice(1, NX, &[1.0, 0.0, 0.0, 0.0]);
+        let on_q0 = StateSpace::continuous(sys.a().clone(), sys.b().clone(), c, Mat::zeros(1, 1))?;
+        integral_augmentation(&on_q0)?
     };
-    let (name, inputs) = match method {
-        Method::Lqr { q, r } => ("lqr", weights(q, *r)),
-        Method::Servo { q, r } => ("lq-servo", weights(q, *r)),
-        Method::Place { poles } => (
-            "place",
-            [(
-                "poles".to_string(),
-                DesignInput::Rows(poles.iter().map(|p| vec![p.re, p.im]).collect()),
-            )]
-            .into(),
-        ),
+    let spec = LmiSpec {
+        lq: Some(LqWeights {
+            q: diag(q),
+            r: Mat::from_element(1, 1, r),
+        }),
+        regions: if alpha > 0.0 {
+            vec![Region::DecayRate { alpha }]
+        } else {
+            Vec::new()
+        },
+        ..LmiSpec::default()
     };
-    Ok(Design {
-        record: DesignRecord::new(plant, vec![0.0; NX], None, name, inputs),
-        method: method.clone(),
-        gain,
-        poles,
-        open_loop: sys.poles()?,
-        a,
-        b,
-    })
+    let options = SolveOptions {
+        backend: Backend::Dense,
+        ..SolveOptions::default()
+    };
+    let d = pendulab_lmi::synthesis::state_feedback(&[Vertex { a, b }], &spec, &options)?;
+    let last = d.refined.as_ref().unwrap_or(&d.solution);
+    let Some(f) = d.feedback else {
+        return Err(WebError::Lmi(match &d.status {
+            Status::Infeasible { certificate, .. } => format!(
+                "the LMIs are infeasible for Q = diag({q:?}), R = {r}, α = {alpha} 1/s (Farkas certificate, stationarity residual {:.1e})",
+                certificate.stationarity_residual
+            ),
+            s if s.is_solved() => format!(
+                "the solution for α = {alpha} 1/s fails its recheck ({} of {} constraints hold)",
+                last.checks.iter().filter(|c| c.satisfied).count(),
+                last.checks.len()
+            ),
+            s => format!("not solved for α = {alpha} 1/s: {s:?}"),
+        }));
+    };
+    let cert = LmiCertificate {
+        status: d.status.clone(),
+        iterations: d.solution.iterations + d.refined.as_ref().map_or(0, |s| s.iterations),
+        constraints: last.checks.len(),
+        min_slack: last
+            .checks
+            .iter()
+            .map(|c| c.value - c.margin)
+            .fold(f64::INFINITY, f64::min),
+        trace_x: f.x.trace(),
+        poles_in_region: f.poles_in_regions,
+    };
+    let poles = f.closed_loop_poles.into_iter().next().unwrap_or_default();
+    Ok((f.gain.iter().copied().collect(), poles, cert))
 }
 
 fn weights(q: &[f64], r: f64) -> std::collections::BTreeMap<String, DesignInput> {
@@ -186,9 +355,9 @@ fn diag(q: &[f64]) -> Mat {
 }
 
 impl Design {
-    /// Whether the gain is the servo's `[K₁, K₂]`.
+    /// Whether the gain is the servo's `[K₁, K₂]` (5 entries).
     pub fn is_servo(&self) -> bool {
-        matches!(self.method, Method::Servo { .. })
+        self.gain.len() == NX + 1
     }
 
     /// The controller spec that runs this gain in `mode`, tracking the drive-position

@@ -34,6 +34,16 @@ pub enum WebError {
     /// The design (LQR, servo or pole placement) failed.
     #[error("design: {0}")]
     Design(#[from] LtiError),
+    /// The LMI design could not be posed (`pendulab_lmi`'s shape or range errors).
+    #[error("LMI design: {0}")]
+    LmiSetup(#[from] pendulab_lmi::LmiError),
+    /// The LMIs were not solved: infeasible (with its certificate), or the solution failed its
+    /// recheck.
+    #[error("LMI design: {0}")]
+    Lmi(String),
+    /// A controller file the page was given is not one (`docs/rig/README.md`).
+    #[error("controller file: {0}")]
+    ControllerFile(String),
     /// The plant text is not a plant spec (`docs/model.md` §6).
     #[error("plant: {0}")]
     PlantSpec(#[from] PlantSpecError),

@@ -13,20 +13,23 @@
 //! |---|---|---|
 //! | `pl_init(kind)` | 0 cart, 1 arm: the book plant, its book LQR, the rig "with quantizer" | — |
 //! | `pl_load_plant(len)` | a plant file or a lab file (`[plant]`) in the text buffer | — |
-//! | `pl_design(method, r)` | 0 LQR (`q` in `io[0..4]`), 1 servo (`io[0..5]`), 2 placement (poles `re, im` in `io[0..8]`) | [`DESIGN_GAIN`], [`DESIGN_N`], [`DESIGN_POLES`], [`DESIGN_A`], [`DESIGN_B`], [`DESIGN_OPEN`] |
+//! | `pl_design(method, r)` | 0 LQR (`q` in `io[0..4]`), 1 servo (`io[0..5]`), 2 placement (poles `re, im` in `io[0..8]`), 3 LMI (`q` in `io[0..n]`, `n = io[5]` 4 or 5, `α = io[6]`) | [`DESIGN_GAIN`], [`DESIGN_N`], [`DESIGN_POLES`], [`DESIGN_A`], [`DESIGN_B`], [`DESIGN_OPEN`]; LMI: [`DESIGN_LMI`] and the certificate in words in the text buffer |
 //! | `pl_mode(swing_up)` | 0 balance, 1 swing-up then balance | — |
 //! | `pl_reset(q0, q1)` | the state `[q0, q1, 0, 0]` at `t = 0` | — |
 //! | `pl_poke(dq0, dq1)`, `pl_hold(q1, on)` | added to the state; pendulum held at `q1` | — |
 //! | `pl_reference(r)`, `pl_effect(which, on)`, `pl_delay(samples)` | reference; [`Effect`] by number; delay | — |
 //! | `pl_advance(samples, every)` | samples to run, record every `every`-th | `io[0..16]` the [`STATE`] block, records of [`RECORD`] from `io[16]`; returns the record count |
 //! | `pl_response(kind, amplitude, duration, every)` | 0: from `q₁ = amplitude`; 1: a reference step of `amplitude` | records `[t, q₀, q₁, u]` from `io[0]`; returns the count |
+//! | `pl_compare(duration, every)` | the arm only: a gain-scheduled servo's controller file in the text buffer; the constant servo's `q` in `io[0..5]`, `R` in `io[5]`; `k = io[6]` reference steps `(time, value)` from `io[7]` | records of [`crate::compare::COMPARED`] from `io[0]`; returns the count |
 //! | `pl_controller_toml()`, `pl_plant_toml()` | — | the file in the text buffer; returns its length |
 
-use crate::design::{Design, Method, Mode, design};
+use crate::compare::{COMPARED, compare_servos, read_controller, steps_scenario};
+use crate::design::{Design, Designer, LmiCertificate, Method, Mode, design};
 use crate::error::WebError;
 use crate::export::controller_file;
 use crate::lab::{Effect, Lab, RECORD};
 use pendulab_control::scenario::simulate;
+use pendulab_lmi::Status;
 use pendulab_lti::Complex64;
 use pendulab_plants::rig::PlantKind;
 use pendulab_plants::spec::PlantSpec;
@@ -47,12 +50,18 @@ pub const DESIGN_A: usize = 16;
 pub const DESIGN_B: usize = 32;
 /// Offset of the open-loop poles `eig(A)` (`re, im`, 4 pairs).
 pub const DESIGN_OPEN: usize = 36;
+/// Offset of an LMI design's certificate (`pl_design` method 3): `[status (1 solved, 2
+/// solved to reduced accuracy), iterations, constraints rechecked, smallest slack, tr X,
+/// poles in the region (1/0)]` ([`crate::design::LmiCertificate`]).
+pub const DESIGN_LMI: usize = 44;
 /// The state block of `pl_advance`: `[t, q₀, q₁, q̇₀, q̇₁, u, wrap(q₁), p₁ₓ, p₁ᵧ, p₂ₓ, p₂ᵧ]`
 /// (the pose: cart pivot or arm tip, then the pendulum's tip, m), 16 slots.
 pub const STATE: usize = 16;
 
 struct State {
     lab: Option<Lab>,
+    /// The shared part of the designs on the lab's plant (set with the lab).
+    designer: Option<Designer>,
     io: Vec<f64>,
     text_in: Vec<u8>,
     text_out: Vec<u8>,
@@ -61,6 +70,7 @@ struct State {
 thread_local! {
     static STATE_CELL: RefCell<State> = RefCell::new(State {
         lab: None,
+        designer: None,
         io: vec![0.0; IO_LEN],
         text_in: Vec::new(),
         text_out: Vec::new(),
@@ -104,7 +114,9 @@ pub fn book_weights(kind: PlantKind) -> (Vec<f64>, f64) {
 
 fn start(s: &mut State, plant: PlantSpec) -> Result<i32, WebError> {
     let (q, r) = book_weights(plant.kind());
-    let d = design(&plant, &Method::Lqr { q, r })?;
+    let designer = Designer::new(&plant)?;
+    let d = designer.design(&Method::Lqr { q, r })?;
+    s.designer = Some(designer);
     s.lab = Some(Lab::new(
         plant,
         d,
@@ -213,23 +225,42 @@ pub extern "C" fn pl_design(method: u32, r: f64) -> i32 {
                     .map(|i| Complex64::new(io[2 * i], io[2 * i + 1]))
                     .collect(),
             },
+            3 => Method::Lmi {
+                q: io[..if io[5] == 5.0 { 5 } else { 4 }].to_vec(),
+                r,
+                alpha: io[6],
+            },
             _ => {
                 return Err(WebError::OutOfRange {
                     what: "method",
                     value: method as f64,
-                    range: "0 (LQR), 1 (servo) or 2 (placement)",
+                    range: "0 (LQR), 1 (servo), 2 (placement) or 3 (LMI)",
                 });
             }
         };
-        let lab = lab(s)?;
-        let d = design(lab.plant(), &m)?;
+        let State {
+            lab: l,
+            designer,
+            io,
+            text_out,
+            ..
+        } = s;
+        let lab = running(l)?;
+        let d = match designer {
+            Some(designer) => designer.design(&m)?,
+            None => design(lab.plant(), &m)?,
+        };
         let mode = if d.is_servo() {
             Mode::Balance
         } else {
             current_mode(lab)
         };
-        lab.set_design(d.clone(), mode)?;
-        write_design(&mut s.io, &d);
+        lab.set_design(d, mode)?;
+        let d = lab.design();
+        write_design(io, d);
+        if let Some(c) = &d.lmi {
+            *text_out = certificate_text(c).into_bytes();
+        }
         Ok(0)
     })
 }
@@ -262,6 +293,38 @@ fn write_design(io: &mut [f64], d: &Design) {
         io[DESIGN_OPEN + 2 * i] = p.re;
         io[DESIGN_OPEN + 2 * i + 1] = p.im;
     }
+    io[DESIGN_LMI..DESIGN_LMI + 6].fill(0.0);
+    if let Some(c) = &d.lmi {
+        io[DESIGN_LMI..DESIGN_LMI + 6].copy_from_slice(&[
+            if c.status == Status::Solved { 1.0 } else { 2.0 },
+            f64::from(c.iterations),
+            c.constraints as f64,
+            c.min_slack,
+            c.trace_x,
+            if c.poles_in_region { 1.0 } else { 0.0 },
+        ]);
+    }
+}
+
+/// An LMI design's certificate in one sentence (the page shows it).
+pub fn certificate_text(c: &LmiCertificate) -> String {
+    format!(
+        "{} by pendulab-lmi's dense interior-point method in {} iterations; {} LMIs rechecked on X, L (smallest slack {:.2e}); tr X = {:.4}; closed-loop poles {} the region",
+        if c.status == Status::Solved {
+            "solved"
+        } else {
+            "solved to reduced accuracy"
+        },
+        c.iterations,
+        c.constraints,
+        c.min_slack,
+        c.trace_x,
+        if c.poles_in_region {
+            "inside"
+        } else {
+            "NOT inside"
+        }
+    )
 }
 
 /// Balance (`0`) or swing up from hanging, then balance (`1`), with the running state-feedback
@@ -400,6 +463,45 @@ pub extern "C" fn pl_response(kind: u32, amplitude: f64, duration: f64, every: u
     })
 }
 
+/// The gain-scheduled servo of the controller file in the text buffer beside the constant LQ
+/// servo, on the lab's plant and imperfections (module table, [`crate::compare`]).
+#[unsafe(no_mangle)]
+pub extern "C" fn pl_compare(duration: f64, every: u32) -> i32 {
+    with(|s| {
+        let text = String::from_utf8_lossy(&s.text_in).into_owned();
+        let scheduled = read_controller(&text)?;
+        let io = &s.io;
+        let k = io[6];
+        if !((1.0..=16.0).contains(&k) && k.fract() == 0.0) {
+            return Err(WebError::OutOfRange {
+                what: "reference steps",
+                value: k,
+                range: "1 … 16",
+            });
+        }
+        let steps: Vec<(f64, f64)> = (0..k as usize)
+            .map(|i| (io[7 + 2 * i], io[8 + 2 * i]))
+            .collect();
+        let (q, r) = (io[..5].to_vec(), io[5]);
+        let every = (every as usize).max(1);
+        let lab = lab(s)?;
+        let ts = lab.plant().rig().sample_time;
+        if !(duration.is_finite() && duration > 0.0)
+            || (duration / ts / every as f64) as usize + 1 >= IO_LEN / COMPARED
+        {
+            return Err(WebError::OutOfRange {
+                what: "duration / every",
+                value: duration,
+                range: "positive, at most 2047 records",
+            });
+        }
+        let scenario = steps_scenario(&steps, duration, lab.imperfections());
+        let out = compare_servos(lab.plant(), &scheduled, &q, r, &scenario, every)?;
+        s.io[..out.len()].copy_from_slice(&out);
+        Ok((out.len() / COMPARED) as i32)
+    })
+}
+
 /// The running controller as a controller file (text buffer), headed by its design.
 #[unsafe(no_mangle)]
 pub extern "C" fn pl_controller_toml() -> i32 {
@@ -438,6 +540,15 @@ pub fn describe(d: &Design) -> String {
         Method::Servo { q, r } => {
             format!("LQ integral servo on q0: Q = diag({}), R = {r}", list(q))
         }
+        Method::Lmi { q, r, alpha } => format!(
+            "LMI guaranteed-cost LQ{} (dense interior-point method): Q = diag({}), R = {r}, decay rate {alpha} 1/s",
+            if q.len() == 5 {
+                " integral servo on q0"
+            } else {
+                ""
+            },
+            list(q)
+        ),
         Method::Place { poles } => format!(
             "pole placement: poles {}",
             poles

@@ -10,6 +10,7 @@
 //! | LQR, LQ servo and pole placement on the plant spec's upright linearisation; gain, poles, the controller spec that runs the gain | [`design`] |
 //! | the live rig: one sample at a time at 1 kHz, the rig's imperfections switchable, poke, hold, reference steps | [`lab`] |
 //! | the design as a controller file for `pendulab rig run` | [`export`] |
+//! | the gain-scheduled arm servo beside the constant LQ servo on the same reference steps | [`compare`] |
 //! | the C ABI the page's loader calls (two buffers in linear memory) | [`ffi`] |
 //!
 //! Responses (the initial-condition and reference-step runs the page plots) are
@@ -17,6 +18,7 @@
 //! imperfections.
 #![warn(missing_docs)]
 
+pub mod compare;
 pub mod design;
 pub mod error;
 pub mod export;
