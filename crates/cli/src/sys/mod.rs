@@ -1,5 +1,6 @@
 //! MATLAB's verbs for any linear system: `pendulab ss|eig|ctrb|obsv|step|stepinfo|impulse|
-//! initial|lsim|bode|margin|norm|minreal|hsvd|balred|c2d|d2c|place|lqe SYSFILE …`.
+//! initial|lsim|bode|nyquist|nichols|rlocus|margin|diskmargin|sigma|norm|minreal|hsvd|balred|
+//! c2d|d2c|place|lqe SYSFILE …`.
 //!
 //! Each verb reads one system ([`input`]: a TOML/JSON system file or the matrices on the command
 //! line), calls the `pendulab-lti` function of the same MATLAB name, prints a summary (or one
@@ -11,6 +12,7 @@
 //! reads.
 
 pub mod input;
+mod loop_verbs;
 mod verbs;
 
 pub use input::SysArgs;
@@ -207,6 +209,79 @@ pub enum SysCommand {
     },
     /// Bode diagram of every channel (MATLAB `bode`): gain in dB, unwrapped phase in degrees.
     Bode {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Lowest frequency in rad/s (default: MATLAB's automatic range).
+        #[arg(long, allow_hyphen_values = true)]
+        w_min: Option<f64>,
+        /// Highest frequency in rad/s.
+        #[arg(long, allow_hyphen_values = true)]
+        w_max: Option<f64>,
+        /// Number of frequencies (log-spaced) when a range is given.
+        #[arg(long, default_value_t = 200)]
+        points: usize,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Nyquist curve of a SISO loop L with the encirclements of −1 and the Nyquist criterion
+    /// Z = N + P (MATLAB `nyquist`; python-control's indentation to the right of imaginary-axis
+    /// poles).
+    Nyquist {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Indentation radius around imaginary-axis poles (rad/s).
+        #[arg(long, default_value_t = 1e-4)]
+        indent_radius: f64,
+        /// Clipping radius of the figure (python-control's max_curve_magnitude).
+        #[arg(long, default_value_t = 20.0)]
+        max_magnitude: f64,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Nichols curve of a SISO loop (MATLAB `nichols`), the figure with the closed-loop grid.
+    Nichols {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Lowest frequency in rad/s (default: MATLAB's automatic range).
+        #[arg(long, allow_hyphen_values = true)]
+        w_min: Option<f64>,
+        /// Highest frequency in rad/s.
+        #[arg(long, allow_hyphen_values = true)]
+        w_max: Option<f64>,
+        /// Number of frequencies (log-spaced) when a range is given.
+        #[arg(long, default_value_t = 200)]
+        points: usize,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Root locus of a SISO loop under negative feedback u = −K y (MATLAB `rlocus`): branches,
+    /// asymptotes, break points; --at s0 gives the gain there (MATLAB `rlocfind`).
+    Rlocus {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Gains (inline "0 0.5 1" or a file; default: an adaptive grid).
+        #[arg(long, allow_hyphen_values = true)]
+        gains: Option<String>,
+        /// A point of the plane ("-1+2i"): its gain K = −D(s0)/N(s0), annotated in the figure.
+        #[arg(long, allow_hyphen_values = true)]
+        at: Option<String>,
+        #[command(flatten)]
+        fig: FigureArgs,
+    },
+    /// Disk margin of a SISO loop (MATLAB `diskmargin`, Seiler–Packard–Gahinet 2020): α, the
+    /// gain interval and phase margin it guarantees, the critical frequency.
+    Diskmargin {
+        #[command(flatten)]
+        sys: SysArgs,
+        /// Skew σ of the disk (0 balanced, 1 for S, −1 for T).
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+        skew: f64,
+        /// Print one JSON object instead of a summary.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Singular values of the frequency response (MATLAB `sigma`), any number of channels.
+    Sigma {
         #[command(flatten)]
         sys: SysArgs,
         /// Lowest frequency in rad/s (default: MATLAB's automatic range).

@@ -224,6 +224,11 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             points,
             fig,
         } => bode(&sys.load()?, *w_min, *w_max, *points, fig),
+        SysCommand::Nyquist { .. }
+        | SysCommand::Nichols { .. }
+        | SysCommand::Rlocus { .. }
+        | SysCommand::Diskmargin { .. }
+        | SysCommand::Sigma { .. } => super::loop_verbs::run(cmd),
         SysCommand::C2d {
             sys,
             ts,
@@ -385,11 +390,11 @@ fn margin(s: &Sys, as_json: bool) -> Result<()> {
     Ok(())
 }
 
-fn pairs(p: &[Complex64]) -> Vec<[f64; 2]> {
+pub(super) fn pairs(p: &[Complex64]) -> Vec<[f64; 2]> {
     p.iter().map(|z| [z.re, z.im]).collect()
 }
 
-fn finite_or_null(v: f64) -> serde_json::Value {
+pub(super) fn finite_or_null(v: f64) -> serde_json::Value {
     if v.is_finite() {
         json!(v)
     } else {
@@ -456,7 +461,7 @@ fn parse_poles(text: &str) -> Result<Vec<Complex64>> {
 }
 
 /// `a`, `a+bi`, `a-bj`, `bi`; `None` for anything else or a non-finite part.
-fn parse_complex(tok: &str) -> Option<Complex64> {
+pub(super) fn parse_complex(tok: &str) -> Option<Complex64> {
     let z = if let Some(body) = tok.strip_suffix(['i', 'j']) {
         // The sign that separates the real and the imaginary part: the last + or − that is
         // not at the start and not an exponent's sign.
@@ -762,7 +767,7 @@ fn trajectory_out(runs: &[(&str, Trajectory)], fig: &FigureArgs, what: &str) -> 
     Ok(())
 }
 
-fn save_figure(f: &Figure, path: &Path) -> Result<()> {
+pub(super) fn save_figure(f: &Figure, path: &Path) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -778,14 +783,15 @@ fn save_figure(f: &Figure, path: &Path) -> Result<()> {
     .with_context(|| format!("writing {}", path.display()))
 }
 
-fn bode(
+/// The frequencies of a frequency-domain verb: MATLAB's automatic range, or `points`
+/// log-spaced values on `[w_min, w_max]` (below the Nyquist frequency of a discrete system).
+pub(super) fn frequencies(
     s: &Sys,
     w_min: Option<f64>,
     w_max: Option<f64>,
     points: usize,
-    fig: &FigureArgs,
-) -> Result<()> {
-    let w = match (w_min, w_max) {
+) -> Result<Vec<f64>> {
+    Ok(match (w_min, w_max) {
         (None, None) => with_sys!(s, |v| frequency_grid(v, 100))?,
         (Some(lo), Some(hi)) => {
             if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
@@ -805,7 +811,17 @@ fn bode(
             logspace(lo.log10(), hi.log10(), points)
         }
         _ => bail!("give both --w-min and --w-max, or neither (MATLAB's automatic range)"),
-    };
+    })
+}
+
+fn bode(
+    s: &Sys,
+    w_min: Option<f64>,
+    w_max: Option<f64>,
+    points: usize,
+    fig: &FigureArgs,
+) -> Result<()> {
+    let w = frequencies(s, w_min, w_max, points)?;
     let fr = with_sys!(s, |v| freqresp(v, &w))?;
     let (_, b, c, _) = s.matrices();
     let (ny, nu) = (c.nrows(), b.ncols());
