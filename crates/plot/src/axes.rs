@@ -28,10 +28,13 @@ mod layout;
 mod limits;
 mod marks;
 
-pub(crate) const TICK_FONT: f64 = 11.5;
-pub(crate) const LABEL_FONT: f64 = 12.5;
-pub(crate) const TITLE_FONT: f64 = 13.0;
-pub(crate) const LEGEND_FONT: f64 = 11.0;
+/// Smallest font size of a figure, in CSS pixels: 12 px = 9 pt, legible when the figure is shown
+/// at its own width (the lab report does so wherever the page is wide enough).
+pub const MIN_FONT: f64 = 12.0;
+pub(crate) const TICK_FONT: f64 = MIN_FONT;
+pub(crate) const LABEL_FONT: f64 = 13.0;
+pub(crate) const TITLE_FONT: f64 = 13.5;
+pub(crate) const LEGEND_FONT: f64 = MIN_FONT;
 const TICK_LEN: f64 = 5.0;
 const PAD: f64 = 6.0;
 const FRAME: Color = Color::rgb(38, 38, 38);

@@ -71,7 +71,7 @@ mod surface;
 mod ticks;
 
 pub use anim::{Animation, AnimationInfo, AnimationOptions, ArmGeometry, CartGeometry};
-pub use axes::{Axes, LegendPos, PanelLayout, RegionBound, Scale, Series};
+pub use axes::{Axes, LegendPos, MIN_FONT, PanelLayout, RegionBound, Scale, Series};
 pub use charts::{
     Bode, CHATTER_RATIO, Channel, FrequencyUnit, GainCurves, IdentFit, PoleZeroMap, SignalPanel,
     TimeResponse, chatters, fit_percent, region_of_attraction,
