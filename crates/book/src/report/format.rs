@@ -127,8 +127,9 @@ pub fn escape(s: &str) -> String {
     out
 }
 
-/// HTML form of a value: matrices as a bracketed grid (a `<table class="mat">`), vectors as a
-/// one-row grid, complex lists one number per cell, scalars as text.
+/// HTML form of a value: matrices as a bracketed grid (a `<table class="mat">`), vectors and
+/// complex lists as a bracketed row whose entries wrap when space is short
+/// (`<span class="vec">`, one `<span>` per entry), scalars as text.
 pub fn value_html(v: &Value) -> String {
     fn grid<R: AsRef<[String]>>(rows: &[R]) -> String {
         let mut s = String::from("<table class=\"mat\">");
@@ -144,11 +145,23 @@ pub fn value_html(v: &Value) -> String {
         s.push_str("</table>");
         s
     }
+    // A row vector in brackets whose entries wrap onto further lines when the column is
+    // narrow (a long vector does not widen its table).
+    fn row(cells: &[String]) -> String {
+        let mut s = String::from("<span class=\"vec\">");
+        for c in cells {
+            s.push_str("<span>");
+            s.push_str(&escape(c));
+            s.push_str("</span>");
+        }
+        s.push_str("</span>");
+        s
+    }
     match v {
         Value::Bool(b) => format!("<span class=\"num\">{b}</span>"),
         Value::Number(x) => format!("<span class=\"num\">{}</span>", escape(&number(*x))),
         Value::Vector(xs) if xs.is_empty() => "<span class=\"num\">[]</span>".into(),
-        Value::Vector(xs) => grid(&[xs.iter().map(|&x| number(x)).collect::<Vec<_>>()]),
+        Value::Vector(xs) => row(&xs.iter().map(|&x| number(x)).collect::<Vec<_>>()),
         Value::Matrix(rows) if rows.iter().all(|r| r.is_empty()) => {
             "<span class=\"num\">[]</span>".into()
         }
@@ -159,7 +172,7 @@ pub fn value_html(v: &Value) -> String {
                 .collect::<Vec<_>>(),
         ),
         Value::Complex(zs) if zs.is_empty() => "<span class=\"num\">[]</span>".into(),
-        Value::Complex(zs) => grid(&[complex_list(zs)]),
+        Value::Complex(zs) => row(&complex_list(zs)),
     }
 }
 
@@ -226,6 +239,10 @@ mod tests {
              <tr><td>-2.25</td><td>1e-9</td></tr></table>"
         );
         assert_eq!(value_text(&Value::Vector(vec![3.0, 12.5])), "[3, 12.5]");
+        assert_eq!(
+            value_html(&Value::Vector(vec![3.0, -12.5])),
+            "<span class=\"vec\"><span>3</span><span>-12.5</span></span>"
+        );
         assert_eq!(value_text(&Value::Bool(false)), "false");
         assert_eq!(
             value_html(&Value::Vector(vec![])),

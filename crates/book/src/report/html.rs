@@ -10,16 +10,22 @@ use std::path::{Component, Path, PathBuf};
 /// The page's style sheet: inline, so the page needs nothing but its figure files.
 const STYLE: &str = r#"
 :root { --fg:#1d2327; --muted:#5f6b73; --line:#d8dee3; --bg:#ffffff; --panel:#f6f8fa;
-  --ok:#1a7f37; --bad:#c62828; --warn:#9a6700; --info:#0b5cad; }
+  --ok:#1a7f37; --bad:#c62828; --warn:#9a6700; --info:#0b5cad; --bar:44px; }
 * { box-sizing: border-box; }
+html { scroll-padding-top: calc(var(--bar) + 8px); }
 body { margin:0; color:var(--fg); background:var(--bg);
   font:15px/1.5 system-ui,-apple-system,"Segoe UI",Roboto,"Noto Sans","Noto Sans CJK JP",sans-serif; }
-header, main, nav, footer { max-width:1180px; margin:0 auto; padding:0 24px; }
-header { padding-top:28px; }
-h1 { margin:0 0 4px; font-size:28px; }
-h2 { margin:40px 0 12px; padding-bottom:6px; border-bottom:2px solid var(--line); font-size:22px; }
-h3 { margin:0 0 6px; font-size:18px; display:flex; flex-wrap:wrap; gap:8px; align-items:baseline; }
+header, main, nav.toc, footer { max-width:1180px; margin:0 auto; padding:0 24px; }
+.topbar { position:sticky; top:0; z-index:10; height:var(--bar); display:flex; align-items:center; gap:14px;
+  padding:0 24px; background:rgba(255,255,255,.96); border-bottom:1px solid var(--line); }
+.topbar a.up { font-weight:600; white-space:nowrap; }
+.topbar .name { color:var(--muted); font-size:13.5px; overflow:hidden; white-space:nowrap; text-overflow:ellipsis; }
+header { padding-top:20px; }
+h1 { margin:0 0 4px; font-size:28px; line-height:1.2; }
+h2 { margin:40px 0 12px; padding-bottom:6px; border-bottom:2px solid var(--line); font-size:22px; line-height:1.25; }
+h3 { margin:0 0 6px; font-size:18px; display:flex; flex-wrap:wrap; gap:4px 8px; align-items:baseline; }
 code, .num, table.mat td { font-family:ui-monospace,"DejaVu Sans Mono",Menlo,Consolas,monospace; font-size:13.5px; }
+h3 code, nav.toc code { overflow-wrap:anywhere; }
 .sub { color:var(--muted); margin:0; }
 .counts { display:flex; flex-wrap:wrap; gap:8px; margin:14px 0 0; padding:0; list-style:none; }
 .badge { display:inline-block; padding:1px 9px; border-radius:10px; font-size:12.5px; font-weight:600;
@@ -30,47 +36,146 @@ nav.toc { margin-top:20px; }
 nav.toc > ol { padding-left:20px; columns:2 420px; column-gap:32px; }
 nav.toc > ol > li { break-inside:avoid; margin-bottom:10px; }
 nav.toc ul { list-style:none; padding-left:8px; margin:4px 0; }
-nav.toc ul li { font-size:13.5px; display:flex; gap:6px; align-items:baseline; }
-nav.toc .badge { font-size:11px; padding:0 7px; }
+nav.toc ul li { font-size:13.5px; display:flex; flex-wrap:wrap; gap:2px 6px; align-items:baseline; }
+nav.toc .badge { font-size:12px; padding:0 7px; }
 a { color:var(--info); text-decoration:none; } a:hover { text-decoration:underline; }
+a:focus-visible, button:focus-visible, input:focus-visible, .scroll:focus-visible { outline:2px solid var(--info); outline-offset:2px; }
+section.chapter { scroll-margin-top:calc(var(--bar) + 8px); }
 article.example { border:1px solid var(--line); border-radius:8px; padding:16px 18px; margin:16px 0;
-  background:var(--bg); }
+  background:var(--bg); min-width:0; }
 .meta { color:var(--muted); font-size:13.5px; margin:0 0 10px; }
 .meta span + span::before { content:" · "; }
-table.values { border-collapse:collapse; margin:8px 0 12px; }
+.scroll { overflow-x:auto; max-width:100%; margin:8px 0 12px;
+  background:linear-gradient(to right, #fff 30%, rgba(255,255,255,0)) 0 0 / 40px 100% no-repeat local,
+    linear-gradient(to left, #fff 30%, rgba(255,255,255,0)) 100% 0 / 40px 100% no-repeat local,
+    radial-gradient(farthest-side at 0 50%, rgba(0,0,0,.16), rgba(0,0,0,0)) 0 0 / 12px 100% no-repeat scroll,
+    radial-gradient(farthest-side at 100% 50%, rgba(0,0,0,.16), rgba(0,0,0,0)) 100% 0 / 12px 100% no-repeat scroll; }
+table.values { border-collapse:collapse; }
 table.values th, table.values td { border-bottom:1px solid var(--line); padding:5px 10px; text-align:left;
   vertical-align:middle; }
 table.values th { font-size:13px; color:var(--muted); font-weight:600; }
 table.values td.name { font-family:ui-monospace,"DejaVu Sans Mono",Menlo,monospace; font-size:13.5px; }
 table.mat { border-collapse:separate; border-spacing:0; border-left:2px solid var(--fg);
   border-right:2px solid var(--fg); border-radius:4px; display:inline-table; }
-table.mat td { padding:1px 8px; text-align:right; border:0; }
+table.mat td { padding:1px 8px; text-align:right; border:0; white-space:nowrap; }
+.vec { display:inline-flex; flex-wrap:wrap; gap:0 16px; max-width:38em; padding:1px 8px; border-left:2px solid var(--fg);
+  border-right:2px solid var(--fg); border-radius:4px; font-family:ui-monospace,"DejaVu Sans Mono",Menlo,Consolas,monospace;
+  font-size:13.5px; }
+.vec > span { white-space:nowrap; }
 .check { font-size:13px; white-space:nowrap; }
 .check .yes { color:var(--ok); font-weight:700; } .check .no { color:var(--bad); font-weight:700; }
-.src { color:var(--muted); font-size:12.5px; display:block; }
+.src { color:var(--muted); font-size:12.5px; display:block; min-width:14em; }
 .missing { color:var(--muted); font-style:italic; }
-ul.notes { margin:6px 0 10px; padding-left:20px; color:#33404a; }
+ul.notes { margin:6px 0 10px; padding-left:20px; color:#33404a; overflow-wrap:anywhere; }
 .figures { display:flex; flex-wrap:wrap; gap:14px; margin-top:8px; }
-figure { margin:0; flex:0 1 540px; max-width:100%; border:1px solid var(--line); border-radius:6px;
+figure { margin:0; flex:0 1 auto; min-width:0; max-width:100%; border:1px solid var(--line); border-radius:6px;
   padding:8px; background:#fff; }
-figure img { display:block; width:100%; height:auto; }
-figcaption { font-size:12.5px; color:var(--muted); margin-top:4px; }
+figure img, figure svg { display:block; max-width:100%; height:auto; }
+figcaption { font-size:12.5px; color:var(--muted); margin-top:4px; overflow-wrap:anywhere; }
+.controls { display:flex; align-items:center; gap:10px; margin-top:6px; }
+.controls[hidden] { display:none; }
+.controls button { font:inherit; font-size:13.5px; min-width:5.5em; padding:3px 10px; border:1px solid var(--line);
+  border-radius:6px; background:var(--panel); color:var(--fg); cursor:pointer; }
+.controls input[type=range] { flex:1 1 auto; min-width:0; }
+.controls output { font-family:ui-monospace,"DejaVu Sans Mono",Menlo,monospace; font-size:13px; min-width:6.5em;
+  text-align:right; color:var(--muted); }
 .files { font-size:13px; }
 .error, .needs { border-radius:6px; padding:10px 14px; margin:8px 0; }
 .error { background:#fdecea; border:1px solid #f3b8b3; }
 .error pre { margin:4px 0 0; white-space:pre-wrap; font-size:13px; }
 .needs { background:var(--panel); border:1px solid var(--line); }
 footer { color:var(--muted); font-size:12.5px; padding:24px; }
-@media print { nav.toc > ol { columns:1; } article.example { break-inside:avoid; } }
+@media (max-width:600px) {
+  header, main, nav.toc, footer, .topbar { padding-left:12px; padding-right:12px; }
+  article.example { padding:12px 10px; }
+  h1 { font-size:23px; } h2 { font-size:19px; } h3 { font-size:16.5px; }
+  nav.toc > ol { padding-left:18px; }
+}
+@media print {
+  @page { margin:14mm 12mm; }
+  body { font-size:10pt; }
+  .topbar, .controls { display:none; }
+  header, main, nav.toc, footer { max-width:none; padding:0; }
+  nav.toc > ol { columns:1; }
+  h2 { break-after:avoid; }
+  section.chapter { break-before:page; }
+  article.example { break-before:page; border:0; padding:0; margin:0; }
+  section.chapter > h2 + article.example { break-before:avoid; }
+  .scroll { overflow:visible; background:none; }
+  table.values, table.values > tbody { display:block; }
+  table.values > thead { display:none; }
+  table.values > tbody > tr { display:grid; grid-template-columns:minmax(7em, max-content) minmax(0, 1fr);
+    column-gap:14px; padding:4px 0; border-bottom:1px solid var(--line); }
+  table.values > tbody > tr > td { display:block; grid-column:2; border:0; padding:1px 0; }
+  table.values > tbody > tr > td.name { grid-column:1; grid-row:1 / span 3; }
+  table.values > tbody > tr > td:empty { display:none; }
+  table.values > tbody > tr > td[data-label]::before { content:attr(data-label) " "; color:var(--muted);
+    font-size:8.5pt; display:inline-block; min-width:3.6em; vertical-align:top; }
+  table.values td[data-label] > div { display:inline-block; }
+  tr, figure, .error, .needs { break-inside:avoid; }
+  .figures { display:block; }
+  figure { display:block; border:0; padding:0; margin:10px 0; }
+  figure img, figure svg { max-height:230mm; width:auto; }
+  a { color:inherit; }
+}
+"#;
+
+/// The player of the inline animations: a pause/play button and a time scrubber (a range input,
+/// keyboard-operable) per `.player`, driving the SMIL clock of its `<svg>`
+/// (`pauseAnimations`, `setCurrentTime`). Without scripts the animations simply loop.
+const PLAYER_SCRIPT: &str = r#"
+(function () {
+  var reduce = window.matchMedia && window.matchMedia('(prefers-reduced-motion: reduce)').matches;
+  document.querySelectorAll('.player').forEach(function (p) {
+    var svg = p.querySelector('svg'), c = p.querySelector('.controls');
+    if (!svg || !c || !svg.pauseAnimations) return;
+    var a = svg.querySelector('animate, animateTransform');
+    var dur = a ? parseFloat(a.getAttribute('dur')) : NaN;
+    if (!(dur > 0)) return;
+    var btn = c.querySelector('button'), range = c.querySelector('input'), out = c.querySelector('output');
+    range.max = dur.toFixed(2);
+    var show = function (t) { range.value = t.toFixed(2); out.value = t.toFixed(2) + ' s'; };
+    var label = function () {
+      var paused = svg.animationsPaused();
+      btn.textContent = paused ? 'Play' : 'Pause';
+      btn.setAttribute('aria-pressed', paused ? 'true' : 'false');
+    };
+    btn.addEventListener('click', function () {
+      if (svg.animationsPaused()) svg.unpauseAnimations(); else svg.pauseAnimations();
+      label();
+    });
+    range.addEventListener('input', function () {
+      svg.pauseAnimations();
+      svg.setCurrentTime(parseFloat(range.value));
+      show(parseFloat(range.value));
+      label();
+    });
+    var tick = function () {
+      if (!svg.animationsPaused()) show(svg.getCurrentTime() % dur);
+      window.requestAnimationFrame(tick);
+    };
+    if (reduce) svg.pauseAnimations();
+    c.hidden = false;
+    label();
+    show(0);
+    window.requestAnimationFrame(tick);
+  });
+})();
 "#;
 
 /// Writes the whole report page.
 ///
 /// Every text that comes from an example (titles, value names, notes, error messages, paths)
-/// is HTML-escaped. Figures are shown with `<img>` — SVG (static or SMIL-animated), PNG and GIF
-/// files; when several files share a stem (`fig.svg` and `fig.png`) the SVG is shown and each
-/// format is linked. Other files (e.g. CSV) are linked. Links are relative to
+/// is HTML-escaped. Figures are shown with `<img>` at their own width (scaled down only when
+/// the page is narrower) — SVG, PNG and GIF files; when several files share a stem (`fig.svg`
+/// and `fig.png`) the SVG is shown and each format is linked. An animated SVG whose markup is
+/// in [`ReportOptions::animations`] is inlined with a pause/play button and a time scrubber
+/// (the page's only script); other files (e.g. CSV) are linked. Links are relative to
 /// [`ReportOptions::base_dir`] when the file lies under it.
+///
+/// The page has a sticky bar with a link back to the contents, value tables that scroll
+/// inside their card on narrow screens, and a print style sheet (one example per page,
+/// figures and table rows not split, no bar or controls).
 pub fn html(entries: &[Entry], options: &ReportOptions) -> String {
     let summary = Summary::of(entries);
     let chapters = chapters(entries);
@@ -80,7 +185,9 @@ pub fn html(entries: &[Entry], options: &ReportOptions) -> String {
         s,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
-         <title>{title}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<header>\n<h1>{title}</h1>\n"
+         <title>{title}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n\
+         <div class=\"topbar\" id=\"top\"><a class=\"up\" href=\"#contents\">↑ Contents</a>\
+         <span class=\"name\">{title}</span></div>\n<header>\n<h1>{title}</h1>\n"
     );
     if let Some(sub) = &options.subtitle {
         let _ = writeln!(s, "<p class=\"sub\">{}</p>", escape(sub));
@@ -111,7 +218,9 @@ pub fn html(entries: &[Entry], options: &ReportOptions) -> String {
     );
 
     // Table of contents.
-    s.push_str("<nav class=\"toc\">\n<h2>Contents</h2>\n<ol>\n");
+    s.push_str(
+        "<nav class=\"toc\" id=\"contents\" aria-label=\"Contents\">\n<h2>Contents</h2>\n<ol>\n",
+    );
     for ch in &chapters {
         let _ = write!(
             s,
@@ -133,7 +242,7 @@ pub fn html(entries: &[Entry], options: &ReportOptions) -> String {
         }
         s.push_str("</ul></li>\n");
     }
-    s.push_str("</ol>\n</nav>\n<main>\n");
+    s.push_str("</ol>\n</nav>\n<main id=\"main\">\n");
     if entries.is_empty() {
         s.push_str("<p class=\"missing\">No examples are registered in this build.</p>\n");
     }
@@ -146,20 +255,25 @@ pub fn html(entries: &[Entry], options: &ReportOptions) -> String {
             escape(&ch.heading)
         );
         for &i in &ch.members {
-            example_html(&mut s, &entries[i], &options.base_dir);
+            example_html(&mut s, &entries[i], options);
         }
         s.push_str("</section>\n");
     }
     let _ = writeln!(
         s,
-        "</main>\n<footer>Written by pendulab {}. Figures are files beside this page.</footer>\n</body>\n</html>",
+        "</main>\n<footer>Written by pendulab {}. Figures are files beside this page. \
+         <a href=\"#top\">Back to the top</a></footer>",
         env!("CARGO_PKG_VERSION")
     );
+    if s.contains("<div class=\"player\">") {
+        let _ = writeln!(s, "<script>{PLAYER_SCRIPT}</script>");
+    }
+    s.push_str("</body>\n</html>\n");
     s
 }
 
 /// One example's `<article>`.
-fn example_html(s: &mut String, e: &Entry, base: &Path) {
+fn example_html(s: &mut String, e: &Entry, options: &ReportOptions) {
     let ex = &e.example;
     let st = e.status();
     let _ = writeln!(
@@ -185,7 +299,7 @@ fn example_html(s: &mut String, e: &Entry, base: &Path) {
     }
     s.push_str("</p>\n");
     match &e.result {
-        Ok(out) => output_html(s, out, &e.files, base),
+        Ok(out) => output_html(s, ex.id, out, &e.files, options),
         Err(BookError::NeedsData { what, .. }) => {
             let _ = writeln!(
                 s,
@@ -217,12 +331,24 @@ fn round_time(t: f64) -> f64 {
 }
 
 /// Values with the book's values beside them, notes and figures of a successful run.
-fn output_html(s: &mut String, out: &ExampleOutput, files: &[PathBuf], base: &Path) {
+fn output_html(
+    s: &mut String,
+    id: &str,
+    out: &ExampleOutput,
+    files: &[PathBuf],
+    options: &ReportOptions,
+) {
     let comparisons = out.comparisons();
     let refs: Vec<(&Reference, &crate::output::Comparison)> =
         out.references.iter().zip(&comparisons).collect();
     if !out.values.is_empty() || !refs.is_empty() {
         let with_book = !refs.is_empty();
+        // Wide tables scroll inside their card; focusable so the keyboard can scroll them.
+        let _ = write!(
+            s,
+            "<div class=\"scroll\" tabindex=\"0\" role=\"region\" aria-label=\"values of {}\">",
+            escape(id)
+        );
         s.push_str("<table class=\"values\">\n<thead><tr><th>value</th><th>pendulab</th>");
         if with_book {
             s.push_str("<th>book</th><th>check</th>");
@@ -254,7 +380,7 @@ fn output_html(s: &mut String, out: &ExampleOutput, files: &[PathBuf], base: &Pa
             book_cells(s, &[r]);
             s.push_str("</tr>\n");
         }
-        s.push_str("</tbody></table>\n");
+        s.push_str("</tbody></table></div>\n");
     }
     if !out.notes.is_empty() {
         s.push_str("<ul class=\"notes\">\n");
@@ -263,7 +389,7 @@ fn output_html(s: &mut String, out: &ExampleOutput, files: &[PathBuf], base: &Pa
         }
         s.push_str("</ul>\n");
     }
-    figures_html(s, files, base);
+    figures_html(s, files, options);
 }
 
 /// The "book" and "check" cells of a value row.
@@ -272,7 +398,7 @@ fn book_cells(s: &mut String, refs: &[&(&Reference, &crate::output::Comparison)]
         s.push_str("<td></td><td></td>");
         return;
     }
-    s.push_str("<td>");
+    s.push_str("<td data-label=\"book\">");
     for (r, _) in refs {
         let _ = write!(
             s,
@@ -281,7 +407,7 @@ fn book_cells(s: &mut String, refs: &[&(&Reference, &crate::output::Comparison)]
             escape(&r.source)
         );
     }
-    s.push_str("</td><td class=\"check\">");
+    s.push_str("</td><td class=\"check\" data-label=\"check\">");
     for (r, c) in refs {
         // Two digits say how close it is; the full values are in the neighbouring cells.
         let tol = escape(&number_sig(r.tolerance, 2));
@@ -310,7 +436,8 @@ fn book_cells(s: &mut String, refs: &[&(&Reference, &crate::output::Comparison)]
 const SHOWN: [&str; 6] = ["svg", "png", "gif", "jpg", "jpeg", "webp"];
 
 /// Figures grouped by stem, one `<figure>` per group; other files as links.
-fn figures_html(s: &mut String, figures: &[PathBuf], base: &Path) {
+fn figures_html(s: &mut String, figures: &[PathBuf], options: &ReportOptions) {
+    let base = options.base_dir.as_path();
     // Groups: path without extension -> files, in order of first appearance.
     let mut groups: Vec<(PathBuf, Vec<&PathBuf>)> = Vec::new();
     let mut others: Vec<&PathBuf> = Vec::new();
@@ -339,11 +466,25 @@ fn figures_html(s: &mut String, figures: &[PathBuf], base: &Path) {
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            let _ = write!(
-                s,
-                "<figure><a href=\"{src}\"><img src=\"{src}\" alt=\"{alt}\" loading=\"lazy\"></a><figcaption>{alt}",
-                alt = escape(&stem)
-            );
+            let alt = escape(&stem);
+            match options.animations.get(*shown) {
+                Some(markup) if extension(shown) == "svg" => {
+                    let _ = write!(
+                        s,
+                        "<figure class=\"anim\"><div class=\"player\">{svg}\
+                         <div class=\"controls\" hidden><button type=\"button\" aria-label=\"Play or pause {alt}\">Pause</button>\
+                         <input type=\"range\" min=\"0\" max=\"1\" step=\"0.01\" value=\"0\" aria-label=\"Animation time of {alt}, seconds\">\
+                         <output aria-live=\"off\">0.00 s</output></div></div><figcaption>{alt}",
+                        svg = inline_svg(markup, &alt)
+                    );
+                }
+                _ => {
+                    let _ = write!(
+                        s,
+                        "<figure><a href=\"{src}\"><img src=\"{src}\" alt=\"{alt}\" loading=\"lazy\"></a><figcaption>{alt}"
+                    );
+                }
+            }
             for f in files {
                 let _ = write!(
                     s,
@@ -371,6 +512,17 @@ fn figures_html(s: &mut String, figures: &[PathBuf], base: &Path) {
             );
         }
         s.push_str("</p>\n");
+    }
+}
+
+/// An SVG document's markup for inlining into the page: the XML declaration and doctype
+/// dropped, `role="img"` and the accessible name `label` (already escaped) added to the root.
+fn inline_svg(markup: &str, label: &str) -> String {
+    let start = markup.find("<svg").unwrap_or(0);
+    let body = markup[start..].trim_end();
+    match body.strip_prefix("<svg") {
+        Some(rest) => format!("<svg role=\"img\" aria-label=\"{label}\"{rest}"),
+        None => body.to_string(),
     }
 }
 
@@ -628,7 +780,20 @@ mod tests {
         assert!(page.contains("<p class=\"sub\">v &lt;1&gt;</p>"));
         // No external resources: nothing is fetched from the network.
         assert!(!page.contains("http://") && !page.contains("https://"));
+        // No animation, no script.
         assert!(!page.contains("<script"));
+        // The sticky bar links back to the contents; the footer to the top.
+        let bar =
+            &page[page.find("<div class=\"topbar\"").unwrap()..page.find("<header>").unwrap()];
+        assert!(bar.contains("href=\"#contents\""), "{bar}");
+        assert!(page.contains("<nav class=\"toc\" id=\"contents\""));
+        assert!(
+            page.contains("<div class=\"topbar\" id=\"top\"") && page.contains("href=\"#top\"")
+        );
+        // The print style sheet starts each example on a new page and keeps figures whole.
+        let print = &page[page.find("@media print").unwrap()..];
+        assert!(print.contains("article.example { break-before:page;"));
+        assert!(print.contains("figure, .error, .needs { break-inside:avoid; }"));
         // Table of contents links every chapter and example.
         for anchor in ["#part1-ch4", "#part1-ch5", "#a41", "#a51", "#a43"] {
             assert!(page.contains(&format!("href=\"{anchor}\"")), "{anchor}");
@@ -665,6 +830,64 @@ mod tests {
         assert!(
             a.contains("<td class=\"name\">rank</td><td><span class=\"num\">2</span></td></tr>")
         );
+        // The table scrolls inside its card, focusable for the keyboard.
+        assert!(a.contains(
+            "<div class=\"scroll\" tabindex=\"0\" role=\"region\" aria-label=\"values of plain\"><table class=\"values\">"
+        ));
+        assert!(a.contains("</tbody></table></div>"));
+    }
+
+    #[test]
+    fn animations_given_as_markup_are_inlined_with_a_player() {
+        let mut e = entry("anim", "Part 1 §4.1", Ok(ExampleOutput::default()));
+        e.files = ["a.gif", "a.svg", "b.gif", "b.svg"]
+            .iter()
+            .map(|f| PathBuf::from("figures/anim").join(f))
+            .collect();
+        let mut opts = ReportOptions::default();
+        opts.animations.insert(
+            PathBuf::from("figures/anim/a.svg"),
+            "<?xml version=\"1.0\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"480\">\
+             <animate dur=\"2s\"/></svg>\n"
+                .into(),
+        );
+        let page = html(&[e], &opts);
+        let a = article(&page, "anim");
+        assert_eq!(a.matches("<div class=\"player\">").count(), 1, "{a}");
+        // Inlined without the XML declaration, named for assistive technology.
+        assert!(a.contains(
+            "<figure class=\"anim\"><div class=\"player\"><svg role=\"img\" aria-label=\"a\" \
+             xmlns=\"http://www.w3.org/2000/svg\" width=\"480\"><animate dur=\"2s\"/></svg>"
+        ));
+        assert!(!a.contains("<?xml"));
+        // The controls: a button and a range input, hidden until the script shows them.
+        assert!(a.contains("<div class=\"controls\" hidden><button type=\"button\""));
+        assert!(a.contains("<input type=\"range\""));
+        // Both files of the animation stay linked.
+        assert!(a.contains("<a href=\"figures/anim/a.gif\">gif</a>"));
+        assert!(a.contains("<a href=\"figures/anim/a.svg\">svg</a>"));
+        // Without its markup, the other animation is an image.
+        assert!(a.contains("<img src=\"figures/anim/b.svg\""));
+        // One script, after the content, driving the SMIL clock.
+        assert_eq!(page.matches("<script>").count(), 1);
+        assert!(page.find("<script>").unwrap() > page.find("</main>").unwrap());
+        assert!(page.contains("setCurrentTime") && page.contains("pauseAnimations"));
+    }
+
+    #[test]
+    fn figure_width_is_what_the_style_sheet_leaves_for_a_figure() {
+        // Column 1180 px with 24 px padding; card: 1 px border, 18 px padding; figure frame:
+        // 1 px border, 8 px padding (all border-box).
+        for rule in [
+            "* { box-sizing: border-box; }",
+            "header, main, nav.toc, footer { max-width:1180px; margin:0 auto; padding:0 24px; }",
+            "article.example { border:1px solid var(--line); border-radius:8px; padding:16px 18px;",
+            "figure { margin:0; flex:0 1 auto; min-width:0; max-width:100%; border:1px solid var(--line); border-radius:6px;\n  padding:8px;",
+            "figure img, figure svg { display:block; max-width:100%; height:auto; }",
+        ] {
+            assert!(STYLE.contains(rule), "{rule}");
+        }
+        assert_eq!(super::super::FIGURE_WIDTH, 1076.0);
     }
 
     #[test]

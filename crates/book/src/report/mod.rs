@@ -7,8 +7,8 @@
 //!
 //! - [`Entry`] — one example with its result, run time and figure files;
 //! - [`Status`] — reproduced / runs / differs / needs data / failing, from a result;
-//! - [`html`] — the self-contained page (inline style, no scripts, no external resources;
-//!   figures are linked relative to [`ReportOptions::base_dir`]);
+//! - [`html`] — the self-contained page (inline style, no external resources, a script only
+//!   for the animation players; figures are linked relative to [`ReportOptions::base_dir`]);
 //! - [`markdown_table`] — the README table of examples with their status;
 //! - [`Summary`] — counts per status;
 //! - [`format`](mod@format) — number and value formatting shared by the page and the command line.
@@ -21,6 +21,7 @@ pub use html::html;
 use crate::error::BookError;
 use crate::output::ExampleOutput;
 use crate::registry::Example;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// One example's result, as the report shows it.
@@ -167,6 +168,13 @@ impl Summary {
     }
 }
 
+/// The widest figure the page shows at its own size, in CSS pixels, on a screen wide enough
+/// (≥ 1180 px): the page's column (1180 px) less its padding (2 × 24), the example card's
+/// (2 × 18 + 2 × 1 border) and the figure frame's (2 × 8 + 2 × 1). A figure no wider keeps its
+/// text at the size it was drawn with ([`pendulab_plot::MIN_FONT`] = 12 px = 9 pt at least);
+/// a wider one, and every figure on a narrower screen, is scaled down to fit.
+pub const FIGURE_WIDTH: f64 = 1180.0 - 2.0 * 24.0 - 2.0 * (18.0 + 1.0) - 2.0 * (8.0 + 1.0);
+
 /// How the page is put together.
 #[derive(Debug, Clone)]
 pub struct ReportOptions {
@@ -177,6 +185,11 @@ pub struct ReportOptions {
     pub title: String,
     /// A line under the title (e.g. the pendulab version and the total run time); escaped.
     pub subtitle: Option<String>,
+    /// Markup of animated SVG files ([`crate::GraphicKind::Animation`]), keyed by their path
+    /// as in [`Entry::files`]: these are inlined into the page with a pause/play button and a
+    /// time scrubber. An animated SVG not in the map is shown as an image (it loops, without
+    /// controls). The markup is our own renderer's and is inserted unescaped.
+    pub animations: BTreeMap<PathBuf, String>,
 }
 
 impl Default for ReportOptions {
@@ -185,6 +198,7 @@ impl Default for ReportOptions {
             base_dir: PathBuf::from("."),
             title: "pendulab lab notebook".into(),
             subtitle: None,
+            animations: BTreeMap::new(),
         }
     }
 }
