@@ -312,6 +312,7 @@ fn spec_reference(controller: &ControllerSpec) -> Option<f64> {
         ControllerSpec::StateFeedback(c) => first(&c.reference).unwrap_or(0.0),
         ControllerSpec::LqServo(c) => first(&c.reference).unwrap_or(0.0),
         ControllerSpec::Pid(c) => first(&c.reference).unwrap_or(0.0),
+        ControllerSpec::GainScheduled(c) => first(&c.reference).unwrap_or(0.0),
         _ => 0.0,
     })
 }
@@ -329,6 +330,7 @@ fn drive_reference(
     let at = match controller {
         ControllerSpec::LqServo(c) => c.step_time.unwrap_or(0.0),
         ControllerSpec::Pid(c) => c.step_time.unwrap_or(0.0),
+        ControllerSpec::GainScheduled(c) => c.step_time.unwrap_or(0.0),
         _ => 0.0,
     };
     Signal::step(at, r).map_err(ScenarioError::Simulation)

@@ -27,7 +27,7 @@
 //! |---|---|---|
 //! | `state-feedback` | one of `k`, `k_book`, `lqr = {q, r}`; `reference` | `StaticStateFeedback` |
 //! | `lq-servo` | `k1` + `k2` (library) or `lqr = {q (5 entries), r}`; `reference` (servo output `q₀`), `step_time` | `LqIntegralServo` (forward Euler), `lq_servo` design on `C = [1 0 0 0]` |
-//! | `gain-scheduled` | `coefficients = [K₀, K₁, …]` (library sign), `schedule`; or `lqr` + `design_points_deg` (arm) | `GainScheduled` polynomial in `ρ` |
+//! | `gain-scheduled` | `coefficients = [K₀, K₁, …]` (library sign); or `lqr` + `design_points_deg` (arm); or `x_coefficients` + `l_coefficients` (`K(ρ) = −L(ρ) X(ρ)⁻¹`, the SOS design); `schedule`; `reference`, `step_time` (5-state gains: servo) | `GainScheduled` in `ρ`; with 5-state gains the integral servo on `[y; ∫(r − q₀)]` as `lq-servo` ([`scheduled`]) |
 //! | `swing-up-balance` | `balance = { k \| k_book \| lqr }`, `switch_deg` (default 17) | energy shaping ([`crate::swing_up`], gains `EnergyShapingGains::{cart_rig, arm_rig}`), then the balance gain (latched) |
 //! | `observer` | one of `k`, `k_book`, `lqr`, `poles`; one of `l`, `observer_poles`; `discretization` | `u = −K x̂`, full-order observer of `[q₀, q₁]`, Tustin or ZOH ([`observer`]) |
 //! | `pid` | `form` (`p`, `pd`, `p-d`, `pi`, `pid`, `i-pd`), its gains `kp`, `ki`, `kd`, `tf`; `discretization`, `reference`, `step_time` | `pendulab_sim::controllers::Pid` on `q₀`, pendulum hanging ([`pid`]) |
@@ -49,8 +49,9 @@
 //!
 //! | key | range |
 //! |---|---|
-//! | gains `k`, `k_book`, `k1`, `k2`, `coefficients`, `lqr.q`, `lqr.r` | finite; 4 entries (`lqr.q` 5 for the servo); `q ≥ 0`, `r > 0` |
-//! | `reference` | finite; 4 entries (state feedback) or 1 (servo) |
+//! | gains `k`, `k_book`, `k1`, `k2`, `coefficients`, `lqr.q`, `lqr.r` | finite; 4 entries (`lqr.q` 5 for the servo, `coefficients` 4 or 5); `q ≥ 0`, `r > 0` |
+//! | `x_coefficients`, `l_coefficients` | finite; `n × n` symmetric and `n` entries, `n` = 4 or 5; `X₀ ≻ 0` |
+//! | `reference` | finite; 4 entries (state feedback) or 1 (servo, 5-state gain-scheduled) |
 //! | `step_time` | 0 to [`DURATION_MAX`] s |
 //! | `switch_deg` | above 0, at most [`SWITCH_DEG_MAX`] |
 //! | `design_points_deg` | finite, two angles with different `|θ₁|`, arm only |
@@ -83,9 +84,7 @@ use pendulab_plants::rig::PlantKind;
 use pendulab_plants::spec::{PlantParameters, PlantSpec};
 use pendulab_plants::{ArmPendulum, CartPendulum, PlantError};
 use pendulab_sim::Controller;
-use pendulab_sim::controllers::{
-    GainScheduled, IntegrationRule, LqIntegralServo, StaticStateFeedback,
-};
+use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
 use pendulab_sim::signal::Signal;
 use serde::{Deserialize, Serialize};
 
@@ -93,10 +92,12 @@ pub mod nmpc;
 pub mod observer;
 pub mod pid;
 mod record;
+pub mod scheduled;
 pub use nmpc::NmpcSpec;
 pub use observer::{ObserverDesign, ObserverSpec, observer_design};
 pub use pid::{PID_TF_DEFAULT, PidSpec};
 pub use record::{DesignInput, DesignRecord, DesignWarning};
+pub use scheduled::GainScheduledSpec;
 
 /// Longest run \[s\], and the latest `step_time` of an `lq-servo`: an experiment on the rig lasts
 /// seconds to minutes; an hour bounds the log (3.6 million rows at 1 kHz, about 400 MB) and
@@ -149,7 +150,9 @@ pub enum ControllerSpec {
     /// `kind = "lq-servo"`: the LQ integral servo on the drive position `q₀`,
     /// `u = −K₁ y − K₂ w`, `w = ∫(r − q₀) dt` (forward Euler at the loop period).
     LqServo(LqServoSpec),
-    /// `kind = "gain-scheduled"`: `u = −K(ρ) y`, `K(ρ) = K₀ + K₁ ρ + K₂ ρ² + …`.
+    /// `kind = "gain-scheduled"`: `u = −K(ρ) y`, `K(ρ) = K₀ + K₁ ρ + K₂ ρ² + …` or
+    /// `K(ρ) = −L(ρ) X(ρ)⁻¹`; with 5-state gains the integral servo `u = −K(ρ) [y; w]`
+    /// ([`scheduled`]).
     GainScheduled(GainScheduledSpec),
     /// `kind = "swing-up-balance"`: energy shaping from the hanging rest, then a balance gain
     /// once `|wrap(q₁)| < switch_deg` (latched).
@@ -202,6 +205,10 @@ impl ControllerSpec {
                 "schedule",
                 "lqr",
                 "design_points_deg",
+                "x_coefficients",
+                "l_coefficients",
+                "reference",
+                "step_time",
                 "designed_for",
             ],
         ),
@@ -362,28 +369,6 @@ pub struct LqServoSpec {
     pub designed_for: Option<DesignRecord>,
 }
 
-/// Keys of `kind = "gain-scheduled"`: `coefficients`, or `lqr` with `design_points_deg`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GainScheduledSpec {
-    /// Gain-polynomial coefficients `K₀, K₁, …` (library sign, 4 entries each).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub coefficients: Option<Vec<Vec<f64>>>,
-    /// Scheduling variable `ρ`: `"one-minus-cos-q0"` (`ρ = 1 − cos q₀`, default) or
-    /// `"q0-squared"` (`ρ = q₀²`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub schedule: Option<String>,
-    /// LQR design at each of `design_points_deg`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lqr: Option<LqrSpec>,
-    /// Arm angles \[°\] of two LQR designs interpolated linearly in `ρ = 1 − cos θ₁`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub design_points_deg: Option<Vec<f64>>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
-}
-
 /// Keys of `kind = "swing-up-balance"`.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -479,6 +464,14 @@ pub enum SpecError {
     /// An unknown scheduling variable.
     #[error("controller.schedule = '{0}': expected 'one-minus-cos-q0' or 'q0-squared'")]
     Schedule(String),
+    /// A coefficient of `X(ρ)` that is not symmetric, or `X(0)` not positive definite.
+    #[error("{key}: {detail}")]
+    ScheduleMatrix {
+        /// The key (`controller.x_coefficients[i]`).
+        key: String,
+        /// What is wrong.
+        detail: String,
+    },
     /// `design_points_deg` given for a plant or a schedule it does not apply to, or points
     /// that do not determine the interpolation.
     #[error("controller.design_points_deg{detail}")]
@@ -628,7 +621,7 @@ pub(crate) fn build_with(
     let controller: Box<dyn Controller> = match (spec, reference) {
         (ControllerSpec::StateFeedback(c), r) => state_feedback(plant, c, r)?,
         (ControllerSpec::LqServo(c), r) => servo(plant, c, ts, r)?,
-        (ControllerSpec::GainScheduled(c), None) => gain_scheduled(plant, c)?,
+        (ControllerSpec::GainScheduled(c), r) => scheduled::gain_scheduled(plant, c, ts, r)?,
         (ControllerSpec::SwingUpBalance(c), None) => swing_up_balance(plant, c)?,
         (ControllerSpec::Observer(c), None) => observer::observer(plant, c, ts)?,
         (ControllerSpec::Pid(c), r) => pid::pid(c, ts, r)?,
@@ -860,90 +853,6 @@ fn drive_reference(
         time: t_step,
         source,
     })
-}
-
-/// Two LQR designs of the arm at `θ₁ₑ = a, b` (degrees), joined by the line in `ρ = 1 − cos θ₁`
-/// through both: `K(ρ) = K_a + (ρ − ρ_a)/(ρ_b − ρ_a)·(K_b − K_a)` as coefficients `[K₀, K₁]`.
-fn scheduled_lqr(
-    plant: &PlantParameters,
-    l: &LqrSpec,
-    pts: &[f64],
-    schedule: Option<&str>,
-) -> Result<Vec<Mat>, SpecError> {
-    if plant.kind() != PlantKind::Arm {
-        return Err(SpecError::DesignPoints {
-            detail: ": only the arm's linearisation depends on the drive position".into(),
-        });
-    }
-    if schedule.is_some_and(|s| s != "one-minus-cos-q0") {
-        return Err(SpecError::DesignPoints {
-            detail: " interpolates in one-minus-cos-q0 only".into(),
-        });
-    }
-    finite("controller.design_points_deg", pts)?;
-    let rho = |deg: f64| 1.0 - deg.to_radians().cos();
-    if pts.len() != 2 || (rho(pts[0]) - rho(pts[1])).abs() < 1e-6 {
-        return Err(SpecError::DesignPoints {
-            detail: format!(" = {pts:?}: give two angles with different |θ₁|"),
-        });
-    }
-    let q = diag("controller.lqr.q", &l.q, 4)?;
-    let r = check_r("controller.lqr", l.r)?;
-    let mut k = Vec::new();
-    for &deg in pts {
-        let sys = plant
-            .linearize_upright(deg.to_radians())
-            .map_err(|source| SpecError::Linearisation {
-                at: format!("arm at {deg}°"),
-                source,
-            })?;
-        k.push(
-            lqr(&sys, &q, &r, None)
-                .map_err(|source| SpecError::Design {
-                    what: format!("LQR design at θ₁ = {deg}°"),
-                    source,
-                })?
-                .gain,
-        );
-    }
-    let (ra, rb) = (rho(pts[0]), rho(pts[1]));
-    let k1 = (&k[1] - &k[0]) / (rb - ra);
-    let k0 = &k[0] - &k1 * ra;
-    Ok(vec![k0, k1])
-}
-
-fn gain_scheduled(
-    plant: &PlantParameters,
-    c: &GainScheduledSpec,
-) -> Result<Box<dyn Controller>, SpecError> {
-    let mats = match (&c.coefficients, &c.lqr, &c.design_points_deg) {
-        (Some(coefs), None, None) => {
-            if coefs.is_empty() {
-                return Err(SpecError::Keys {
-                    key: "controller.coefficients".into(),
-                    expected: "give at least K0",
-                });
-            }
-            coefs
-                .iter()
-                .enumerate()
-                .map(|(i, k)| row(&format!("controller.coefficients[{i}]"), k, 4))
-                .collect::<Result<Vec<_>, _>>()?
-        }
-        (None, Some(l), Some(pts)) => scheduled_lqr(plant, l, pts, c.schedule.as_deref())?,
-        _ => {
-            return Err(SpecError::Keys {
-                key: "controller (gain-scheduled)".into(),
-                expected: "give coefficients, or lqr with design_points_deg (arm)",
-            });
-        }
-    };
-    let g = match c.schedule.as_deref().unwrap_or("one-minus-cos-q0") {
-        "one-minus-cos-q0" => GainScheduled::polynomial(&mats, |y| 1.0 - y[0].cos()),
-        "q0-squared" => GainScheduled::polynomial(&mats, |y| y[0] * y[0]),
-        other => return Err(SpecError::Schedule(other.to_string())),
-    }?;
-    Ok(Box::new(g))
 }
 
 fn swing_up_balance(

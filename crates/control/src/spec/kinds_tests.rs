@@ -357,3 +357,279 @@ fn a_foreign_key_is_refused_by_name_in_each_new_kind() {
         assert!(e.contains(&format!("`{key}`")), "{kind}: {e}");
     }
 }
+
+// ------------------------------------------------------------------ gain-scheduled: X, L
+
+/// A symmetric positive definite `n × n` matrix (`M = G Gᵀ + n I`, `G` a fixed pattern).
+fn spd(n: usize) -> Mat {
+    let g = Mat::from_fn(n, n, |i, j| ((3 * i + 5 * j) % 7) as f64 * 0.25 - 0.6);
+    &g * g.transpose() + Mat::identity(n, n) * n as f64
+}
+
+/// `[[row], [row], …]` of a matrix, TOML.
+fn toml_rows(m: &Mat) -> String {
+    let rows: Vec<String> = (0..m.nrows())
+        .map(|i| {
+            let r: Vec<String> = m.row(i).iter().map(|v| format!("{v:?}")).collect();
+            format!("[{}]", r.join(", "))
+        })
+        .collect();
+    format!("[{}]", rows.join(", "))
+}
+
+/// `kind = "gain-scheduled"` with `X(ρ) = Σ ρ^i X_i`, `L(ρ) = Σ ρ^i L_i` and `extra` keys.
+fn x_l_spec(x: &[Mat], l: &[Mat], extra: &str) -> String {
+    let xs: Vec<String> = x.iter().map(toml_rows).collect();
+    let ls: Vec<String> = l
+        .iter()
+        .map(|m| {
+            toml_rows(m)
+                .trim_start_matches('[')
+                .trim_end_matches(']')
+                .to_string()
+        })
+        .map(|r| format!("[{r}]"))
+        .collect();
+    format!(
+        "kind = \"gain-scheduled\"\nx_coefficients = [{}]\nl_coefficients = [{}]\n{extra}",
+        xs.join(", "),
+        ls.join(", ")
+    )
+}
+
+#[test]
+fn x_and_l_coefficients_give_minus_l_x_inverse() {
+    // X(ρ) = (1 + ρ) M, L(ρ) = −(K₀ + ρ K₁) M: then −L(ρ) X(ρ)⁻¹ = (K₀ + ρ K₁)/(1 + ρ) in
+    // closed form, whatever the (non-diagonal) M.
+    let m = spd(4);
+    let k0 = Mat::from_row_slice(1, 4, &[-2.0, 30.0, -1.5, 4.0]);
+    let k1 = Mat::from_row_slice(1, 4, &[1.0, -8.0, 0.5, 2.0]);
+    let spec = parse(&x_l_spec(
+        &[m.clone(), m.clone()],
+        &[-(&k0 * &m), -(&k1 * &m)],
+        "",
+    ))
+    .unwrap();
+    let arm = PlantSpec::book(PlantKind::Arm);
+    let mut b = build_for(&spec, &arm, 1e-3).unwrap();
+    assert_eq!((b.controller.ny(), b.controller.nu()), (4, 1));
+    for th in [0.0f64, 0.3, 0.8, -1.0] {
+        let rho = 1.0 - th.cos();
+        let k = (&k0 + &k1 * rho) / (1.0 + rho);
+        // u is affine in y at fixed q₀: the gain column by column, u(y + e_i) − u(y).
+        let y = [th, 0.0, 0.0, 0.0];
+        let mut u0 = [0.0];
+        b.controller.update(0.0, &y, &mut u0);
+        assert!(
+            (u0[0] + k[(0, 0)] * th).abs() < 1e-12 * (1.0 + k[(0, 0)].abs()),
+            "{th}: {u0:?}"
+        );
+        for i in 1..4 {
+            let mut yi = y;
+            yi[i] = 1.0;
+            let mut u1 = [0.0];
+            b.controller.update(0.0, &yi, &mut u1);
+            let ki = -(u1[0] - u0[0]);
+            assert!(
+                (ki - k[(0, i)]).abs() < 1e-12 * k[(0, i)].abs().max(1.0),
+                "{th} K[{i}]: {ki} vs {}",
+                k[(0, i)]
+            );
+        }
+    }
+}
+
+#[test]
+fn a_five_state_schedule_is_the_lq_servo_when_the_gain_is_constant() {
+    // X = M (5 × 5, ρ-independent), L = −K M: K(ρ) = K = [K₁ K₂] at every ρ, so the scheduled
+    // servo must command what `lq-servo` with k1 = K₁, k2 = K₂ commands, sample by sample,
+    // through a reference step (its integrator, its rule, its reference handling); and the
+    // polynomial form `coefficients = [K]` likewise.
+    let k = [-1.2, 25.0, -0.8, 3.5, -2.0];
+    let km = Mat::from_row_slice(1, 5, &k);
+    let m = spd(5);
+    let steps = "reference = [0.3]\nstep_time = 0.01\n";
+    let scheduled = parse(&x_l_spec(&[m.clone()], &[-(&km * &m)], steps)).unwrap();
+    let poly = parse(&format!(
+        "kind = \"gain-scheduled\"\ncoefficients = [[{}]]\n{steps}",
+        k.map(|v| format!("{v:?}")).join(", ")
+    ))
+    .unwrap();
+    let servo = parse(&format!(
+        "kind = \"lq-servo\"\nk1 = [{}]\nk2 = {:?}\n{steps}",
+        k[..4]
+            .iter()
+            .map(|v| format!("{v:?}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        k[4]
+    ))
+    .unwrap();
+    let arm = PlantSpec::book(PlantKind::Arm);
+    let ts = 2e-3;
+    let mut c: Vec<Built> = [&scheduled, &poly, &servo]
+        .iter()
+        .map(|s| build_for(s, &arm, ts).unwrap())
+        .collect();
+    for b in &c {
+        assert_eq!(b.controller.sample_time(), Some(ts));
+    }
+    for step in 0..40 {
+        let t = step as f64 * ts;
+        let y = [0.01 * step as f64, -0.002 * step as f64, 0.1, -0.05];
+        let mut u = [[0.0]; 3];
+        for (b, ui) in c.iter_mut().zip(&mut u) {
+            b.controller.update(t, &y, ui);
+        }
+        let tol = 1e-10 * u[2][0].abs().max(1.0);
+        assert!((u[0][0] - u[2][0]).abs() < tol, "t = {t}: {u:?}");
+        assert!((u[1][0] - u[2][0]).abs() < tol, "t = {t}: {u:?}");
+    }
+    // After reset the integrators start again from 0.
+    c[0].controller.reset();
+    c[2].controller.reset();
+    let mut u = [[0.0]; 2];
+    c[0].controller.update(0.0, &[0.0; 4], &mut u[0]);
+    c[2].controller.update(0.0, &[0.0; 4], &mut u[1]);
+    assert_eq!(u[0], u[1]);
+}
+
+#[test]
+fn a_five_state_schedule_tracks_a_scenario_reference_on_the_arm() {
+    // The constant LQ servo gain of the book's arm (Q = diag(0.1, 1, 0.001, 0.001, 4), R = 1)
+    // written as X = I, L = −K: a scenario's 0.3 rad step is reached, as `lq-servo` reaches it.
+    let arm = PlantSpec::book(PlantKind::Arm);
+    let lin = arm.parameters().linearize_upright(0.0).unwrap();
+    let sys = StateSpace::continuous(
+        lin.a().clone(),
+        lin.b().clone(),
+        Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
+        Mat::zeros(1, 1),
+    )
+    .unwrap();
+    let q = diag("q", &[0.1, 1.0, 0.001, 0.001, 4.0], 5).unwrap();
+    let d = lq_servo(&sys, &q, &check_r("r", 1.0).unwrap()).unwrap();
+    let mut k = Mat::zeros(1, 5);
+    k.view_mut((0, 0), (1, 4)).copy_from(&d.state_gain);
+    k[(0, 4)] = d.integral_gain[(0, 0)];
+    let spec = parse(&x_l_spec(&[Mat::identity(5, 5)], &[-k], "")).unwrap();
+    let mut scenario = ScenarioSpec::new(vec![0.0; 4], 8.0);
+    scenario.reference = pendulab_sim::scenario::SignalSpec::Constant { value: 0.3 };
+    let run = simulate(&arm, &spec, &scenario).unwrap();
+    let x = &run.summary.final_state;
+    assert!((x[0] - 0.3).abs() < 0.01 && x[1].abs() < 0.01, "{x:?}");
+    // A 4-state schedule tracks no reference: the scenario's is refused, naming the kind.
+    let reg = parse(&x_l_spec(&[spd(4)], &[Mat::zeros(1, 4)], "")).unwrap();
+    let e = simulate(&arm, &reg, &scenario).unwrap_err().to_string();
+    assert!(e.contains("gain-scheduled"), "{e}");
+}
+
+#[test]
+fn x_and_l_keys_are_checked_by_name() {
+    let arm = PlantSpec::book(PlantKind::Arm);
+    let m = spd(5);
+    let l = Mat::from_row_slice(1, 5, &[1.0, 2.0, 3.0, 4.0, 5.0]);
+    let mut asym = m.clone();
+    asym[(0, 1)] += 1e-3;
+    let mut indefinite = m.clone();
+    indefinite[(2, 2)] = -1.0;
+    let l4 = Mat::from_row_slice(1, 4, &[1.0, 2.0, 3.0, 4.0]);
+    let cases: Vec<(String, &str)> = vec![
+        (
+            x_l_spec(&[m.clone(), asym], &[l.clone()], ""),
+            "controller.x_coefficients[1]: must be symmetric",
+        ),
+        (
+            x_l_spec(&[indefinite], &[l.clone()], ""),
+            "controller.x_coefficients[0]: X(0) = X0 must be positive definite",
+        ),
+        (
+            x_l_spec(&[spd(3)], &[l.clone()], ""),
+            "controller.x_coefficients[0] has 3 entries",
+        ),
+        (
+            x_l_spec(&[m.clone(), spd(4)], &[l.clone()], ""),
+            "controller.x_coefficients[1] has 4 rows, expected 5",
+        ),
+        (
+            x_l_spec(&[m.clone()], &[l.clone(), l4], ""),
+            "controller.l_coefficients[1] has 4 entries, expected 5",
+        ),
+        (x_l_spec(&[m.clone()], &[], ""), "give at least X0 and L0"),
+        (
+            x_l_spec(&[m.clone()], &[l.clone()], "")
+                .replace("x_coefficients = [[[", "x_coefficients = [[[nan, "),
+            "controller.x_coefficients[0][0] has 6 entries",
+        ),
+        (
+            x_l_spec(&[spd(4)], &[Mat::zeros(1, 4)], "reference = [0.1]\n"),
+            "controller.reference, controller.step_time: a 4-state gain-scheduled regulator tracks no reference",
+        ),
+        (
+            x_l_spec(
+                &[m.clone()],
+                &[l.clone()],
+                "coefficients = [[0.0, 0.0, 0.0, 0.0]]\n",
+            ),
+            "give coefficients; or lqr with design_points_deg (arm); or x_coefficients with l_coefficients",
+        ),
+        (
+            "kind = \"gain-scheduled\"\nx_coefficients = [[[1.0]]]\n".to_string(),
+            "or x_coefficients with l_coefficients",
+        ),
+        (
+            x_l_spec(&[m.clone()], &[l.clone()], "reference = [0.1, 0.2]\n"),
+            "controller.reference of a gain-scheduled is one value",
+        ),
+        (
+            x_l_spec(&[m.clone()], &[l.clone()], "step_time = -1.0\n"),
+            "controller.step_time = -1",
+        ),
+        (
+            x_l_spec(&[m.clone()], &[l.clone()], "schedule = \"theta\"\n"),
+            "controller.schedule = 'theta'",
+        ),
+        (
+            "kind = \"gain-scheduled\"\ncoefficients = [[1.0, 2.0, 3.0]]\n".to_string(),
+            "controller.coefficients[0] has 3 entries",
+        ),
+    ];
+    for (text, needle) in cases {
+        let spec = parse(&text).unwrap_or_else(|e| panic!("{text}: {e}"));
+        let e = build_for(&spec, &arm, 1e-3).unwrap_err().to_string();
+        assert!(e.contains(needle), "{needle}:\n{e}");
+    }
+    // A NaN entry (in a well-shaped matrix) is named with its row and index.
+    let mut nan = m.clone();
+    nan[(2, 3)] = f64::NAN;
+    nan[(3, 2)] = f64::NAN;
+    let spec = parse(&x_l_spec(&[nan], &[l.clone()], "").replace("NaN", "nan")).unwrap();
+    let e = build_for(&spec, &arm, 1e-3).unwrap_err().to_string();
+    assert!(
+        e.contains("controller.x_coefficients[0][2][3] = NaN"),
+        "{e}"
+    );
+}
+
+#[test]
+fn x_and_l_coefficients_round_trip_through_toml() {
+    let m = spd(5);
+    let text = x_l_spec(
+        &[m.clone(), &m * 0.1, &m * 0.01],
+        &[
+            Mat::from_row_slice(1, 5, &[1.0, 2.0, 3.0, 4.0, 5.0]),
+            Mat::from_row_slice(1, 5, &[0.1, 0.2, 0.3, 0.4, 0.5]),
+            Mat::from_row_slice(1, 5, &[1e-3, 2e-3, 3e-3, 4e-3, 1.0 / 3.0]),
+        ],
+        "reference = [1.0471975511965976]\nstep_time = 0.5\nschedule = \"one-minus-cos-q0\"\n",
+    );
+    let spec = parse(&text).unwrap();
+    let back = parse(&toml::to_string(&spec).unwrap()).unwrap();
+    assert_eq!(back, spec);
+    let ControllerSpec::GainScheduled(c) = &back else {
+        panic!("{back:?}")
+    };
+    assert_eq!(c.x_coefficients.as_ref().map(Vec::len), Some(3));
+    assert_eq!(c.l_coefficients.as_ref().unwrap()[2][4], 1.0 / 3.0);
+    build_for(&back, &PlantSpec::book(PlantKind::Arm), 1e-3).unwrap();
+}
