@@ -123,7 +123,8 @@
       g.textContent = "[" + d.gain.map((v) => v.toFixed(4)).join(", ") + "]";
       g.dataset.gain = JSON.stringify(d.gain);
       $("poles").textContent = d.poles.map(([re, im]) => im === 0 ? re.toFixed(3) : `${re.toFixed(3)}${im >= 0 ? "+" : "−"}${Math.abs(im).toFixed(3)}i`).join(", ");
-      if (!isLmi()) $("redesign-time").textContent = `${median(state.lastDesignUs).toFixed(1)} µs (median of ${state.lastDesignUs.length})`;
+      // Outside a cross-origin-isolated page (e.g. file://) the browser's timer resolves 100 µs.
+      if (!isLmi()) $("redesign-time").textContent = `${median(state.lastDesignUs).toFixed(1)} µs (median of ${state.lastDesignUs.length})${window.crossOriginIsolated ? "" : ", timer resolution 100 µs"}`;
       window.PendulabPlot.poleMap($("polemap"), d.open, d.poles);
       status("");
     } catch (e) {
