@@ -209,6 +209,8 @@ pub fn classify(err: &LtiError) -> (Kind, &'static str) {
         LtiError::Inaccurate { .. } => (Kind::LinAlg, "Inaccurate"),
         LtiError::NoRealLogarithm { .. } => (Kind::LinAlg, "NoRealLogarithm"),
         LtiError::PoleAtEvaluationPoint { .. } => (Kind::LinAlg, "PoleAtEvaluationPoint"),
+        LtiError::SynthesisAssumption { .. } => (Kind::InvalidArgument, "SynthesisAssumption"),
+        LtiError::HinfInfeasible { .. } => (Kind::Infeasible, "HinfInfeasible"),
         // `LtiError` is non-exhaustive: a variant added later is a plain `pendulab.Error`.
         _ => (Kind::Error, "Other"),
     }

@@ -8,6 +8,7 @@
 //! | [`equations`] | `lyap`, `dlyap`, `care`, `dare` |
 //! | [`design`] | `lqr`, `dlqr`, `lqe`, `dlqe`, `place`, `acker`, `place_observer`, `lqi`, `lqr_sampled_data`, `reg`, `minimal_order_observer` |
 //! | [`response`] | `lsim`, `lsim_split`, `step`, `impulse`, `initial`, `freqresp`, `bode` |
+//! | [`synthesis`] | `hinfsyn`, `h2syn`, `augw` |
 //!
 //! Every function converts its arguments ([`crate::convert`]), releases the GIL around the
 //! pendulab-lti call and returns NumPy arrays or a small result class ([`results`]) that
@@ -19,6 +20,7 @@ pub mod design;
 pub mod equations;
 pub mod response;
 pub mod results;
+pub mod synthesis;
 pub mod system;
 
 use pyo3::prelude::*;
@@ -48,12 +50,15 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     use design::*;
     use equations::*;
     use response::*;
+    use synthesis::*;
     use system::*;
     add_all!(m;
-        [ss, tf, c2d, d2c, poles, zeros, dcgain, damp, ctrb_py, obsv_py, gram, lyap, dlyap, care, dare,
+        [hinfsyn, h2syn, augw,
+         ss, tf, c2d, d2c, poles, zeros, dcgain, damp, ctrb_py, obsv_py, gram, lyap, dlyap, care, dare,
          lqr, dlqr, lqe, dlqe, place_py, acker_py, place_observer_py, lqi, lqr_sampled_data, reg,
          minimal_order_observer, lsim, lsim_split, step, impulse, initial, freqresp, bode];
-        [StateSpace, TransferFunction, DampResult, MatrixEquationResult, RiccatiResult, LqrResult,
+        [HinfsynResult, H2synResult,
+         StateSpace, TransferFunction, DampResult, MatrixEquationResult, RiccatiResult, LqrResult,
          LqeResult, PlaceResult, LqiResult, SampledDataLqrResult, MinimalObserverResult, LsimResult,
          LsimSplit, TimeResponse, FrequencyResponse, BodeResult]);
     Ok(())

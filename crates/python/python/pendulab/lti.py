@@ -23,6 +23,11 @@ message; all but the base class are also ``ValueError``.
 """
 
 from ._native import (
+    H2synResult,
+    HinfsynResult,
+    augw,
+    h2syn,
+    hinfsyn,
     BodeResult,
     DampResult,
     FrequencyResponse,
@@ -75,6 +80,11 @@ from ._native import (
 )
 
 __all__ = [
+    "hinfsyn",
+    "h2syn",
+    "augw",
+    "HinfsynResult",
+    "H2synResult",
     "StateSpace",
     "TransferFunction",
     "ss",

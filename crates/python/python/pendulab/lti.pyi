@@ -188,3 +188,27 @@ def freqresp(sys: SystemLike, omega: Optional[ArrayLike] = ...) -> FrequencyResp
 def bode(sys: SystemLike, omega: Optional[ArrayLike] = ...) -> BodeResult: ...
 
 __all__: list[str]
+
+class HinfsynResult(_Result):
+    """An H∞ controller; unpacks as python-control's ``K, CL, gam``."""
+    K: StateSpace
+    CL: StateSpace
+    gam: float
+    X: Array
+    Y: Array
+    rho: float
+    gamma_infeasible: Optional[float]
+
+class H2synResult(_Result):
+    """The H2-optimal controller; unpacks as ``K, CL, norm``."""
+    K: StateSpace
+    CL: StateSpace
+    norm: float
+    X: Array
+    Y: Array
+    Kx: Array
+    L: Array
+
+def hinfsyn(P: SystemLike, nmeas: int, ncon: int, gamma: Optional[float] = ..., tol: float = ...) -> HinfsynResult: ...
+def h2syn(P: SystemLike, nmeas: int, ncon: int) -> H2synResult: ...
+def augw(G: SystemLike, w1: Optional[SystemLike] = ..., w2: Optional[SystemLike] = ..., w3: Optional[SystemLike] = ...) -> StateSpace: ...
