@@ -9,6 +9,7 @@
 //! | [`design`] | `lqr`, `dlqr`, `lqe`, `dlqe`, `place`, `acker`, `place_observer`, `lqi`, `lqr_sampled_data`, `reg`, `minimal_order_observer` |
 //! | [`response`] | `lsim`, `lsim_split`, `step`, `impulse`, `initial`, `freqresp`, `bode` |
 //! | [`synthesis`] | `hinfsyn`, `h2syn`, `augw` |
+//! | [`loop_analysis`] | `nyquist`, `nichols`, `rlocus`, `rlocfind`, `disk_margin`, `sigma` |
 //!
 //! Every function converts its arguments ([`crate::convert`]), releases the GIL around the
 //! pendulab-lti call and returns NumPy arrays or a small result class ([`results`]) that
@@ -18,6 +19,7 @@
 pub mod analysis;
 pub mod design;
 pub mod equations;
+pub mod loop_analysis;
 pub mod response;
 pub mod results;
 pub mod synthesis;
@@ -49,6 +51,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     use analysis::*;
     use design::*;
     use equations::*;
+    use loop_analysis::*;
     use response::*;
     use synthesis::*;
     use system::*;
@@ -56,10 +59,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
         [hinfsyn, h2syn, augw,
          ss, tf, c2d, d2c, poles, zeros, dcgain, damp, ctrb_py, obsv_py, gram, lyap, dlyap, care, dare,
          lqr, dlqr, lqe, dlqe, place_py, acker_py, place_observer_py, lqi, lqr_sampled_data, reg,
-         minimal_order_observer, lsim, lsim_split, step, impulse, initial, freqresp, bode];
+         minimal_order_observer, lsim, lsim_split, step, impulse, initial, freqresp, bode, nyquist,
+         nichols, rlocus, rlocfind, disk_margin, sigma];
         [HinfsynResult, H2synResult,
          StateSpace, TransferFunction, DampResult, MatrixEquationResult, RiccatiResult, LqrResult,
          LqeResult, PlaceResult, LqiResult, SampledDataLqrResult, MinimalObserverResult, LsimResult,
-         LsimSplit, TimeResponse, FrequencyResponse, BodeResult]);
+         LsimSplit, TimeResponse, FrequencyResponse, BodeResult, NyquistResult, NicholsResult,
+         RootLocusResult, RlocfindResult, DiskMarginResult, SigmaResult]);
     Ok(())
 }

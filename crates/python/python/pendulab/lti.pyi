@@ -153,6 +153,52 @@ class BodeResult(_Result):
     phase_deg: Array
     omega: Array
 
+class NyquistResult(_Result):
+    count: int
+    response: CArray
+    omega: Array
+    contour: CArray
+    winding: float
+    open_loop_unstable: int
+    closed_loop_unstable: int
+    criterion_holds: bool
+    indented_poles: CArray
+    min_distance: float
+
+class NicholsResult(_Result):
+    mag_db: Array
+    phase_deg: Array
+    omega: Array
+
+class RootLocusResult(_Result):
+    roots: CArray
+    gains: Array
+    poles: CArray
+    zeros: CArray
+    centroid: float
+    asymptote_angles: Array
+    break_points: CArray
+    break_gains: Array
+
+class RlocfindResult(_Result):
+    gain: float
+    poles: CArray
+    gain_complex: complex
+    distance: float
+
+class DiskMarginResult(_Result):
+    alpha: float
+    gain_margin_db: float
+    phase_margin_deg: float
+    gain_interval: Tuple[float, float]
+    frequency: float
+    closed_loop_stable: bool
+    skew: float
+
+class SigmaResult(_Result):
+    sv: Array
+    omega: Array
+
 def ss(*args: Any, dt: Optional[float] = ...) -> StateSpace: ...
 def tf(num: Any, den: Optional[ArrayLike] = ..., dt: Optional[float] = ...) -> TransferFunction: ...
 def c2d(sys: SystemLike, Ts: float, method: str = ..., prewarp_frequency: Optional[float] = ...) -> Union[StateSpace, TransferFunction]: ...
@@ -186,6 +232,12 @@ def impulse(sys: SystemLike, T: Optional[ArrayLike] = ...) -> TimeResponse: ...
 def initial(sys: SystemLike, T: Optional[ArrayLike] = ..., X0: Optional[ArrayLike] = ...) -> TimeResponse: ...
 def freqresp(sys: SystemLike, omega: Optional[ArrayLike] = ...) -> FrequencyResponse: ...
 def bode(sys: SystemLike, omega: Optional[ArrayLike] = ...) -> BodeResult: ...
+def nyquist(sys: SystemLike, indent_radius: float = ...) -> NyquistResult: ...
+def nichols(sys: SystemLike, omega: Optional[ArrayLike] = ...) -> NicholsResult: ...
+def rlocus(sys: SystemLike, gains: Optional[ArrayLike] = ...) -> RootLocusResult: ...
+def rlocfind(sys: SystemLike, s0: complex) -> RlocfindResult: ...
+def disk_margin(sys: SystemLike, skew: float = ...) -> DiskMarginResult: ...
+def sigma(sys: SystemLike, omega: Optional[ArrayLike] = ...) -> SigmaResult: ...
 
 __all__: list[str]
 

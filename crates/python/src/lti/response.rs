@@ -418,7 +418,7 @@ result_class!(
 
 /// The frequencies: `omega` if given, else pendulab-lti's automatic grid (one decade beyond
 /// the poles and zeros, `points_per_decade` per decade, up to the Nyquist frequency).
-fn frequencies<D: pendulab_lti::TimeDomain>(
+pub(super) fn frequencies<D: pendulab_lti::TimeDomain>(
     s: &pendulab_lti::StateSpace<D>,
     omega: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Vec<f64>> {

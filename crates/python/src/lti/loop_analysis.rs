@@ -1,0 +1,273 @@
+//! Loop analysis: `nyquist`, `nichols`, `rlocus`, `rlocfind`, `disk_margin`, `sigma`
+//! (pendulab-lti's `nyquist`, `rlocus`, `disk_margin` and `sigma` modules).
+
+use super::nogil;
+use super::response::frequencies;
+use super::results::{obj, result_class};
+use super::system::{system, with_sys};
+use crate::convert::{complex_to_numpy, complex_vector, slice_to_numpy, vector};
+use crate::errors::{Kind, new_err};
+use numpy::IntoPyArray;
+use numpy::ndarray::Array2;
+use pendulab_lti::Complex64;
+use pyo3::prelude::*;
+
+result_class!(
+    NyquistResult, "NyquistResult",
+    "Nyquist curve and encirclement count; unpacks as `count, response, omega` (python-control's `nyquist_response` count: clockwise encirclements of −1).",
+    array none,
+    unpack {
+        count as "count": "N: clockwise encirclements of −1 by the whole (mirrored) curve.",
+        response as "response": "L on the upper half of the contour (ω ≥ 0), complex; the lower half is its conjugate.",
+        omega as "omega": "The frequency parameter of each contour point, rad/s, ascending from 0.",
+    }
+    also {
+        contour as "contour": "The contour points s (or z = e^{s dt}), indented to the right of imaginary-axis poles (radius indent_radius).",
+        winding as "winding": "The unrounded count (far from an integer when the curve passes through −1).",
+        open_loop_unstable as "open_loop_unstable": "P: open-loop poles with Re > 0 (|z| > 1).",
+        closed_loop_unstable as "closed_loop_unstable": "Z: closed-loop poles with Re ≥ 0 (|z| ≥ 1), from the closed loop's eigenvalues.",
+        criterion_holds as "criterion_holds": "Z == N + P.",
+        indented_poles as "indented_poles": "Poles of L the contour was indented around (s-plane, Im ≥ 0).",
+        min_distance as "min_distance": "min |1 + L| over the contour.",
+    }
+);
+
+/// `nyquist(sys, indent_radius=1e-4)`: the Nyquist curve of the SISO loop `L` (closed as
+/// `u = −L y`) with the clockwise encirclements of −1 and the Nyquist criterion
+/// `Z = N + P` (python-control's `nyquist_response` conventions: the contour passes
+/// imaginary-axis poles on the right). Returns `NyquistResult` (`count, response, omega`).
+///
+/// Raises `pendulab.DimensionError` (variant `NotSiso`) for a MIMO system,
+/// `pendulab.LinAlgError` (`Singular`) for an ill-posed loop (1 + D = 0).
+#[pyfunction]
+#[pyo3(signature = (sys, indent_radius = 1e-4))]
+pub fn nyquist(sys: &Bound<'_, PyAny>, indent_radius: f64) -> PyResult<NyquistResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let opts = pendulab_lti::nyquist::NyquistOptions {
+        indent_radius,
+        ..Default::default()
+    };
+    let c = nogil(
+        py,
+        || with_sys!(&s, s => pendulab_lti::nyquist::nyquist(s, &opts)),
+    )?;
+    Ok(NyquistResult {
+        count: obj(py, c.encirclements)?,
+        response: complex_to_numpy(py, &c.response).into_any().unbind(),
+        omega: slice_to_numpy(py, &c.w).into_any().unbind(),
+        contour: complex_to_numpy(py, &c.contour).into_any().unbind(),
+        winding: obj(py, c.winding)?,
+        open_loop_unstable: obj(py, c.open_loop_unstable)?,
+        closed_loop_unstable: obj(py, c.closed_loop_unstable)?,
+        criterion_holds: obj(py, c.criterion_holds())?,
+        indented_poles: complex_to_numpy(py, &c.indented_poles).into_any().unbind(),
+        min_distance: obj(py, c.min_distance_to_critical)?,
+    })
+}
+
+result_class!(
+    NicholsResult, "NicholsResult",
+    "Nichols curve; unpacks as `mag_db, phase_deg, omega`.",
+    array none,
+    unpack {
+        mag_db as "mag_db": "20 log₁₀|L| in dB.",
+        phase_deg as "phase_deg": "∠L in degrees, unwrapped along omega and shifted by whole turns so that the first value is in (−360°, 0°].",
+        omega as "omega": "Frequencies in rad/s.",
+    }
+    also {}
+);
+
+/// `nichols(sys, omega=None)`: the Nichols curve of a SISO system (MATLAB `nichols` data; no
+/// plot). Returns `NicholsResult` (`mag_db, phase_deg, omega`).
+#[pyfunction]
+#[pyo3(signature = (sys, omega = None))]
+pub fn nichols(
+    sys: &Bound<'_, PyAny>,
+    omega: Option<&Bound<'_, PyAny>>,
+) -> PyResult<NicholsResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let w = with_sys!(&s, s => frequencies(s, omega))?;
+    let n = nogil(
+        py,
+        || with_sys!(&s, s => pendulab_lti::nyquist::nichols(s, &w)),
+    )?;
+    Ok(NicholsResult {
+        mag_db: slice_to_numpy(py, &n.magnitude_db).into_any().unbind(),
+        phase_deg: slice_to_numpy(py, &n.phase_deg).into_any().unbind(),
+        omega: slice_to_numpy(py, &n.w).into_any().unbind(),
+    })
+}
+
+result_class!(
+    RootLocusResult, "RootLocusResult",
+    "Root locus; unpacks as `roots, gains` (MATLAB's `[r, k] = rlocus(sys)`, python-control's `loci, gains`).",
+    array none,
+    unpack {
+        roots as "roots": "Closed-loop poles, complex, shape (len(gains), n); column b is branch b (continuous where the grid resolves it).",
+        gains as "gains": "Gains K ≥ 0, ascending (negative feedback u = −K y).",
+    }
+    also {
+        poles as "poles": "Open-loop poles (K = 0).",
+        zeros as "zeros": "Open-loop zeros.",
+        centroid as "centroid": "Centroid of the asymptotes (nan without infinite branches).",
+        asymptote_angles as "asymptote_angles": "Asymptote angles (2k + 1)π/(n − m), radians.",
+        break_points as "break_points": "Break-away/break-in points (roots of N D′ − N′ D with real K ≥ 0), complex.",
+        break_gains as "break_gains": "The gain at each break point.",
+    }
+);
+
+/// `rlocus(sys, gains=None)`: the root locus of the SISO loop (closed-loop poles of
+/// `D + K N = 0` over `gains`, or an adaptive grid with the break points' gains), with its
+/// asymptotes and break points. Returns `RootLocusResult` (`roots, gains`).
+///
+/// Raises `pendulab.DimensionError` (`NotSiso`) for a MIMO system; `pendulab.Error`
+/// subclasses for a negative gain or the zero loop.
+#[pyfunction]
+#[pyo3(signature = (sys, gains = None))]
+pub fn rlocus(
+    sys: &Bound<'_, PyAny>,
+    gains: Option<&Bound<'_, PyAny>>,
+) -> PyResult<RootLocusResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let g: Option<Vec<f64>> = match gains {
+        Some(g) if !g.is_none() => Some(vector(g, "gains")?.data.into()),
+        _ => None,
+    };
+    let rl = nogil(
+        py,
+        || with_sys!(&s, s => pendulab_lti::rlocus::rlocus(s, g.as_deref())),
+    )?;
+    let n = rl.roots.first().map_or(0, Vec::len);
+    let roots =
+        Array2::from_shape_fn((rl.roots.len(), n), |(i, j)| rl.roots[i][j]).into_pyarray(py);
+    let bp: Vec<Complex64> = rl.break_points.iter().map(|b| b.point).collect();
+    let bg: Vec<f64> = rl.break_points.iter().map(|b| b.gain).collect();
+    Ok(RootLocusResult {
+        roots: roots.into_any().unbind(),
+        gains: slice_to_numpy(py, &rl.gains).into_any().unbind(),
+        poles: complex_to_numpy(py, &rl.poles).into_any().unbind(),
+        zeros: complex_to_numpy(py, &rl.zeros).into_any().unbind(),
+        centroid: obj(py, rl.asymptotes.centroid)?,
+        asymptote_angles: slice_to_numpy(py, &rl.asymptotes.angles)
+            .into_any()
+            .unbind(),
+        break_points: complex_to_numpy(py, &bp).into_any().unbind(),
+        break_gains: slice_to_numpy(py, &bg).into_any().unbind(),
+    })
+}
+
+result_class!(
+    RlocfindResult, "RlocfindResult",
+    "The gain at a point of the plane; unpacks as `gain, poles` (MATLAB's `[K, poles] = rlocfind(sys, p)`).",
+    array none,
+    unpack {
+        gain as "gain": "K = Re(−D(s0)/N(s0)).",
+        poles as "poles": "Closed-loop poles at that gain.",
+    }
+    also {
+        gain_complex as "gain_complex": "−D(s0)/N(s0) itself (real when s0 is on the locus).",
+        distance as "distance": "Distance from s0 to the nearest closed-loop pole (0 on the locus).",
+    }
+);
+
+/// `rlocfind(sys, s0)`: the gain that places a closed-loop pole at (or nearest) `s0`.
+#[pyfunction]
+pub fn rlocfind(sys: &Bound<'_, PyAny>, s0: &Bound<'_, PyAny>) -> PyResult<RlocfindResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let v = complex_vector(s0, "s0")?;
+    let [s0] = v[..] else {
+        return Err(new_err(
+            Kind::InvalidArgument,
+            format!("s0: one complex number expected, got {} values", v.len()),
+            None,
+        ));
+    };
+    let f = nogil(
+        py,
+        || with_sys!(&s, s => pendulab_lti::rlocus::rlocfind(s, s0)),
+    )?;
+    Ok(RlocfindResult {
+        gain: obj(py, f.gain)?,
+        poles: complex_to_numpy(py, &f.poles).into_any().unbind(),
+        gain_complex: pyo3::types::PyComplex::from_doubles(
+            py,
+            f.gain_complex.re,
+            f.gain_complex.im,
+        )
+        .into_any()
+        .unbind(),
+        distance: obj(py, f.distance)?,
+    })
+}
+
+result_class!(
+    DiskMarginResult, "DiskMarginResult",
+    "Disk margin; unpacks as `alpha, gain_margin_db, phase_margin_deg` (python-control's `DM, DGM, DPM`).",
+    array none,
+    unpack {
+        alpha as "alpha": "α = 1/‖S + (skew − 1)/2‖∞ (exact peak; 0 for an unstable closed loop).",
+        gain_margin_db as "gain_margin_db": "20 log₁₀ min(1/γ₋, γ₊) in dB (inf when unbounded).",
+        phase_margin_deg as "phase_margin_deg": "The disk-based phase margin in degrees.",
+    }
+    also {
+        gain_interval as "gain_interval": "(γ₋, γ₊): the gains the disk guarantees (γ₊ may be inf).",
+        frequency as "frequency": "The critical frequency in rad/s (inf when approached at infinite frequency, nan if unstable).",
+        closed_loop_stable as "closed_loop_stable": "Whether the nominal closed loop is stable.",
+        skew as "skew": "The skew σ used.",
+    }
+);
+
+/// `disk_margin(sys, skew=0.0)`: the disk margin of the SISO loop (Seiler, Packard &
+/// Gahinet 2020), the gain interval and phase margin it guarantees, the critical frequency.
+/// Returns `DiskMarginResult` (`alpha, gain_margin_db, phase_margin_deg`).
+#[pyfunction]
+#[pyo3(signature = (sys, skew = 0.0))]
+pub fn disk_margin(sys: &Bound<'_, PyAny>, skew: f64) -> PyResult<DiskMarginResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let m = nogil(
+        py,
+        || with_sys!(&s, s => pendulab_lti::disk_margin::disk_margin(s, skew)),
+    )?;
+    Ok(DiskMarginResult {
+        alpha: obj(py, m.alpha)?,
+        gain_margin_db: obj(py, m.gain_margin_db())?,
+        phase_margin_deg: obj(py, m.phase_margin_deg)?,
+        gain_interval: obj(py, (m.gain_interval.0, m.gain_interval.1))?,
+        frequency: obj(py, m.frequency)?,
+        closed_loop_stable: obj(py, m.closed_loop_stable)?,
+        skew: obj(py, m.skew)?,
+    })
+}
+
+result_class!(
+    SigmaResult, "SigmaResult",
+    "Singular values over frequency; unpacks as `sv, omega`.",
+    array none,
+    unpack {
+        sv as "sv": "Singular values, descending, shape (min(p, m), len(omega)) (python-control's layout).",
+        omega as "omega": "Frequencies in rad/s.",
+    }
+    also {}
+);
+
+/// `sigma(sys, omega=None)`: the singular values of `G(jω)` (MATLAB `sigma` data, python-
+/// control `singular_values_response`). Returns `SigmaResult` (`sv, omega`).
+#[pyfunction]
+#[pyo3(signature = (sys, omega = None))]
+pub fn sigma(sys: &Bound<'_, PyAny>, omega: Option<&Bound<'_, PyAny>>) -> PyResult<SigmaResult> {
+    let py = sys.py();
+    let s = system(sys)?;
+    let w = with_sys!(&s, s => frequencies(s, omega))?;
+    let r = nogil(py, || with_sys!(&s, s => pendulab_lti::sigma::sigma(s, &w)))?;
+    let k = r.values.first().map_or(0, Vec::len);
+    let sv = Array2::from_shape_fn((k, w.len()), |(i, j)| r.values[j][i]).into_pyarray(py);
+    Ok(SigmaResult {
+        sv: sv.into_any().unbind(),
+        omega: slice_to_numpy(py, &w).into_any().unbind(),
+    })
+}
