@@ -390,12 +390,14 @@
       const r = lab.compare(gs.file, gs.q, gs.r, [[0.5, amp], [6.5, 0]], 12, 10);
       const ms = performance.now() - t0;
       const deg = (a) => a.map((v) => v / DEG);
+      // Shown within ±m degrees: once a pendulum falls its arm spins away.
+      const clip = (a, m) => a.map((v) => Math.max(-m, Math.min(m, v)));
       const GS = "#1f6feb", LQ = "#d4760a";
       window.PendulabPlot.stacked($("gs-plot"), innerWidth > 760 ? 0.33 : 0.9, 0, 12, [
-        { title: "θ₁ [°]: reference (grey), gain-scheduled (blue), constant LQ (orange)", series: [
-          { t: r.t, y: deg(r.r), color: "#8c959f" }, { t: r.t, y: deg(r.gs.q0), color: GS }, { t: r.t, y: deg(r.lq.q0), color: LQ }] },
-        { title: "θ₂ [°]", series: [{ t: r.t, y: deg(r.gs.q1).map((v) => Math.max(-45, Math.min(45, v))), color: GS },
-          { t: r.t, y: deg(r.lq.q1).map((v) => Math.max(-45, Math.min(45, v))), color: LQ }] },
+        { title: "θ₁ [°] (within ±120°): reference (grey), gain-scheduled (blue), constant LQ (orange)", series: [
+          { t: r.t, y: deg(r.r), color: "#8c959f" }, { t: r.t, y: clip(deg(r.gs.q0), 120), color: GS }, { t: r.t, y: clip(deg(r.lq.q0), 120), color: LQ }] },
+        { title: "θ₂ [°] (within ±45°)", series: [{ t: r.t, y: clip(deg(r.gs.q1), 45), color: GS },
+          { t: r.t, y: clip(deg(r.lq.q1), 45), color: LQ }] },
         { title: "v [V]", series: [{ t: r.t, y: r.gs.u, color: GS }, { t: r.t, y: r.lq.u, color: LQ }] },
       ]);
       const maxAbs = (a) => Math.max(...a.map(Math.abs)) / DEG;

@@ -80,7 +80,14 @@ pub fn compare_servos(
     }
     let constant =
         design(plant, &Method::Servo { q: q.to_vec(), r })?.controller(Mode::Balance, 0.0, 0.0);
-    let gs = simulate(plant, scheduled, scenario)?;
+    // The scenario's reference drives both: the file's own reference step (a servo's
+    // `reference`, `step_time`) is set aside, as `simulate` takes one or the other.
+    let mut scheduled = scheduled.clone();
+    if let ControllerSpec::GainScheduled(c) = &mut scheduled {
+        c.reference = None;
+        c.step_time = None;
+    }
+    let gs = simulate(plant, &scheduled, scenario)?;
     let lq = simulate(plant, &constant, scenario)?;
     let every = every.max(1);
     let n = gs.t.len().min(lq.t.len());
