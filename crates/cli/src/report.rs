@@ -9,6 +9,7 @@ use crate::book::{DataFiles, OutLayout, json_line, prepare_out_dir, run_examples
 use anyhow::{Context, Result, bail};
 use pendulab_book::Example;
 use pendulab_book::report::{ReportOptions, Status, Summary, html, markdown_table};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
@@ -70,11 +71,34 @@ fn write_report(
     let start = Instant::now();
     prepare_out_dir(out)?;
     let figures = out.join("figures");
-    let entries = run_examples(examples, OutLayout::PerExample(&figures), data, progress);
+    // What an earlier report wrote for these examples goes: a figure since renamed or dropped
+    // would otherwise stay in the folder.
+    for e in examples {
+        let dir = figures.join(e.id);
+        if dir.exists() {
+            std::fs::remove_dir_all(&dir)
+                .with_context(|| format!("cannot remove the old figures in {}", dir.display()))?;
+        }
+    }
+    let mut entries = run_examples(examples, OutLayout::PerExample(&figures), data, progress);
+    // Paths relative to the report directory, in the page and in results.jsonl, so the
+    // directory can be moved whole.
+    let mut animations = BTreeMap::new();
+    for e in &mut entries {
+        for f in &mut e.files {
+            if let Ok(rel) = f.strip_prefix(out) {
+                *f = rel.to_path_buf();
+            }
+        }
+        if e.result.is_ok() {
+            animations.extend(animation_markup(out, &e.files)?);
+        }
+    }
     let summary = Summary::of(&entries);
     let run_seconds = start.elapsed().as_secs_f64();
     let options = ReportOptions {
-        base_dir: out.to_path_buf(),
+        base_dir: PathBuf::new(),
+        animations,
         subtitle: Some(format!(
             "pendulab {} · {} examples run in {:.1} s · written {}",
             env!("CARGO_PKG_VERSION"),
@@ -109,6 +133,23 @@ fn write_report(
         failing,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The animated SVGs among an example's files (an SVG beside a GIF of the same stem, as
+/// [`pendulab_book::Graphic::render`] writes an animation), read back for the page's players,
+/// keyed by their path relative to `out`.
+fn animation_markup(out: &Path, files: &[PathBuf]) -> Result<Vec<(PathBuf, String)>> {
+    let mut found = Vec::new();
+    for f in files {
+        let is_svg = f.extension().is_some_and(|x| x == "svg");
+        if is_svg && files.contains(&f.with_extension("gif")) {
+            let path = out.join(f);
+            let text = std::fs::read_to_string(&path)
+                .with_context(|| format!("cannot read {} back", path.display()))?;
+            found.push((f.clone(), text));
+        }
+    }
+    Ok(found)
 }
 
 /// Runs `pendulab report`.
@@ -196,7 +237,7 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 /// The lab file's errors; a design or figure that cannot be read; the page that cannot be
 /// written.
 fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
-    use pendulab_book::report::format::escape;
+    use pendulab_book::report::format::{escape, number, number_sig};
     use pendulab_plants::spec::{PlantParameters, Provenance};
     use std::fmt::Write as _;
     let plant = crate::lab::load(lab)?;
@@ -231,11 +272,13 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
     for ((k, v), (_, b)) in plant.parameters().entries().into_iter().zip(book) {
         let se = errors
             .get(&k)
-            .map_or("—".to_string(), |e| format!("{e:.3e}"));
+            .map_or("—".to_string(), |e| number_sig(*e, 3));
         let _ = writeln!(
             s,
-            "<tr><td>{}</td><td>{v:.6e}</td><td>{se}</td><td>{b:.6e}</td><td>{:.4}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{se}</td><td>{}</td><td>{:.4}</td></tr>",
             escape(&k),
+            number(v),
+            number(b),
             v / b
         );
     }

@@ -84,18 +84,37 @@ fn report_has_every_example_and_every_figure_link_resolves() {
         page.matches("<article class=\"example\"").count(),
         ids.len()
     );
-    // Every image and link into the report directory resolves to a written file.
+    // Every image and link is relative and resolves to a written file in the report
+    // directory; every anchor names an element of the page.
     for link in attributes(&page, "src").into_iter().chain(
         attributes(&page, "href")
             .into_iter()
             .filter(|h| !h.starts_with('#')),
     ) {
+        assert!(
+            !link.starts_with('/') && !link.contains(':') && !link.contains(".."),
+            "link {link} leaves the report directory"
+        );
         let p = resolve(&out, link);
         assert!(p.is_file(), "broken link {link} -> {}", p.display());
+    }
+    for anchor in attributes(&page, "href")
+        .into_iter()
+        .filter_map(|h| h.strip_prefix('#'))
+    {
+        assert!(
+            page.contains(&format!(" id=\"{anchor}\"")),
+            "#{anchor} names no element"
+        );
     }
     // results.jsonl: one line per example with the contract's keys; failures there match the
     // exit code.
     let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    // No absolute path anywhere: the directory can be moved whole.
+    let dir = d.join("");
+    let dir = dir.to_str().unwrap().trim_end_matches('/');
+    assert!(!page.contains(dir), "index.html names {dir}");
+    assert!(!results.contains(dir), "results.jsonl names {dir}");
     let lines: Vec<Value> = results
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
@@ -107,6 +126,18 @@ fn report_has_every_example_and_every_figure_link_resolves() {
             .collect::<Vec<_>>(),
         ids.iter().map(String::as_str).collect::<Vec<_>>()
     );
+    // Each figure path is relative to the report directory and names a written file.
+    for l in &lines {
+        for f in l["figures"].as_array().unwrap() {
+            let f = f.as_str().unwrap();
+            let id = l["id"].as_str().unwrap();
+            assert!(
+                f.starts_with(&format!("figures/{id}/")),
+                "{id}: figure path {f}"
+            );
+            assert!(out.join(f).is_file(), "{f} not written");
+        }
+    }
     // status.md: the README table, a header, a rule and one row per example.
     let status = std::fs::read_to_string(out.join("status.md")).unwrap();
     assert_eq!(status.lines().count(), ids.len() + 2, "{status}");
@@ -127,6 +158,45 @@ fn report_has_every_example_and_every_figure_link_resolves() {
         stdout.contains(&format!("{} examples", ids.len())),
         "{stdout}"
     );
+}
+
+#[test]
+fn only_replaces_the_figure_folders_of_the_examples_it_runs() {
+    let d = Dir::new("only");
+    let out = d.join("report");
+    let figures = out.join("figures");
+    // What an earlier report may have left: a figure the example no longer draws, and another
+    // example's folder.
+    let id = "p1c41_cdip_response";
+    for (dir, name) in [(id, "renamed_since.svg"), ("p1c511_ex1", "kept.svg")] {
+        std::fs::create_dir_all(figures.join(dir)).unwrap();
+        std::fs::write(figures.join(dir).join(name), "<svg/>").unwrap();
+    }
+    let o = pendulab(&["report", "--out", out.to_str().unwrap(), "--only", id]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut written: Vec<String> = std::fs::read_dir(figures.join(id))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    written.sort();
+    assert!(!written.is_empty());
+    assert!(
+        !written.iter().any(|f| f == "renamed_since.svg"),
+        "stale figure kept: {written:?}"
+    );
+    // Exactly the files results.jsonl lists are in the folder.
+    let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    let line: Value = serde_json::from_str(results.lines().next().unwrap()).unwrap();
+    let mut listed: Vec<String> = line["figures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap().rsplit('/').next().unwrap().to_string())
+        .collect();
+    listed.sort();
+    assert_eq!(written, listed);
+    // Another example's folder is not the run's business.
+    assert!(figures.join("p1c511_ex1/kept.svg").is_file());
 }
 
 #[test]
