@@ -433,17 +433,22 @@ fn p2c33_nmpc(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                     ],
                 ))
             };
-        let fig = stacked(
+        let mut fig = stacked(
             "p2c33: NMPC (C/GMRES) swing-up of the arm pendulum",
             "time [s]",
             vec![
                 panel("θ1 [deg]", "theta1", 0, true)?,
                 panel("θ2 [deg]", "theta2", 1, true)?,
-                panel("u [V]", "u1", 4, false)?
+                panel("u [V] (dashed: ±2.5 V)", "u1", 4, false)?
                     .reference(2.5, "±2.5 V")
                     .reference(-2.5, "−2.5 V"),
             ],
         );
+        // u spends most of the swing at ±2.5 V: no legend fits beside it; the lines are the
+        // first panel's and the axis label names the limits.
+        if let Some(ax) = fig.axes_mut(2, 0) {
+            ax.legend(pendulab_plot::LegendPos::Hidden);
+        }
         write_figure(&mut out, &format!("{id}_response"), fig);
         save_run_animation(ctx, &mut out, id, Rig::Arm, &run.trajectory, id)?;
     }
