@@ -336,14 +336,16 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
     ) -> Result<SampledRun> {
         let fused = self.multiply_add() == MulAddPath::Fused;
         self.plant.visit_stepper(Run {
-            controller: &mut self.controller,
-            saturation: self.saturation,
-            ts: self.ts,
-            t0: self.t0,
-            samples: self.samples,
-            nsub: self.nsub,
-            every: self.every,
+            settings: Settings {
+                saturation: self.saturation,
+                ts: self.ts,
+                t0: self.t0,
+                samples: self.samples,
+                nsub: self.nsub,
+                every: self.every,
+            },
             fused,
+            controller: &mut self.controller,
             x0,
             monitor,
             storage,
@@ -351,21 +353,27 @@ impl<P: FixedDynamics<N>, C: FixedController<N>, const N: usize> FixedLoop<P, C,
     }
 }
 
-/// One run of a [`FixedLoop`]: its settings, the controller and the run's arguments, the
-/// [`StepVisitor`] the plant hands its stepper to ([`FixedDynamics::visit_stepper`]), so the
-/// loop is compiled once per stepper type (and once more for FMA) with the step fixed.
-struct Run<'a, C, M: ?Sized> {
-    controller: &'a mut C,
+/// A [`FixedLoop`]'s settings, copied for one run.
+#[derive(Debug, Clone, Copy)]
+struct Settings {
     saturation: Option<(f64, f64)>,
     ts: f64,
     t0: f64,
     samples: usize,
     nsub: usize,
     every: Option<usize>,
+}
+
+/// One run of a [`FixedLoop`]: its settings, the controller and the run's arguments, the
+/// [`StepVisitor`] the plant hands its stepper to ([`FixedDynamics::visit_stepper`]), so the
+/// loop is compiled once per stepper type (and once more for FMA) with the step fixed.
+struct Run<'a, C, M: ?Sized> {
+    settings: Settings,
     /// Whether to take the FMA-compiled loop ([`FixedLoop::multiply_add`] is `Fused`); read on
     /// x86-64 only, the one target with an FMA-compiled copy.
     #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     fused: bool,
+    controller: &'a mut C,
     x0: &'a [f64],
     monitor: &'a mut M,
     storage: Option<SampledRun>,
@@ -374,83 +382,110 @@ struct Run<'a, C, M: ?Sized> {
 impl<C: FixedController<N>, M: Monitor + ?Sized, const N: usize> StepVisitor<N> for Run<'_, C, M> {
     type Output = Result<SampledRun>;
 
+    /// Hands the loop each reference as a parameter of its own (not inside the visitor), so
+    /// that the compiler knows the controller, the monitor and the stepper apart from the
+    /// recorded columns and keeps what it loads from them out of the loop.
     #[inline(always)]
     fn visit<S: FixedStep<N>>(self, stepper: &S) -> Result<SampledRun> {
-        #[cfg(target_arch = "x86_64")]
-        if self.fused {
-            // SAFETY: `fused` is set only if the processor supports FMA (detected at run
-            // time by `FixedLoop::multiply_add`), the only requirement of calling a function
-            // compiled with `target_feature(enable = "fma")`.
-            return unsafe { self.run_fused(stepper) };
-        }
-        self.run_loop::<Separate, S, N>(stepper)
-    }
-}
-
-impl<'a, C, M: Monitor + ?Sized> Run<'a, C, M> {
-    /// [`Run::run_loop`] with [`Fused`](crate::fast::Fused), compiled for FMA. Rust does not
-    /// contract `a * b + c`, so only the stepper's `F::mul_add` differs from the baseline loop.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "fma")]
-    fn run_fused<S: FixedStep<N>, const N: usize>(self, stepper: &S) -> Result<SampledRun>
-    where
-        C: FixedController<N>,
-    {
-        self.run_loop::<Fused, S, N>(stepper)
-    }
-
-    /// The loop itself, the stepper's step with the multiply–add `F`.
-    #[inline(always)]
-    fn run_loop<F: MulAdd, S: FixedStep<N>, const N: usize>(self, stepper: &S) -> Result<SampledRun>
-    where
-        C: FixedController<N>,
-    {
         let Run {
+            settings,
+            fused,
             controller,
-            saturation,
-            ts,
-            t0,
-            samples: n_samples,
-            nsub,
-            every: record_every,
-            fused: _,
             x0,
             monitor,
             storage,
         } = self;
-        check_initial_state(x0, N)?;
-        controller.reset();
-        let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
-        let cap = record_every.map_or(0, |e| n_samples / e + 1);
-        let [mut bt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
-        bt.resize(cap, 0.0);
-        let (mut rx, mut ru, mut ry, mut rc) = (
-            columns(bx, cap * N),
-            columns(bu, cap),
-            columns(by, cap * N),
-            columns(bc, cap),
-        );
-        // One slice of exactly `cap` entries per recorded signal: a row index checked once
-        // against `cap` is then in range for all of them.
-        let (rt, ru_col, rc_col) = (&mut bt[..cap], &mut ru[..cap], &mut rc[..cap]);
-        let xcols: [&mut [f64]; N] = split_columns(&mut rx, cap);
-        let ycols: [&mut [f64]; N] = split_columns(&mut ry, cap);
-        let mut saturated = 0usize;
-        let mut status = RunStatus::Completed;
-        let mut last_t = t0;
-        let mut samples_run = 0usize;
-        let mut next_record = if record_every.is_some() {
-            0
-        } else {
-            usize::MAX
-        };
-        let every = record_every.unwrap_or(0);
-        let mut row = 0usize;
-        // `t_k = t₀ + k·ts`, carried from one sample to the next (the value the general loop
-        // computes at each, one conversion and product per sample fewer). At most 10¹² + 1
-        // samples (`validate_options`), so the exclusive range cannot overflow.
-        let mut tk = t0;
-        for k in 0..n_samples + 1 {
+        #[cfg(target_arch = "x86_64")]
+        if fused {
+            // SAFETY: `fused` is set only if the processor supports FMA (detected at run
+            // time by `FixedLoop::multiply_add`), the only requirement of calling a function
+            // compiled with `target_feature(enable = "fma")`.
+            return unsafe { run_fused(settings, controller, stepper, x0, monitor, storage) };
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = fused;
+        run_loop::<Separate, C, S, M, N>(settings, controller, stepper, x0, monitor, storage)
+    }
+}
+
+/// [`run_loop`] with [`Fused`](crate::fast::Fused), compiled for FMA. Rust does not contract
+/// `a * b + c`, so only the stepper's `F::mul_add` differs from the baseline loop.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+fn run_fused<C: FixedController<N>, S: FixedStep<N>, M: Monitor + ?Sized, const N: usize>(
+    settings: Settings,
+    controller: &mut C,
+    stepper: &S,
+    x0: &[f64],
+    monitor: &mut M,
+    storage: Option<SampledRun>,
+) -> Result<SampledRun> {
+    run_loop::<Fused, C, S, M, N>(settings, controller, stepper, x0, monitor, storage)
+}
+
+/// The loop itself, the stepper's step with the multiply–add `F`.
+#[inline(always)]
+fn run_loop<
+    F: MulAdd,
+    C: FixedController<N>,
+    S: FixedStep<N>,
+    M: Monitor + ?Sized,
+    const N: usize,
+>(
+    settings: Settings,
+    controller: &mut C,
+    stepper: &S,
+    x0: &[f64],
+    monitor: &mut M,
+    storage: Option<SampledRun>,
+) -> Result<SampledRun> {
+    let Settings {
+        saturation,
+        ts,
+        t0,
+        samples: n_samples,
+        nsub,
+        every: record_every,
+    } = settings;
+    check_initial_state(x0, N)?;
+    controller.reset();
+    let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
+    let cap = record_every.map_or(0, |e| n_samples / e + 1);
+    let [mut bt, bx, bu, by, bc] = storage.map_or_else(Default::default, |r| r.into_storage());
+    bt.resize(cap, 0.0);
+    let (mut rx, mut ru, mut ry, mut rc) = (
+        columns(bx, cap * N),
+        columns(bu, cap),
+        columns(by, cap * N),
+        columns(bc, cap),
+    );
+    // One slice of exactly `cap` entries per recorded signal: a row index checked once
+    // against `cap` is then in range for all of them.
+    let (rt, ru_col, rc_col) = (&mut bt[..cap], &mut ru[..cap], &mut rc[..cap]);
+    let xcols: [&mut [f64]; N] = split_columns(&mut rx, cap);
+    let ycols: [&mut [f64]; N] = split_columns(&mut ry, cap);
+    let mut saturated = 0usize;
+    let mut status = RunStatus::Completed;
+    let mut last_t = t0;
+    let mut samples_run = 0usize;
+    let mut next_record = if record_every.is_some() {
+        0
+    } else {
+        usize::MAX
+    };
+    let every = record_every.unwrap_or(0);
+    let mut row = 0usize;
+    // `t_k = t₀ + k·ts`, carried from one sample to the next (the value the general loop
+    // computes at each, one conversion and product per sample fewer). At most 10¹² + 1
+    // samples (`validate_options`), so the exclusive range cannot overflow.
+    let mut tk = t0;
+    // A state whose sum is not finite leaves the sample loop for the entry-by-entry check,
+    // which returns the error or, if every entry is finite (the sum overflowed), resumes the
+    // loop after that sample: no call inside the loop keeps its state in memory.
+    let mut start = 0usize;
+    loop {
+        let mut unchecked = None;
+        for k in start..n_samples + 1 {
             last_t = tk;
             samples_run += 1;
             let ucmd = controller.command(tk, &x);
@@ -506,37 +541,46 @@ impl<'a, C, M: Monitor + ?Sized> Run<'a, C, M> {
                 }
             }
             if !x.iter().sum::<f64>().is_finite() {
-                check_state(tk1, &x)?;
+                unchecked = Some((k, tk1));
+                break;
             }
             tk = tk1;
         }
-        bt.truncate(row);
-        let trajectory = Trajectory::new(
-            bt,
-            into_mat(rx, cap, row, N),
-            into_mat(ru, cap, row, 1),
-            into_mat(ry, cap, row, N),
-        )?;
-        // Every sample but the last one run is followed by one interval of `nsub` steps.
-        let steps = (samples_run - 1) * nsub;
-        Ok(SampledRun {
-            trajectory,
-            commands: into_mat(rc, cap, row, 1),
-            status,
-            diagnostics: SampledDiagnostics {
-                samples: samples_run,
-                integration: IntegrationStats {
-                    accepted_steps: steps,
-                    evaluations: 4 * steps,
-                    ..Default::default()
-                },
-                saturated_samples: saturated,
-                switch_times: controller.switch_times().to_vec(),
-                final_time: last_t,
-                final_state: x.to_vec(),
-            },
-        })
+        match unchecked {
+            None => break,
+            Some((k, tk1)) => {
+                check_state_copy(tk1, x)?;
+                tk = tk1;
+                start = k + 1;
+            }
+        }
     }
+    bt.truncate(row);
+    let trajectory = Trajectory::new(
+        bt,
+        into_mat(rx, cap, row, N),
+        into_mat(ru, cap, row, 1),
+        into_mat(ry, cap, row, N),
+    )?;
+    // Every sample but the last one run is followed by one interval of `nsub` steps.
+    let steps = (samples_run - 1) * nsub;
+    Ok(SampledRun {
+        trajectory,
+        commands: into_mat(rc, cap, row, 1),
+        status,
+        diagnostics: SampledDiagnostics {
+            samples: samples_run,
+            integration: IntegrationStats {
+                accepted_steps: steps,
+                evaluations: 4 * steps,
+                ..Default::default()
+            },
+            saturated_samples: saturated,
+            switch_times: controller.switch_times().to_vec(),
+            final_time: last_t,
+            final_state: x.to_vec(),
+        },
+    })
 }
 
 impl<P: Dynamics + Clone, C: Controller + Clone> SampledLoop<P, C> {
@@ -593,6 +637,14 @@ fn unsupported(what: &str) -> SimError {
     ))
 }
 
+/// [`check_state`] on a copy of the state: the loop's state is then never borrowed by a call,
+/// so the compiler can keep it in registers from one step to the next.
+#[cold]
+#[inline(never)]
+fn check_state_copy<const N: usize>(t: f64, x: [f64; N]) -> Result<()> {
+    check_state(t, &x)
+}
+
 /// A column-major buffer of `len` entries, reusing `data`'s allocation (entries below the final
 /// row count are all written before the matrix is formed).
 fn columns(mut data: Vec<f64>, len: usize) -> Vec<f64> {
@@ -622,4 +674,86 @@ fn into_mat(mut data: Vec<f64>, cap: usize, rows: usize, w: usize) -> Mat {
         data.truncate(rows * w);
     }
     Mat::from_vec(rows, w, data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::controllers::StaticStateFeedback;
+
+    /// `ẋ = [c·x₀², 0]`: constant for `c = 0`, escaping to infinity for `c > 0`.
+    #[derive(Clone)]
+    struct Escape(f64);
+
+    impl Dynamics for Escape {
+        fn nx(&self) -> usize {
+            2
+        }
+        fn nu(&self) -> usize {
+            1
+        }
+        fn derivative(&self, _t: f64, x: &[f64], _u: &[f64], dx: &mut [f64]) {
+            dx[0] = self.0 * x[0] * x[0];
+            dx[1] = 0.0;
+        }
+    }
+
+    impl FixedDynamics<2> for Escape {
+        fn derivative_fixed(&self, x: &[f64; 2], _u: f64) -> [f64; 2] {
+            [self.0 * x[0] * x[0], 0.0]
+        }
+    }
+
+    fn loops(
+        c: f64,
+    ) -> (
+        SampledLoop<Escape, StaticStateFeedback>,
+        FixedLoop<Escape, StaticStateFeedback, 2>,
+    ) {
+        let k = StaticStateFeedback::new(Mat::zeros(1, 2)).expect("finite gain");
+        let opts = SampledOptions {
+            ts: 0.01,
+            t_final: 0.5,
+            ..Default::default()
+        };
+        let general = SampledLoop::new(Escape(c), k, opts).expect("valid loop");
+        let fixed = general.fixed::<2>().expect("covered by the kernel");
+        (general, fixed)
+    }
+
+    /// Entries finite but their sum not (2·10³⁰⁸ overflows): every sample leaves the sample
+    /// loop for the entry-by-entry check, which lets the run go on; the run is the general
+    /// loop's, bit for bit, on either multiply–add path.
+    #[test]
+    fn an_overflowing_sum_of_finite_entries_resumes_the_run() {
+        let (mut general, fixed) = loops(0.0);
+        let x0 = [1e308, 1e308];
+        let expected = general.run(&x0).expect("finite entries");
+        assert_eq!(expected.diagnostics.samples, 51);
+        for path in [MulAddPath::Fused, MulAddPath::Separate] {
+            let mut fixed = fixed.clone().with_multiply_add(path);
+            assert_eq!(
+                fixed.run(&x0).expect("finite entries"),
+                expected,
+                "{path:?}"
+            );
+        }
+    }
+
+    /// A state escaping to infinity ends the run with the general loop's error (same time,
+    /// entry and value).
+    #[test]
+    fn a_non_finite_state_ends_the_run_with_the_general_loops_error() {
+        let (mut general, fixed) = loops(1.0);
+        let x0 = [1e100, 0.0];
+        let expected = general.run(&x0).expect_err("escapes");
+        assert!(
+            matches!(expected, SimError::NonFiniteState { index: 0, .. }),
+            "{expected:?}"
+        );
+        for path in [MulAddPath::Fused, MulAddPath::Separate] {
+            let mut fixed = fixed.clone().with_multiply_add(path);
+            assert_eq!(fixed.run(&x0).expect_err("escapes"), expected, "{path:?}");
+        }
+    }
 }
