@@ -241,6 +241,25 @@ pub(super) fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     if let Some(k) = &k_opt_bar {
         out.value("K_at_rho_max_at_optimum", Value::Vector(book_row(k)));
     }
+    // p2c15_ex7_adip_oc_gs_servo.m lines 135-140: the schedule's coefficients X_0, X_1, X_2
+    // (5 × 5) and L_0, L_1, L_2 (1 × 5), with which the M-file's K = L*inv(X) (book sign)
+    // at para = 1 - cos(th), lines 151-155.
+    let rows = |m: &Mat| -> Vec<Vec<f64>> {
+        (0..m.nrows())
+            .map(|i| m.row(i).iter().copied().collect())
+            .collect()
+    };
+    for (i, (x, l)) in sched
+        .x_coefficients
+        .iter()
+        .zip(&sched.l_coefficients)
+        .enumerate()
+    {
+        out.value(&format!("X_{i}"), Value::Matrix(rows(x))).value(
+            &format!("L_{i}"),
+            Value::Vector(l.row(0).iter().copied().collect()),
+        );
+    }
     // Book p. 164: "γ = 236 程度まで可解" — the M-file's gamma_obj (1.06 times its γ*),
     // printed as an integer: half a unit. (the 256-bit SDP optimum γ* ≈ 222 is not a
     // printed value; the tests check γ against it.)
