@@ -182,12 +182,12 @@ fn the_design_is_the_books_schedule_and_runs_in_simulate_and_on_the_rig() {
     assert_eq!(c["schedule"].as_str(), Some("one-minus-cos-q0"));
     assert_eq!(c["reference"][0].as_float(), Some(R));
     assert_eq!(c["step_time"].as_float(), Some(0.5));
-    for i in 0..3 {
+    for (i, (x, l)) in xs.iter().zip(&ls).enumerate() {
         let xi = matrix(&serde_json::to_value(&c["x_coefficients"][i]).unwrap());
         let li = row(&serde_json::to_value(&c["l_coefficients"][i]).unwrap());
         assert_eq!(xi.shape(), (5, 5));
-        assert!(rel(&xi, &xs[i]) < 1e-6, "X_{i}");
-        assert!(rel(&li, &ls[i]) < 1e-6, "L_{i}");
+        assert!(rel(&xi, x) < 1e-6, "X_{i}");
+        assert!(rel(&li, l) < 1e-6, "L_{i}");
     }
     let loaded = pendulab_rig::config::load(&text).unwrap();
     let again = toml::to_string(&loaded.spec).unwrap();
