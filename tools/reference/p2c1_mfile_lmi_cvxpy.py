@@ -12,7 +12,9 @@ M-files followed (line numbers of the book's files):
 Every LMI keeps the M-file's margin: `F >= ep*eye` as F - ep*I >> 0, `F <= -ep*eye` as
 -F - ep*I >> 0, `F >= 0` as F >> 0; objective maximise trace(X) (obj = -trace(X)).
 
-Writes crates/book/tests/fixtures/p2c1_mfile_lmi.json (gains in the book's sign u = +K x).
+Writes crates/book/tests/fixtures/p2c1_mfile_lmi.json (gains in the book's sign u = +K x; per solve
+also the displayed X = double(X) and L = double(L), and poles = eig(At+Bt*Kt) of the p2c122 servos;
+Kt_LQ = -lqr(At,Bt,Q,R) and its poles_LQ by SciPy's CARE solver).
 Usage: python3 tools/reference/p2c1_mfile_lmi_cvxpy.py   (from the repository root)
 Versions used for the committed fixture: recorded in the JSON ("versions").
 """
@@ -25,6 +27,7 @@ import cvxopt
 import cvxpy as cp
 import numpy as np
 import scipy
+import scipy.linalg
 
 OUT = pathlib.Path("crates/book/tests/fixtures/p2c1_mfile_lmi.json")
 ep = 1e-6
@@ -149,7 +152,12 @@ for name, make in cases.items():
         # Smallest eigenvalue over the constraints (each stated as G >> 0).
         margin = min(float(np.linalg.eigvalsh(sym(c.args[0].value)).min()) for c in prob.constraints)
         rec = {"status": prob.status, "trace_X": float(np.trace(Xv)), "trace_invX": float(np.trace(Xi)),
-               "K": (L.value @ Xi).ravel().tolist(), "min_constraint_eigenvalue": margin}
+               "K": (L.value @ Xi).ravel().tolist(), "min_constraint_eigenvalue": margin,
+               "X": Xv.tolist(), "L": L.value.ravel().tolist()}
+        if name.startswith("p2c122"):
+            # poles = eig(At+Bt*Kt) (p2c122_ex4_adip_oc_servo.m line 60, multiobjective line 75).
+            At, Bt = servo(a1n, b1n)
+            rec["poles"] = [[z.real, z.imag] for z in np.linalg.eigvals(At + Bt @ (L.value @ Xi))]
         if V is not None:
             rec["H"] = (V.value @ Xi).ravel().tolist()
             # Lines 77-78: CON + [trace(X) <= -double(OBV)], solvesdp(CON) with no objective.
@@ -166,5 +174,12 @@ for name, make in cases.items():
         out[name][solver] = rec
         print(name, solver, prob.status, rec["trace_X"], rec["K"], rec.get("H", ""), margin)
 
+# Kt_LQ = -lqr(At,Bt,Q,R), poles_LQ = eig(At+Bt*Kt_LQ) (p2c122_ex4_adip_oc_servo.m lines 89-93),
+# by SciPy's CARE solver.
+At, Bt = servo(a1n, b1n)
+P = scipy.linalg.solve_continuous_are(At, Bt, Qs, np.eye(1))
+Kt_LQ = -(Bt.T @ P)
+out["Kt_LQ"] = Kt_LQ.ravel().tolist()
+out["poles_LQ"] = [[z.real, z.imag] for z in np.linalg.eigvals(At + Bt @ Kt_LQ)]
 OUT.write_text(json.dumps(out, indent=1) + "\n")
 print("wrote", OUT)

@@ -654,3 +654,109 @@ fn the_optima_agree_with_cvxopt_and_clarabel_via_cvxpy() {
         assert!(compared >= 1, "{id}: no reference solve");
     }
 }
+
+/// The names of `out`'s references whose source is the CVXPY run.
+fn cvxpy_references(out: &ExampleOutput) -> Vec<&str> {
+    out.references
+        .iter()
+        .filter(|r| r.source.contains("tools/reference/p2c1_mfile_lmi_cvxpy.py"))
+        .map(|r| r.name.as_str())
+        .collect()
+}
+
+/// What the p2c13 and p2c14 LMI M-files display, beside an independent solve of the same LMIs
+/// (CVXPY + Clarabel, the committed fixture): `p2c13_ex5_adip_oc_robust_servo.m` lines 19-22
+/// (ve, vertex), 81-86 (X, L, Kt, trase_invX, trace_X), 122-123 (K1, K2);
+/// `p2c13_ex5_adip_oc_nominal_servo.m` lines 60-65, 76-82; `p2c14_ex6_adip_oc_saturation.m`
+/// line 74 (double(OBV)) and 85 (H). What is not compared is named with its reason.
+#[test]
+fn the_lmi_badges_compare_the_mfile_displays_with_cvxpy() {
+    let fx = cvxpy_fixture();
+    for id in [
+        "p2c122_ex4_adip_oc_servo",
+        "p2c122_ex4_adip_oc_multiobjective_servo",
+        "p2c13_ex5_adip_oc_nominal_servo",
+        "p2c13_ex5_adip_oc_robust_servo",
+        "p2c14_ex6_adip_oc_saturation",
+    ] {
+        let out = run(id);
+        for (r, c) in out.references.iter().zip(out.comparisons()) {
+            println!(
+                "{id} {}: error {:?}, tolerance {:.3e}",
+                r.name, c.max_abs_error, r.tolerance
+            );
+        }
+    }
+    let robust = run("p2c13_ex5_adip_oc_robust_servo");
+    let names = cvxpy_references(&robust);
+    for n in [
+        "vertex",
+        "X",
+        "L",
+        "Kt",
+        "trase_invX",
+        "trace_X",
+        "K1",
+        "K2",
+    ] {
+        assert!(names.contains(&n), "robust: {n} not compared");
+    }
+    // The reference is the fixture's number, not pendulab's.
+    let kt = robust.references.iter().find(|r| r.name == "Kt").unwrap();
+    let Value::Vector(k) = &kt.value else {
+        panic!()
+    };
+    let k_fx = &fx["p2c13_ex5_adip_oc_robust_servo"]["CLARABEL"]["K"];
+    for (i, x) in k.iter().enumerate() {
+        assert_eq!(*x, k_fx[i].as_f64().unwrap());
+    }
+    assert!(
+        robust
+            .references
+            .iter()
+            .any(|r| r.name == "ve" && r.tolerance == 0.0)
+    );
+    all_reproduced(&robust);
+
+    let nominal = run("p2c13_ex5_adip_oc_nominal_servo");
+    assert_eq!(cvxpy_references(&nominal), ["vertex", "trace_X"]);
+    assert!(
+        nominal
+            .notes
+            .iter()
+            .any(|n| n.contains("Not compared: X, L, Kt, K1, K2, trase_invX"))
+    );
+    all_reproduced(&nominal);
+
+    // p2c122_ex4_adip_oc_servo.m lines 52-63 and 89-93; the multi-objective M-file's lines
+    // 64-75 and 105-109 (only trace_X of its optimum is determined).
+    let servo = run("p2c122_ex4_adip_oc_servo");
+    assert_eq!(
+        cvxpy_references(&servo),
+        [
+            "Kt_LQ",
+            "poles_LQ",
+            "trace_X",
+            "X",
+            "L",
+            "trace_invX",
+            "Kt",
+            "K1",
+            "K2",
+            "poles"
+        ]
+    );
+    all_reproduced(&servo);
+    let multi = run("p2c122_ex4_adip_oc_multiobjective_servo");
+    assert_eq!(cvxpy_references(&multi), ["Kt_LQ", "poles_LQ", "trace_X"]);
+    all_reproduced(&multi);
+
+    let sat = run("p2c14_ex6_adip_oc_saturation");
+    assert_eq!(cvxpy_references(&sat), ["OBV", "H_at_max_trace"]);
+    assert!(
+        sat.notes
+            .iter()
+            .any(|n| n.contains("Not compared: X, K, H, eig(A+B*K)"))
+    );
+    all_reproduced(&sat);
+}

@@ -3,6 +3,7 @@
 use crate::registry::Example;
 
 mod common;
+mod mfile_refs;
 mod p1c2;
 mod p1c3;
 mod p1c4;

@@ -42,6 +42,17 @@ pub(super) fn p2c112_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "α-stability: every eigenvalue of A has Re λ < −α = −1 (here −1.125 ± 0.992j), so a P exists."
             .into(),
     );
+    display_note(
+        &mut out,
+        id,
+        &[],
+        &[(
+            "P = double(P) (line 21)",
+            "the point a feasibility solve without objective (line 19) stops at: every P of the \
+             feasible set answers the question, so no other run's digits are the M-file's; \
+             pendulab's P is checked against the LMIs instead",
+        )],
+    );
     save_figure(
         ctx,
         &mut out,
@@ -96,6 +107,7 @@ pub(super) fn p2c122_ex4_servo(ctx: &RunContext) -> Result<ExampleOutput, BookEr
     let (s, kt, kt_lq) = lmi_servo_values(id, &spec, &at, &bt, &mut out)?;
     let rel = (&kt - &kt_lq).norm() / kt_lq.norm();
     out.value("relative_difference_Kt_Kt_LQ", Value::Number(rel));
+    p2c122_display_references(id, true, &mut out)?;
     out.notes.push(GAIN_NOTE.into());
     out.notes
         .push(s.note("p2c122_ex4_adip_oc_servo.m lines 36-50, solved once as there (no re-solve)"));
@@ -178,6 +190,7 @@ pub(super) fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutpu
         .iter()
         .all(|z| regions.iter().all(|reg| reg.contains(*z)));
     out.value("poles_in_region", Value::Bool(inside));
+    p2c122_display_references(id, false, &mut out)?;
     out.notes.push(GAIN_NOTE.into());
     out.notes.push(s.note(
         "p2c122_ex4_adip_oc_multiobjective_servo.m lines 41-62, solved once as there (no re-solve)",
@@ -220,4 +233,146 @@ pub(super) fn p2c122_ex4_multiobjective(ctx: &RunContext) -> Result<ExampleOutpu
         )?;
     }
     Ok(out)
+}
+
+/// `[re, im]` pairs of the CVXPY run as sorted complex numbers.
+fn json_poles(id: &str, v: &serde_json::Value) -> Result<Value, BookError> {
+    let Value::Matrix(rows) = json_value(id, v)? else {
+        return Err(fail(id, "the CVXPY run's poles are not [re, im] pairs"));
+    };
+    Ok(Value::Complex(sorted(
+        rows.iter()
+            .map(|r| pendulab_lti::Complex64::new(r[0], r[1]))
+            .collect(),
+    )))
+}
+
+/// What the p2c122 M-files display (`X`, `L`, `Kt`, `trace_invX`, `trace_X`, `poles`, `K1`,
+/// `K2`, then `Kt_LQ`, `poles_LQ`) against the same LMIs transcribed into CVXPY and solved by
+/// Clarabel, and the Riccati gain by SciPy (the committed run of
+/// `tools/reference/p2c1_mfile_lmi_cvxpy.py`). `well_determined`: the plain servo, whose
+/// optimum fixes the gain; the multi-objective one does not (only trace(X) is compared).
+fn p2c122_display_references(
+    id: &str,
+    well_determined: bool,
+    out: &mut ExampleOutput,
+) -> Result<(), BookError> {
+    let (status, rec) = cvxpy_clarabel(id)?;
+    let all = cvxpy_run(id)?;
+    let (lines, lq_lines) = if well_determined {
+        ("lines 52-63", "lines 89-93")
+    } else {
+        ("lines 64-75", "lines 105-109")
+    };
+    let src = cvxpy_source(id, lines, &status);
+    let tr = rec["trace_X"]
+        .as_f64()
+        .ok_or_else(|| fail(id, "the CVXPY run has no trace_X"))?;
+    // Kt_LQ = −lqr(At, Bt, Q, R) and its poles, by SciPy's CARE solver: to the digits of
+    // MATLAB's short format.
+    let lq_src =
+        format!("{id}.m {lq_lines}, SciPy's CARE solver (tools/reference/p2c1_mfile_lmi_cvxpy.py)");
+    let kt_lq = json_value(id, &all["Kt_LQ"])?;
+    out.reference(
+        "Kt_LQ",
+        kt_lq.clone(),
+        &lq_src,
+        short_half_unit(max_abs(&kt_lq)),
+    );
+    let poles_lq = json_poles(id, &all["poles_LQ"])?;
+    out.reference(
+        "poles_LQ",
+        poles_lq.clone(),
+        &lq_src,
+        short_half_unit(max_abs(&poles_lq)),
+    );
+    let norm = |v: &Value| -> f64 {
+        match v {
+            Value::Vector(v) => v.iter().map(|x| x * x).sum::<f64>().sqrt(),
+            Value::Matrix(r) => r.iter().flatten().map(|x| x * x).sum::<f64>().sqrt(),
+            Value::Complex(c) => c.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt(),
+            Value::Number(x) => x.abs(),
+            Value::Bool(_) => 0.0,
+        }
+    };
+    let lq_pair = (
+        "K1, K2 of lines 90-91 (multi-objective: 106-107)",
+        "the entries of Kt_LQ, displayed again under the names the LMI gain's entries had; \
+         compared as Kt_LQ",
+    );
+    if well_determined {
+        // Two interior-point solvers at their 1e-8 tolerances, with the M-file's ε = 1e-6
+        // margins, agree on trace(X) to 1e-6 of itself and on the gain to 1e-3 of its norm
+        // here (CVXOPT and Clarabel via CVXPY, pendulab-lmi's two methods; tests/p2c1_lmi.rs).
+        let rel = 1e-3;
+        out.reference("trace_X", Value::Number(tr), &src, 1e-6 * tr);
+        for name in ["X", "L"] {
+            let v = json_value(id, &rec[name])?;
+            let tol = rel * norm(&v);
+            out.reference(name, v, &src, tol);
+        }
+        let ti = rec["trace_invX"]
+            .as_f64()
+            .ok_or_else(|| fail(id, "the CVXPY run has no trace_invX"))?;
+        out.reference("trace_invX", Value::Number(ti), &src, rel * ti);
+        let k = json_value(id, &rec["K"])?;
+        let Value::Vector(kv) = &k else {
+            return Err(fail(id, "the CVXPY run's K is not a row"));
+        };
+        let kn = norm(&k);
+        out.reference("Kt", k.clone(), &src, rel * kn);
+        out.reference("K1", Value::Vector(kv[..4].to_vec()), &src, rel * kn);
+        out.reference("K2", Value::Number(kv[4]), &src, rel * kn);
+        let poles = json_poles(id, &rec["poles"])?;
+        let tol = rel * norm(&poles);
+        out.reference("poles", poles, &src, tol);
+        out.notes.push(
+            "Tolerances of the comparison with CVXPY + Clarabel, looser than the four decimals of \
+             MATLAB's short format: trace_X to 1e-6 relative, X, L, Kt (K1, K2), trace_invX and \
+             poles to 1e-3 of their norms — what interior-point solvers stopping at their 1e-8 \
+             tolerances, with the M-file's ε = 1e-6 margins, agree to on this optimum (CVXOPT \
+             and Clarabel differ by 2e-4 on Kt). Kt_LQ and poles_LQ to the short format's digits."
+                .into(),
+        );
+        display_note(
+            out,
+            id,
+            &[
+                "X",
+                "L",
+                "Kt",
+                "trace_invX",
+                "trace_X",
+                "poles",
+                "K1",
+                "K2",
+                "Kt_LQ",
+                "poles_LQ",
+            ],
+            &[lq_pair],
+        );
+    } else {
+        // Clarabel stops "almost solved" here (reduced gap tolerance 5e-5).
+        out.reference("trace_X", Value::Number(tr), &src, 1e-4 * tr);
+        out.notes.push(
+            "trace_X is compared with CVXPY + Clarabel to 1e-4 relative, looser than MATLAB's \
+             short format (0.05): Clarabel stops \"almost solved\" here, at its reduced gap \
+             tolerance 5e-5. Kt_LQ and poles_LQ to the short format's digits."
+                .into(),
+        );
+        display_note(
+            out,
+            id,
+            &["trace_X", "Kt_LQ", "poles_LQ"],
+            &[
+                (
+                    "X, L, Kt, trace_invX, K1, K2, poles",
+                    "not determined by this objective (see the note on Kt above): any solver's \
+                     digits, the M-file's included, are where it stopped",
+                ),
+                lq_pair,
+            ],
+        );
+    }
+    Ok(())
 }

@@ -566,3 +566,53 @@ pub(super) fn report_solution(
         );
     Ok(())
 }
+
+/// The committed run of `tools/reference/p2c1_mfile_lmi_cvxpy.py`: the p2c1 M-files' LMIs
+/// transcribed into CVXPY 1.9.3 and solved by Clarabel 0.11.1 (Python build) and CVXOPT 1.3.3.
+const CVXPY_RUN: &str = include_str!("../../../tests/fixtures/p2c1_mfile_lmi.json");
+
+/// The CVXPY run, parsed.
+pub(super) fn cvxpy_run(id: &str) -> Result<serde_json::Value, BookError> {
+    serde_json::from_str(CVXPY_RUN).map_err(|e| fail(id, format!("the CVXPY run: {e}")))
+}
+
+/// What the CVXPY run's Clarabel solve of example `id`'s M-file problem gives: its status
+/// (`optimal` or `optimal_inaccurate`) and record (`trace_X`, `trace_invX`, `K`, `X`, `L`, …).
+pub(super) fn cvxpy_clarabel(id: &str) -> Result<(String, serde_json::Value), BookError> {
+    let all = cvxpy_run(id)?;
+    let rec = all[id]["CLARABEL"].clone();
+    let status = rec["status"]
+        .as_str()
+        .ok_or_else(|| fail(id, "the CVXPY run has no Clarabel solve of this M-file"))?
+        .to_string();
+    Ok((status, rec))
+}
+
+/// A number, a row or a matrix of a CVXPY record as a [`Value`].
+pub(super) fn json_value(id: &str, v: &serde_json::Value) -> Result<Value, BookError> {
+    let bad = || fail(id, format!("the CVXPY run: {v} is not a number array"));
+    let nums = |a: &serde_json::Value| -> Result<Vec<f64>, BookError> {
+        a.as_array()
+            .ok_or_else(bad)?
+            .iter()
+            .map(|x| x.as_f64().ok_or_else(bad))
+            .collect()
+    };
+    if let Some(x) = v.as_f64() {
+        return Ok(Value::Number(x));
+    }
+    let a = v.as_array().ok_or_else(bad)?;
+    if a.first().is_some_and(|r| r.is_array()) {
+        Ok(Value::Matrix(a.iter().map(nums).collect::<Result<_, _>>()?))
+    } else {
+        Ok(Value::Vector(nums(v)?))
+    }
+}
+
+/// The source of a reference from the CVXPY run.
+pub(super) fn cvxpy_source(stem: &str, lines: &str, status: &str) -> String {
+    format!(
+        "{stem}.m {lines}, the M-file's LMIs in CVXPY 1.9.3 solved by Clarabel 0.11.1 ({status}; \
+         tools/reference/p2c1_mfile_lmi_cvxpy.py)"
+    )
+}

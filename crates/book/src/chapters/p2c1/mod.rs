@@ -5,6 +5,7 @@
 //! reported in the book's convention `u = +K x` (pendulab's library uses `u = −K x`).
 
 use super::common::*;
+use super::mfile_refs::{OctaveDisplay, display_note, max_abs, short_half_unit};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};

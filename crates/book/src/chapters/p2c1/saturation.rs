@@ -180,6 +180,7 @@ pub(super) fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         num_of(&out, "max_abs_u_quantised_rig"),
         num_of(&out, "saturated_seconds_quantised_rig"),
     ));
+    saturation_display_references(id, &mut out)?;
     if ctx.figures {
         let (run, _) = &runs[0];
         let (rig_run, _) = &runs[1];
@@ -199,4 +200,67 @@ pub(super) fn p2c14_ex6(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         save_run_animation(ctx, &mut out, id, Rig::Arm, &rig_run.trajectory, id)?;
     }
     Ok(out)
+}
+
+/// What `p2c14_ex6_adip_oc_saturation.m` displays against the same LMIs transcribed into
+/// CVXPY and solved by Clarabel (the committed run of `tools/reference/p2c1_mfile_lmi_cvxpy.py`).
+fn saturation_display_references(id: &str, out: &mut ExampleOutput) -> Result<(), BookError> {
+    let (status, rec) = cvxpy_clarabel(id)?;
+    let tr = rec["trace_X"]
+        .as_f64()
+        .ok_or_else(|| fail(id, "the CVXPY run has no trace_X"))?;
+    // Line 74: double(OBV) = −max trace(X). Clarabel stops "almost solved" here (reduced gap
+    // tolerance 5e-5): 1e-4 relative, looser than MATLAB's short format (5e-5).
+    out.reference(
+        "OBV",
+        Value::Number(-tr),
+        &cvxpy_source(id, "line 74 (ans = double(OBV))", &status),
+        1e-4 * tr,
+    );
+    // H = V X⁻¹ at the max-trace point is well determined: the two methods of pendulab-lmi and
+    // CVXPY + Clarabel agree on it to 2e-3 of its norm even at Clarabel's reduced accuracy.
+    let h = json_value(id, &rec["H"])?;
+    let hn = match &h {
+        Value::Vector(v) => v.iter().map(|x| x * x).sum::<f64>().sqrt(),
+        _ => return Err(fail(id, "the CVXPY run's H is not a row")),
+    };
+    out.reference(
+        "H_at_max_trace",
+        h,
+        &cvxpy_source(
+            id,
+            "lines 72 and 85 (H = V*inv(X) at the max-trace solve)",
+            &status,
+        ),
+        2e-3 * hn,
+    );
+    out.notes.push(
+        "Tolerances of the comparison with CVXPY + Clarabel, looser than MATLAB's short format: \
+         OBV to 1e-4 relative (Clarabel stops \"almost solved\" on this problem, at its reduced gap \
+         tolerance 5e-5), H_at_max_trace to 2e-3 of its norm (what pendulab-lmi's two methods and \
+         CVXPY + Clarabel agree to there; tests/p2c1_lmi.rs)."
+            .into(),
+    );
+    display_note(
+        out,
+        id,
+        &[
+            "double(OBV) (as OBV)",
+            "H of the max-trace solve (as H_at_max_trace)",
+        ],
+        &[
+            (
+                "X, K, H, eig(A+B*K), trace_invX, trace_X of lines 81-92",
+                "they belong to the feasibility re-solve of lines 77-78, which has no objective: \
+                 any interior point with trace(X) ≤ −OBV is an answer, and each solver stops at \
+                 its own (CVXPY + Clarabel's K differs from pendulab's by tens of %), so no other \
+                 run's digits are the M-file's",
+            ),
+            (
+                "solinfo, CON",
+                "the solver's report and the constraint list, not numbers of the design",
+            ),
+        ],
+    );
+    Ok(())
 }
