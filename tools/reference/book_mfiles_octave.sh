@@ -20,6 +20,16 @@
 # (interval 10/2^16), the position through the encoder quantizer (2*pi/2000 rad of the motor,
 # 2000*4.8414e-5 m per turn), sampled at 1 ms from t = 0 to 10 s; then lines 66-77 of the M-file.
 #
+# The second loop runs the M-files whose displays the book examples compare (crates/book/src/
+# chapters/mfile_refs.rs) that call Simulink or need nothing but the control package: unchanged,
+# with three more shims: `sim` runs nothing and sets the signals it would log (t, y, u, z, theta,
+# ...) to NaN, so the displays before and between the simulations (gains, poles, characteristic
+# polynomials) come out and nothing of a simulation does; `input` answers 0 (no animation);
+# `format` always keeps `format long g` with long rows unsplit (an M-file's `format short e`
+# would print five digits; the examples compare to the digits the M-file's format prints);
+# `tzero`, which the control package does not have, is its `zero` (the same transmission zeros).
+# p2c13_ex5_adip_lqr_servo and p2c15_ex7_adip_lqr_servo also need mvert.m (mfiles/p2c1).
+#
 # Committed run: GNU Octave 7.3.0 with its control package 3.4.0 (Debian 12).
 set -eu
 book=$(cd "$1" && pwd)
@@ -79,4 +89,39 @@ for stem in p1c221_cartident_run p1c321_cdip_id_cart p1c321_cdip_id_pend p1c332_
     what="$stem.m run unchanged"
     [ "$stem" = p1c221_cartident_run ] && what="cartident.m run unchanged by this script's driver"
     echo "% $what in $(octave-cli --version | head -n 1), control $(octave-cli --eval "pkg load control; v = pkg('list', 'control'); disp(v{1}.version)" 2>/dev/null)" >> "$out/$stem.txt"
+done
+
+# ---------------------------------------------------------------------------------------------
+# The second loop (see the header): the M-files with Simulink runs, shimmed.
+mkdir "$work/shim2" "$work/m2"
+cat > "$work/shim2/sim.m" <<'M'
+function sim(varargin)
+  for n = {'t', 'y', 'r', 'u', 'v', 'z', 'theta', 'theta1', 'theta2', 'd', 'x', 'xt', 'w', 'e'}
+    assignin('caller', n{1}, NaN);
+  end
+end
+M
+printf 'function x = input(varargin)\n  x = 0;\nend\n' > "$work/shim2/input.m"
+printf 'function format(varargin)\n  builtin("format", "long", "g");\nend\n' > "$work/shim2/format.m"
+printf 'function z = tzero(sys)\n  z = zero(sys);\nend\n' > "$work/shim2/tzero.m"
+for f in adip_anime cdip_anime; do
+    printf 'function %s(varargin)\nend\n' "$f" > "$work/shim2/$f.m"
+done
+cp "$book"/mfiles/p1c4/*.m "$book"/mfiles/p1c5/*.m "$book"/mfiles/p1c6/*.m "$book"/mfiles/p1c7/*.m \
+    "$book"/mfiles/p2c1/mvert.m "$book"/mfiles/p2c1/p2c13_ex5_adip_lqr_servo.m \
+    "$book"/mfiles/p2c1/p2c15_ex7_adip_lqr_servo.m "$book"/mfiles/p2c2/p2c244_ex3_cdip_sampled_data_lqr_sim.m \
+    "$book"/mfiles/p2c3/*.m \
+    "$book"/ip_toolbox/sample_cdip/*.m "$book"/ip_toolbox/sample_adip/*.m "$work/m2/"
+for f in "$book"/ip_toolbox/iptools/*_para.m; do cp "$f" "$work/m2/"; done
+cd "$work/m2"
+for stem in p1c43_stability1 p1c43_stability2 p1c511_ex1 \
+    p1c512_ex5 p1c522_ex7_adip_place p1c523_ex8_adip_lqr p1c62_ex1_cart_p_step p1c62_ex2_cart_pi_ramp \
+    p1c62_ex3_cart_p_step_dis p1c62_ex4_cart_pi_step_dis p1c63_ex5_cdip_lqr_servo \
+    p1c74_ex1_cdip_ob_design p2c13_ex5_adip_lqr_servo p2c15_ex7_adip_lqr_servo \
+    p2c244_ex3_cdip_sampled_data_lqr_sim cdip_lqr_sim cdip_lqr_servo_sim adip_lqr_sim \
+    adip_lqr_servo_sim p2c323_ex1_cdip_swing_up; do
+    octave-cli --no-gui --norc --eval \
+        "pkg load control; addpath('$work/shim2'); addpath('$work/noplot'); warning('off', 'all'); split_long_rows(false); builtin('format', 'long', 'g'); $stem" \
+        2>/dev/null > "$out/$stem.txt" || true
+    echo "% $stem.m run unchanged (sim, input and format shimmed) in $(octave-cli --version | head -n 1), control $(octave-cli --eval "pkg load control; v = pkg('list', 'control'); disp(v{1}.version)" 2>/dev/null)" >> "$out/$stem.txt"
 done

@@ -4,6 +4,7 @@
 //! `u = −K x`; `K_book = −K`).
 
 use super::common::*;
+use super::mfile_refs::{OctaveDisplay, display_note};
 use crate::error::{BookError, Cause};
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -329,6 +330,14 @@ fn ex7_adip_place(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "book Part 1 §5.2.2, example 5.7 (design poles)",
         1e-6,
     );
+    // Line 20 displays K = −place(A, B, s), as GNU Octave printed it running the M-file (one
+    // input: the gain that places the poles is unique).
+    OctaveDisplay::parse(
+        id,
+        include_str!("../../tests/data/octave/p1c522_ex7_adip_place.txt"),
+    )
+    .compare(id, &mut out, "K", "K", "line 20")?;
+    display_note(&mut out, id, &["K"], &[]);
     out.notes.push(BOOK_CONVENTION.into());
     if ctx.figures {
         let open = sorted(sys.poles().ctx(id)?);
@@ -387,6 +396,23 @@ fn ex8_adip_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         );
         runs.push((label, run.trajectory));
     }
+    // Line 22 displays K = −lqr(A, B, Q, R) of the first case (Q = diag(10, 10, 1, 1),
+    // R = 1), as GNU Octave printed it running the M-file.
+    OctaveDisplay::parse(
+        id,
+        include_str!("../../tests/data/octave/p1c523_ex8_adip_lqr.txt"),
+    )
+    .compare(id, &mut out, "K_case1", "K", "line 22")?;
+    display_note(
+        &mut out,
+        id,
+        &["K (as K_case1)"],
+        &[(
+            "K_case2, K_case3",
+            "the weights of the plotting variant p1c523_ex8_adip_lqr_plot.m, which displays \
+             them only around its Simulink runs",
+        )],
+    );
     out.notes.push(format!(
         "Nonlinear arm pendulum from θ1 = 0 (pendulum upright) under u = K(x − x_e), \
          x_e = [π/4, 0, 0, 0], velocities by the pseudo-differentiator, 1 ms; {BOOK_CONVENTION}."

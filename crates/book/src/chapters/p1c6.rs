@@ -5,6 +5,7 @@
 //! reported in the book's convention `u = +K x`.
 
 use super::common::*;
+use super::mfile_refs::{OctaveDisplay, display_note};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -231,6 +232,11 @@ struct DriveCase {
     t_final: f64,
     book_poles: Option<&'static [(f64, f64)]>,
     book_e_inf: f64,
+    /// The M-file's display as GNU Octave printed it, and which of its displays are the
+    /// closed-loop poles `tzero(Delta)` (`ans`, `ans#2`) at which line; what else it displays.
+    octave: &'static str,
+    octave_poles: (&'static str, &'static str),
+    not_compared: &'static [(&'static str, &'static str)],
 }
 
 fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookError> {
@@ -271,6 +277,12 @@ fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookE
         "book Part 1 §6.2",
         1e-12,
     );
+    // tzero(Delta), Delta = 1 + P(s)C(s): the roots of the characteristic polynomial, as GNU
+    // Octave printed them running the M-file (its Simulink runs shimmed).
+    let disp = OctaveDisplay::parse(id, c.octave);
+    let (ans, line) = c.octave_poles;
+    disp.compare(id, &mut out, "poles", ans, line)?;
+    display_note(&mut out, id, &["tzero(Delta) (as poles)"], c.not_compared);
     out.notes.push(format!(
         "e∞ by the final-value theorem; the simulated error at {} s is {e_end:.4} m.",
         c.t_final
@@ -291,6 +303,9 @@ fn ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             t_final: 2.5,
             book_poles: Some(&[(-3.125, 5.817), (-3.125, -5.817)]),
             book_e_inf: 0.0,
+            octave: include_str!("../../tests/data/octave/p1c62_ex1_cart_p_step.txt"),
+            octave_poles: ("ans", "line 21"),
+            not_compared: &[],
         },
     )
 }
@@ -307,6 +322,9 @@ fn ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             t_final: 2.5,
             book_poles: Some(&[(-2.203, 5.534), (-2.203, -5.534), (-1.843, 0.0)]),
             book_e_inf: 0.0,
+            octave: include_str!("../../tests/data/octave/p1c62_ex2_cart_pi_ramp.txt"),
+            octave_poles: ("ans", "line 23"),
+            not_compared: &[],
         },
     )
 }
@@ -323,6 +341,12 @@ fn ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             t_final: 5.0,
             book_poles: None,
             book_e_inf: -0.3,
+            octave: include_str!("../../tests/data/octave/p1c62_ex3_cart_p_step_dis.txt"),
+            octave_poles: ("ans", "line 28"),
+            not_compared: &[(
+                "Delta (line 27)",
+                "the transfer function 1 + P(s)C(s); its zeros are the poles compared",
+            )],
         },
     )
 }
@@ -339,6 +363,18 @@ fn ex4(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             t_final: 5.0,
             book_poles: None,
             book_e_inf: 0.0,
+            octave: include_str!("../../tests/data/octave/p1c62_ex4_cart_pi_step_dis.txt"),
+            octave_poles: ("ans#2", "line 44"),
+            not_compared: &[
+                (
+                    "Delta (lines 30, 43)",
+                    "the transfer functions 1 + P(s)C(s); their zeros are the poles",
+                ),
+                (
+                    "tzero(Delta) of the P loop (line 31)",
+                    "the poles of example p1c62_ex3_cart_p_step_dis, compared there",
+                ),
+            ],
         },
     )
 }
@@ -419,6 +455,23 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         Value::Number(0.0),
         "book Part 1 §6.3, eq. 6.33",
         1e-9,
+    );
+    // p1c63_ex5_cdip_lqr_servo.m lines 53-54 display K1 and K2 (Kt = −lqr(At, Bt, Ct'QCt, R),
+    // line 51), as GNU Octave printed them running the M-file.
+    let disp = OctaveDisplay::parse(
+        id,
+        include_str!("../../tests/data/octave/p1c63_ex5_cdip_lqr_servo.txt"),
+    );
+    disp.compare(id, &mut out, "K1", "K1", "line 53")?;
+    disp.compare(id, &mut out, "K2", "K2", "line 54")?;
+    display_note(
+        &mut out,
+        id,
+        &["K1", "K2"],
+        &[(
+            "the simulated responses",
+            "Simulink runs (cdip_lqr_servo_sim, line 58 on), drawn, not displayed",
+        )],
     );
     out.notes.push(format!(
         "K̃ = [K1, K2] in the book's convention u = K1 x + K2 w, w = ∫(r − z) dt. The cart first \

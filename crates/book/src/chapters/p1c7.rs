@@ -4,11 +4,12 @@
 //! library: `u = −K x`, `A − L C`).
 
 use super::common::*;
+use super::mfile_refs::{OctaveDisplay, display_note};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
 use pendulab_control::estimation::output_feedback_controller;
-use pendulab_lti::analysis::{obsv, rank};
+use pendulab_lti::analysis::{ctrb, obsv, rank};
 use pendulab_lti::design::{StateFeedback, place, place_observer};
 use pendulab_lti::{Complex64, Continuous, Discretization, Mat, StateSpace, Trajectory};
 use pendulab_plants::{CartEquilibrium, CartPendulum, RigSpec};
@@ -159,6 +160,7 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "book Part 1 §7.4, example 7.1 (4× the state-feedback poles)",
         1e-6,
     );
+    ob_display_references(id, &lin, &fb, &l, &mut out)?;
     // Continuous controller: stood in for by its Tustin discretisation at the 1 ms loop rate.
     let traj = run_ob_controller(
         id,
@@ -217,6 +219,65 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         )?;
     }
     Ok(out)
+}
+
+/// What `p1c74_ex1_cdip_ob_design.m` displays (lines 32-46: rank_Mc, K, rank_Mo, L, Ac, Bc,
+/// Cc), reported under its names in the book's signs and compared with GNU Octave's run of
+/// the M-file.
+fn ob_display_references(
+    id: &str,
+    lin: &StateSpace<Continuous>,
+    fb: &StateFeedback,
+    l: &Mat,
+    out: &mut ExampleOutput,
+) -> Result<(), BookError> {
+    let kb = fb.book_gain();
+    let lb = -l;
+    let rank_mc = rank(&ctrb(lin.a(), lin.b()).ctx(id)?).rank as f64;
+    let rank_mo = rank(&obsv(lin.a(), lin.c()).ctx(id)?).rank as f64;
+    // Ac = A + B*K + L*C + L*D*K (line 44), D = 0.
+    let ac = lin.a() + lin.b() * &kb + &lb * lin.c() + &lb * lin.d() * &kb;
+    out.value("rank_Mc", Value::Number(rank_mc))
+        .value("rank_Mo", Value::Number(rank_mo))
+        .value("Ac", Value::matrix(&ac))
+        .value("Bc", Value::matrix(&(-&lb)))
+        .value("Cc", Value::vector(&row(&kb)));
+    let disp = OctaveDisplay::parse(
+        id,
+        include_str!("../../tests/data/octave/p1c74_ex1_cdip_ob_design.txt"),
+    );
+    for (name, line) in [
+        ("rank_Mc", "line 32"),
+        ("K", "line 37"),
+        ("rank_Mo", "line 40"),
+        ("Cc", "line 46"),
+    ] {
+        disp.compare(id, out, name, name, line)?;
+    }
+    // L = −place(A', C', po)' (line 42) for two outputs is not unique: Octave's place (SLICOT's
+    // Schur method) returns another L than MATLAB's (Kautsky–Nichols–Van Dooren, which
+    // pendulab's place follows), so Octave's digits are not the M-file's.
+    let octave_l31 = match disp.get(id, "L")?.value {
+        Value::Matrix(ref r) if r.len() > 2 && !r[2].is_empty() => r[2][0],
+        _ => f64::NAN,
+    };
+    display_note(
+        out,
+        id,
+        &["rank_Mc", "K", "rank_Mo", "Cc"],
+        &[(
+            "L, and Ac, Bc built from it (lines 42-45)",
+            &format!(
+                "with two outputs the L that places the observer poles is not unique: Octave's \
+                 place (SLICOT's Schur method) returns another L than MATLAB's \
+                 (Kautsky–Nichols–Van Dooren, which pendulab's place follows), e.g. L(3,1) = \
+                 {octave_l31:.2} in Octave, {:.2} here, and no MATLAB run is at hand; L is checked \
+                 by its defining property instead, observer_poles = eig(A + LC) = 4 pc",
+                lb[(2, 0)]
+            ),
+        )],
+    );
+    Ok(())
 }
 
 fn cdip_single_output(id: &str, c: &[f64]) -> Result<StateSpace<Continuous>, BookError> {

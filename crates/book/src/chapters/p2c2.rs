@@ -2,6 +2,7 @@
 //! slow sample rate, and the sampled-data LQR.
 
 use super::common::*;
+use super::mfile_refs::{OctaveDisplay, display_note, short_half_unit};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -397,6 +398,29 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .value("K", Value::Vector(book_row(&k)))
         .value("cost_Kd", Value::Number(cost_kd))
         .value("cost_K_held", Value::Number(cost_held));
+    // Line 26 displays K = −lqr(A, B, Q, R), as GNU Octave printed it running the M-file.
+    OctaveDisplay::parse(
+        id,
+        include_str!("../../tests/data/octave/p2c244_ex3_cdip_sampled_data_lqr_sim.txt"),
+    )
+    .compare(id, &mut out, "K", "K", "line 26")?;
+    // Line 44, Kd = −dlqr(Ad, Bd, Qd, Rd, Sd) after the Van Loan weights of lines 28-43: the
+    // Octave run stops at line 29 (the control package's c2d takes a system, not MATLAB's
+    // (A, B, ts)), so the reference is SciPy's run of those lines (tools/reference/book_p2c2.py).
+    let kd_scipy = [
+        1.5778974127092174,
+        9.363318455665842,
+        3.049762687384925,
+        1.5949349557822252,
+    ];
+    out.reference(
+        "Kd",
+        Value::vector(&kd_scipy),
+        "p2c244_ex3_cdip_sampled_data_lqr_sim.m lines 28-44, the same steps in SciPy \
+         (tools/reference/book_p2c2.py)",
+        short_half_unit(9.363318455665842),
+    );
+    display_note(&mut out, id, &["K", "Kd"], &[]);
     out.notes
         .push("Gains in the book's convention u = +K x.".into());
     out.notes.push(

@@ -2,6 +2,7 @@
 //! switch to sliding-mode balancing, and the C/GMRES NMPC swing-up of the arm pendulum.
 
 use super::common::*;
+use super::mfile_refs::{OctaveDisplay, display_note};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -131,6 +132,29 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         .value("switch_time_quantised", Value::Number(tsq))
         .value("final_state_quantised", Value::Vector(finq))
         .value("max_abs_z", Value::Number(zmax));
+    // p2c323_ex1_cdip_swing_up.m line 14 runs p2c323_Sliding_Mode_Control.m, whose line 35
+    // displays S; GNU Octave's run of the M-file (its Simulink run shimmed).
+    OctaveDisplay::parse(
+        id,
+        include_str!("../../tests/data/octave/p2c323_ex1_cdip_swing_up.txt"),
+    )
+    .compare(
+        id,
+        &mut out,
+        "S",
+        "S",
+        "line 14 (p2c323_Sliding_Mode_Control.m line 35)",
+    )?;
+    display_note(
+        &mut out,
+        id,
+        &["S"],
+        &[(
+            "t_sw (line 34)",
+            "the switching time of the Simulink run cdip_swing_up_sim; pendulab's own run's is \
+             switch_time",
+        )],
+    );
     out.notes.push(
         "final_state is [z, θ wrapped to (−π, π], ż, θ̇] at 16 s for δ = 0 (sign switching); the *_delta5 values for the boundary layer δ = 5 (plain plant, full state, 1 ms); *_quantised: δ = 5 on the rig preset with quantizer (encoders, pseudo-differentiated velocities, ±5 V, 16-bit D/A)."
             .into(),

@@ -7,6 +7,7 @@
 //! M-file displays under the M-file's variable names.
 
 use super::common::*;
+use super::mfile_refs::{OctaveDisplay, display_note, displayed_tf2};
 use super::p1c2::{CartRun, simulate_cart};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};

@@ -159,6 +159,46 @@ pub(super) fn p1c321_cdip_id_cart(ctx: &RunContext) -> Result<ExampleOutput, Boo
     let mut out = ExampleOutput::default();
     report_peak_feature(&mut out, &f, "ac", "bc");
     out.value("fit_percent", Value::Number(val.fit_percent));
+    // What the M-file displays (lines 59-71: fprintf %5.2e, and the tf of line 71 with four
+    // significant digits), as GNU Octave 7.3.0 printed it running the M-file unchanged.
+    let text = include_str!("../../../tests/data/octave/p1c321_cdip_id_cart.txt");
+    let disp = OctaveDisplay::parse(ID321C, text);
+    for (ours, theirs) in [
+        ("Tp", "Tp"),
+        ("Amax", "Amax"),
+        ("gamma", "gamma_c"),
+        ("delta", "delta_c"),
+        ("omega_n", "omega_nc"),
+        ("zeta", "zeta_c"),
+        ("ac", "ac"),
+        ("bc", "bc"),
+    ] {
+        disp.compare(
+            ID321C,
+            &mut out,
+            ours,
+            theirs,
+            "lines 59-68 (fprintf %5.2e)",
+        )?;
+    }
+    let (num, a, b) =
+        displayed_tf2(text).ok_or_else(|| fail(ID321C, "the committed display has no sysGyr"))?;
+    let src = disp.source("line 71 (sysGyr, four significant digits)");
+    out.reference("sysGyr_num", Value::Vector(vec![num]), &src, 0.005);
+    out.reference("sysGyr_den", Value::Vector(vec![1.0, a, b]), &src, 0.005);
+    display_note(
+        &mut out,
+        ID321C,
+        &[
+            "Tp", "Amax", "gamma_c", "delta_c", "omega_nc", "zeta_c", "ac", "bc", "sysGyr",
+        ],
+        &[],
+    );
+    out.notes.push(
+        "sysGyr_den is compared to ±0.005, the last printed digit of its largest coefficient \
+         (43.23); its middle coefficient (6.227) is printed to 0.001 and is ac, compared above."
+            .into(),
+    );
     out.notes.push(
         "As p1c321_cdip_id_cart.m on the measured k_P = 10 step: the samples from t = 1 s \
          (line 20), Tp = the middle of the first peak plateau after the step [s] (lines 28-39), \
@@ -203,6 +243,85 @@ pub(super) fn p1c321_cdip_id_pend(ctx: &RunContext) -> Result<ExampleOutput, Boo
     out.value("period", Value::Number(osc.period));
     out.value("decay_ratio", Value::Number(osc.decay_ratio));
     out.value("peaks", Value::Number(osc.peaks.len() as f64));
+    // Under the M-file's names (lines 94-100, 132-145).
+    let (gamma, delta, omega_n, zeta) = osc.second_order();
+    out.value("T", Value::Vector(osc.periods.clone()));
+    out.value("lambda", Value::Vector(osc.decay_ratios.clone()));
+    out.value("T_average", Value::Number(osc.period));
+    out.value("lambda_average", Value::Number(osc.decay_ratio));
+    out.value("gamma", Value::Number(gamma));
+    out.value("delta", Value::Number(delta));
+    out.value("omega_n", Value::Number(omega_n));
+    out.value("zeta", Value::Number(zeta));
+    out.value("mp", Value::Number(c.mp));
+    out.value("lp", Value::Number(c.lp));
+    out.value("g", Value::Number(c.g));
+    // What the M-file displays, as GNU Octave 7.3.0 printed it running the M-file unchanged:
+    // T_average, lambda_average (lines 99-100), T(i), lambda(i) (%5.3e, lines 149-152), the
+    // rest %5.2e (lines 154-165).
+    let disp = OctaveDisplay::parse(
+        ID321D,
+        include_str!("../../../tests/data/octave/p1c321_cdip_id_pend.txt"),
+    );
+    disp.compare(ID321D, &mut out, "T_average", "T_average", "line 99")?;
+    disp.compare(
+        ID321D,
+        &mut out,
+        "lambda_average",
+        "lambda_average",
+        "line 100",
+    )?;
+    for name in ["T", "lambda"] {
+        let d = disp.indexed(ID321D, name)?;
+        out.reference(
+            name,
+            d.value.clone(),
+            &disp.source(&format!("lines 149-152 ({name}(i), %5.3e)")),
+            d.tolerance(),
+        );
+    }
+    for (ours, theirs) in [
+        ("gamma", "gamma_p"),
+        ("delta", "delta_p"),
+        ("omega_n", "omega_np"),
+        ("zeta", "zeta_p"),
+        ("mp", "mp"),
+        ("lp", "lp"),
+        ("g", "g"),
+        ("Jp", "Jp"),
+        ("mup", "mup"),
+    ] {
+        disp.compare(
+            ID321D,
+            &mut out,
+            ours,
+            theirs,
+            "lines 157-165 (fprintf %5.2e)",
+        )?;
+    }
+    display_note(
+        &mut out,
+        ID321D,
+        &[
+            "T_average",
+            "lambda_average",
+            "T(i)",
+            "lambda(i)",
+            "gamma_p",
+            "delta_p",
+            "omega_np",
+            "zeta_p",
+            "mp",
+            "lp",
+            "g",
+            "Jp",
+            "mup",
+        ],
+        &[(
+            "T, lambda of lines 154-155",
+            "T_average and lambda_average again, to three digits",
+        )],
+    );
     out.notes.push(
         "Free oscillation, window 35–51 s: mean period T̄ (peak to peak) [s] and mean decay \
          ratio λ̄ = A_{i+1}/A_i; γ = ln(1/λ̄)/T̄, δ = 2π/T̄, ω_n = √(γ² + δ²), ζ = γ/ω_n, \
