@@ -1,6 +1,7 @@
 //! Part 1 chapter 4: state space, time responses and stability (book §4.1–4.3).
 
 use super::common::*;
+use super::mfile_refs::no_display_note;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -97,6 +98,11 @@ fn p1c41_cdip_response(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         );
         write_figure(&mut out, "p1c41_cdip_response_y", fig);
     }
+    no_display_note(
+        &mut out,
+        "p1c41_cdip_respose",
+        "it draws the initial-value and sine responses of G(s)",
+    );
     Ok(out)
 }
 
@@ -255,5 +261,10 @@ fn p1c43_lyapunov_func(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         let fig = Figure::new(s).size(640.0, 520.0);
         write_figure(&mut out, &format!("{ID433}_surface"), fig);
     }
+    no_display_note(
+        &mut out,
+        "p1c43_lyapunov_func",
+        "it draws the surface V(x) = x1² + x2²",
+    );
     Ok(out)
 }

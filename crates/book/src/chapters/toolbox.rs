@@ -3,6 +3,7 @@
 //! 16-bit D/A) at 1 ms. Gains are reported in the book's convention `u = +K x`.
 
 use super::common::*;
+use super::mfile_refs::no_display_note;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -240,6 +241,11 @@ fn pd_sample(ctx: &RunContext, c: &PdCase) -> Result<ExampleOutput, BookError> {
             .panel(SignalPanel::new(Channel::Input(0), "input v [V]").stairs());
         save_response_and_animation(ctx, &mut out, id, &response, rig(c.arm), &traj)?;
     }
+    no_display_note(
+        &mut out,
+        id,
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }
 

@@ -229,6 +229,11 @@ pub(super) fn p1c223_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError>
         );
         write_figure(&mut out, "p1c223_pcont_response", fig);
     }
+    no_display_note(
+        &mut out,
+        "p1c223_pcont",
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }
 
@@ -294,6 +299,11 @@ pub(super) fn p1c224_p_dcont(ctx: &RunContext) -> Result<ExampleOutput, BookErro
         );
         write_figure(&mut out, "p1c224_p_dcont_response", fig);
     }
+    no_display_note(
+        &mut out,
+        "p1c224_p_dcont",
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }
 
@@ -453,5 +463,10 @@ pub(super) fn p1c23_crane(ctx: &RunContext) -> Result<ExampleOutput, BookError> 
             )?;
         }
     }
+    no_display_note(
+        &mut out,
+        "p1c23_crane",
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }

@@ -8,6 +8,7 @@
 //! with an ideal derivative.
 
 use super::common::*;
+use super::mfile_refs::no_display_note;
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};

@@ -38,6 +38,11 @@ pub(super) fn p1c211_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError>
             .into(),
     );
     write_response(ID211, ctx, &mut out, &runs)?;
+    no_display_note(
+        &mut out,
+        "p1c211_pcont",
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }
 
@@ -72,6 +77,11 @@ pub(super) fn p1c212_pdcont(ctx: &RunContext) -> Result<ExampleOutput, BookError
             .into(),
     );
     write_response(ID212, ctx, &mut out, &runs)?;
+    no_display_note(
+        &mut out,
+        "p1c212_pdcont",
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }
 
@@ -117,6 +127,11 @@ pub(super) fn p1c213_picont(ctx: &RunContext) -> Result<ExampleOutput, BookError
             .into(),
     );
     write_response(ID213I, ctx, &mut out, &runs)?;
+    no_display_note(
+        &mut out,
+        "p1c213_picont",
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }
 
@@ -154,6 +169,11 @@ pub(super) fn p1c213_pidcont(ctx: &RunContext) -> Result<ExampleOutput, BookErro
             .into(),
     );
     write_response(ID213D, ctx, &mut out, &[pi_run, run])?;
+    no_display_note(
+        &mut out,
+        "p1c213_pidcont",
+        "it sets the gains and draws the responses of its Simulink model",
+    );
     Ok(out)
 }
 
@@ -210,5 +230,6 @@ pub(super) fn p1c213_pidbode(ctx: &RunContext) -> Result<ExampleOutput, BookErro
             .figure();
         write_figure(&mut out, "p1c213_pidbode_bode", fig);
     }
+    no_display_note(&mut out, "p1c213_pidbode", "it draws Bode plots");
     Ok(out)
 }
