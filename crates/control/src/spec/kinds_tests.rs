@@ -449,7 +449,7 @@ fn a_five_state_schedule_is_the_lq_servo_when_the_gain_is_constant() {
     let km = Mat::from_row_slice(1, 5, &k);
     let m = spd(5);
     let steps = "reference = [0.3]\nstep_time = 0.01\n";
-    let scheduled = parse(&x_l_spec(&[m.clone()], &[-(&km * &m)], steps)).unwrap();
+    let scheduled = parse(&x_l_spec(std::slice::from_ref(&m), &[-(&km * &m)], steps)).unwrap();
     let poly = parse(&format!(
         "kind = \"gain-scheduled\"\ncoefficients = [[{}]]\n{steps}",
         k.map(|v| format!("{v:?}")).join(", ")
@@ -536,28 +536,31 @@ fn x_and_l_keys_are_checked_by_name() {
     let l4 = Mat::from_row_slice(1, 4, &[1.0, 2.0, 3.0, 4.0]);
     let cases: Vec<(String, &str)> = vec![
         (
-            x_l_spec(&[m.clone(), asym], &[l.clone()], ""),
+            x_l_spec(&[m.clone(), asym], std::slice::from_ref(&l), ""),
             "controller.x_coefficients[1]: must be symmetric",
         ),
         (
-            x_l_spec(&[indefinite], &[l.clone()], ""),
+            x_l_spec(&[indefinite], std::slice::from_ref(&l), ""),
             "controller.x_coefficients[0]: X(0) = X0 must be positive definite",
         ),
         (
-            x_l_spec(&[spd(3)], &[l.clone()], ""),
+            x_l_spec(&[spd(3)], std::slice::from_ref(&l), ""),
             "controller.x_coefficients[0] has 3 entries",
         ),
         (
-            x_l_spec(&[m.clone(), spd(4)], &[l.clone()], ""),
+            x_l_spec(&[m.clone(), spd(4)], std::slice::from_ref(&l), ""),
             "controller.x_coefficients[1] has 4 rows, expected 5",
         ),
         (
-            x_l_spec(&[m.clone()], &[l.clone(), l4], ""),
+            x_l_spec(std::slice::from_ref(&m), &[l.clone(), l4], ""),
             "controller.l_coefficients[1] has 4 entries, expected 5",
         ),
-        (x_l_spec(&[m.clone()], &[], ""), "give at least X0 and L0"),
         (
-            x_l_spec(&[m.clone()], &[l.clone()], "")
+            x_l_spec(std::slice::from_ref(&m), &[], ""),
+            "give at least X0 and L0",
+        ),
+        (
+            x_l_spec(std::slice::from_ref(&m), std::slice::from_ref(&l), "")
                 .replace("x_coefficients = [[[", "x_coefficients = [[[nan, "),
             "controller.x_coefficients[0][0] has 6 entries",
         ),
@@ -567,8 +570,8 @@ fn x_and_l_keys_are_checked_by_name() {
         ),
         (
             x_l_spec(
-                &[m.clone()],
-                &[l.clone()],
+                std::slice::from_ref(&m),
+                std::slice::from_ref(&l),
                 "coefficients = [[0.0, 0.0, 0.0, 0.0]]\n",
             ),
             "give coefficients; or lqr with design_points_deg (arm); or x_coefficients with l_coefficients",
@@ -578,15 +581,27 @@ fn x_and_l_keys_are_checked_by_name() {
             "or x_coefficients with l_coefficients",
         ),
         (
-            x_l_spec(&[m.clone()], &[l.clone()], "reference = [0.1, 0.2]\n"),
+            x_l_spec(
+                std::slice::from_ref(&m),
+                std::slice::from_ref(&l),
+                "reference = [0.1, 0.2]\n",
+            ),
             "controller.reference of a gain-scheduled is one value",
         ),
         (
-            x_l_spec(&[m.clone()], &[l.clone()], "step_time = -1.0\n"),
+            x_l_spec(
+                std::slice::from_ref(&m),
+                std::slice::from_ref(&l),
+                "step_time = -1.0\n",
+            ),
             "controller.step_time = -1",
         ),
         (
-            x_l_spec(&[m.clone()], &[l.clone()], "schedule = \"theta\"\n"),
+            x_l_spec(
+                std::slice::from_ref(&m),
+                std::slice::from_ref(&l),
+                "schedule = \"theta\"\n",
+            ),
             "controller.schedule = 'theta'",
         ),
         (
@@ -603,7 +618,8 @@ fn x_and_l_keys_are_checked_by_name() {
     let mut nan = m.clone();
     nan[(2, 3)] = f64::NAN;
     nan[(3, 2)] = f64::NAN;
-    let spec = parse(&x_l_spec(&[nan], &[l.clone()], "").replace("NaN", "nan")).unwrap();
+    let spec =
+        parse(&x_l_spec(&[nan], std::slice::from_ref(&l), "").replace("NaN", "nan")).unwrap();
     let e = build_for(&spec, &arm, 1e-3).unwrap_err().to_string();
     assert!(
         e.contains("controller.x_coefficients[0][2][3] = NaN"),
