@@ -30,6 +30,10 @@ pub struct ReportArgs {
     /// Only these examples (repeatable); default: every example.
     #[arg(long, value_name = "ID")]
     pub only: Vec<String>,
+    /// The browser lab's built site (the folder `tools/build-web SITE` writes, docs/web.md):
+    /// copied into DIR/lab/ and linked under the report's title, so the folder stays whole.
+    #[arg(long, value_name = "SITE", conflicts_with = "lab")]
+    pub web_lab: Option<PathBuf>,
 }
 
 /// What writing a report produced.
@@ -51,14 +55,55 @@ pub struct ReportRun {
 /// Unknown ids in `only` or `data`, unreadable or malformed data files, an output directory
 /// that cannot be created or written. Failing examples are not errors here: they are in the
 /// report and in [`ReportRun::failing`].
-pub fn generate(out: &Path, data: &[String], only: &[String], progress: bool) -> Result<ReportRun> {
+///
+/// With `web_lab`, the browser lab's site folder (it must hold `index.html`) is copied into
+/// `out/lab/` (replacing an earlier copy) and linked from the page; a missing folder is an error
+/// before any example runs.
+pub fn generate(
+    out: &Path,
+    data: &[String],
+    only: &[String],
+    web_lab: Option<&Path>,
+    progress: bool,
+) -> Result<ReportRun> {
     let examples = if only.is_empty() {
         pendulab_book::registry()
     } else {
         crate::book::select(only, false)?
     };
     let data = DataFiles::parse(data, &examples, false)?;
-    write_report(&examples, out, &data, progress)
+    if let Some(site) = web_lab
+        && !site.join("index.html").is_file()
+    {
+        bail!(
+            "--web-lab {}: no index.html there (build the browser lab with tools/build-web {})",
+            site.display(),
+            site.display()
+        );
+    }
+    write_report(&examples, out, &data, web_lab, progress)
+}
+
+/// Copies the files and folders under `from` into `to` (created), replacing what `to` held.
+fn copy_site(from: &Path, to: &Path) -> Result<()> {
+    if to.exists() {
+        std::fs::remove_dir_all(to)
+            .with_context(|| format!("cannot remove the old copy {}", to.display()))?;
+    }
+    std::fs::create_dir_all(to).with_context(|| format!("cannot create {}", to.display()))?;
+    for entry in
+        std::fs::read_dir(from).with_context(|| format!("cannot read {}", from.display()))?
+    {
+        let entry = entry.with_context(|| format!("cannot read {}", from.display()))?;
+        let (src, dst) = (entry.path(), to.join(entry.file_name()));
+        if entry.file_type()?.is_dir() {
+            copy_site(&src, &dst)?;
+        } else {
+            std::fs::copy(&src, &dst)
+                .with_context(|| format!("cannot copy {} to {}", src.display(), dst.display()))?;
+        }
+    }
+    Ok(())
 }
 
 /// Runs `examples` and writes the report into `out` (see [`generate`]).
@@ -66,10 +111,19 @@ fn write_report(
     examples: &[Example],
     out: &Path,
     data: &DataFiles,
+    web_lab: Option<&Path>,
     progress: bool,
 ) -> Result<ReportRun> {
     let start = Instant::now();
     prepare_out_dir(out)?;
+    let mut links = Vec::new();
+    if let Some(site) = web_lab {
+        copy_site(site, &out.join("lab"))?;
+        links.push((
+            "The browser lab: both rigs live, designed and balanced in this browser".to_string(),
+            "lab/index.html".to_string(),
+        ));
+    }
     let figures = out.join("figures");
     // What an earlier report wrote for these examples goes: a figure since renamed or dropped
     // would otherwise stay in the folder.
@@ -99,6 +153,7 @@ fn write_report(
     let options = ReportOptions {
         base_dir: PathBuf::new(),
         animations,
+        links,
         subtitle: Some(format!(
             "pendulab {} · {} examples run in {:.1} s · written {}",
             env!("CARGO_PKG_VERSION"),
@@ -163,7 +218,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     let Some(out) = &args.out else {
         bail!("--out DIR is required (or --lab DIR)");
     };
-    let r = generate(out, &args.data, &args.only, true)?;
+    let r = generate(out, &args.data, &args.only, args.web_lab.as_deref(), true)?;
     outcome(&r)
 }
 

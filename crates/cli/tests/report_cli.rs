@@ -237,3 +237,58 @@ fn bad_data_and_only_arguments_are_clear_errors() {
     // Nothing was written for a rejected command line.
     assert!(!Path::new(out).join("index.html").exists());
 }
+
+#[test]
+fn web_lab_is_copied_beside_the_page_and_linked_relatively() {
+    let d = Dir::new("weblab");
+    // A site as tools/build-web lays it out: the page, its scripts and a nested folder.
+    let site = d.join("site");
+    std::fs::create_dir_all(site.join("assets")).unwrap();
+    std::fs::write(site.join("index.html"), "<!DOCTYPE html><title>lab</title>").unwrap();
+    std::fs::write(site.join("lab.js"), "// lab").unwrap();
+    std::fs::write(site.join("assets/x.css"), "body{}").unwrap();
+    let out = d.join("report");
+    // An earlier copy's stray file goes.
+    std::fs::create_dir_all(out.join("lab")).unwrap();
+    std::fs::write(out.join("lab/stale.js"), "// old").unwrap();
+    let o = pendulab(&[
+        "report",
+        "--out",
+        out.to_str().unwrap(),
+        "--only",
+        "p1c41_cdip_response",
+        "--web-lab",
+        site.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["index.html", "lab.js", "assets/x.css"] {
+        assert_eq!(
+            std::fs::read(out.join("lab").join(f)).unwrap(),
+            std::fs::read(site.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    assert!(!out.join("lab/stale.js").exists());
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let hrefs = attributes(&page, "href");
+    assert!(hrefs.contains(&"lab/index.html"), "{hrefs:?}");
+    for h in hrefs.iter().filter(|h| !h.starts_with('#')) {
+        assert!(resolve(&out, h).is_file(), "{h} does not resolve");
+    }
+
+    // A folder without the page is refused before anything runs.
+    let empty = d.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out2 = d.join("report2");
+    fails_with(
+        &pendulab(&[
+            "report",
+            "--out",
+            out2.to_str().unwrap(),
+            "--web-lab",
+            empty.to_str().unwrap(),
+        ]),
+        &["--web-lab", "no index.html", "tools/build-web"],
+    );
+    assert!(!out2.join("index.html").exists());
+}

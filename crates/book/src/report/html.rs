@@ -192,6 +192,14 @@ pub fn html(entries: &[Entry], options: &ReportOptions) -> String {
     if let Some(sub) = &options.subtitle {
         let _ = writeln!(s, "<p class=\"sub\">{}</p>", escape(sub));
     }
+    for (label, href) in &options.links {
+        let _ = writeln!(
+            s,
+            "<p class=\"sub\"><a href=\"{}\">{}</a></p>",
+            escape(href),
+            escape(label)
+        );
+    }
     s.push_str(
         "<p class=\"sub\">Every example of 「倒立振子で学ぶ制御工学」 reproduced by pendulab: \
          its numbers, the book's printed value beside ours (✓ reproduced within the stated \

@@ -190,6 +190,10 @@ pub struct ReportOptions {
     /// time scrubber. An animated SVG not in the map is shown as an image (it loops, without
     /// controls). The markup is our own renderer's and is inserted unescaped.
     pub animations: BTreeMap<PathBuf, String>,
+    /// Links shown under the title as `(label, href)`, e.g. the browser lab copied beside the
+    /// page (`pendulab report --web-lab`, docs/web.md). The href is written as given (escaped):
+    /// keep it relative so the folder can be moved.
+    pub links: Vec<(String, String)>,
 }
 
 impl Default for ReportOptions {
@@ -199,6 +203,7 @@ impl Default for ReportOptions {
             title: "pendulab lab notebook".into(),
             subtitle: None,
             animations: BTreeMap::new(),
+            links: Vec::new(),
         }
     }
 }

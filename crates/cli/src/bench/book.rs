@@ -24,7 +24,7 @@ fn report(budget: &Budget) -> Result<BenchReport> {
     let last = loop {
         // Start from an empty directory each time, so every report writes every figure.
         let _ = std::fs::remove_dir_all(&dir);
-        let r = crate::report::generate(&dir, &[], &[], false);
+        let r = crate::report::generate(&dir, &[], &[], None, false);
         let r = match r {
             Ok(r) => r,
             Err(e) => {
