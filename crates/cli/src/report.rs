@@ -500,7 +500,7 @@ mod tests {
             example("panics", panics),
             example("needs", needs),
         ];
-        let r = write_report(&examples, &out, &DataFiles::default(), false).unwrap();
+        let r = write_report(&examples, &out, &DataFiles::default(), None, false).unwrap();
         let page = std::fs::read_to_string(out.join("index.html")).unwrap();
         let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
         let status = std::fs::read_to_string(out.join("status.md")).unwrap();
@@ -544,7 +544,7 @@ mod tests {
         let _ = std::fs::remove_dir_all(&out);
         let examples = [example("needs", needs), example("takes_none", takes_none)];
         let data = DataFiles::for_tests("needs", "t,theta\n0,1\n0.001,1.1\n");
-        let r = write_report(&examples, &out, &data, false).unwrap();
+        let r = write_report(&examples, &out, &data, None, false).unwrap();
         let results = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
         let _ = std::fs::remove_dir_all(&out);
         assert_eq!(r.summary.runs, 2, "{results}");
