@@ -11,24 +11,13 @@ use pendulab_lti::design::{
 };
 use pendulab_lti::norms::{h2_norm, hinf_norm};
 use pendulab_lti::{Complex64, Continuous, LtiError, Mat, StateSpace};
+use pendulab_testkit::json::matrix;
 use serde_json::Value;
 
 fn fixture() -> Value {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hinf_reference.json");
-    serde_json::from_str(&std::fs::read_to_string(path).expect("fixture")).expect("json")
-}
-
-fn matrix(v: &Value) -> Mat {
-    let rows = v.as_array().expect("rows");
-    let cols = rows.first().map_or(0, |r| r.as_array().expect("row").len());
-    let mut m = Mat::zeros(rows.len(), cols);
-    for (i, row) in rows.iter().enumerate() {
-        for (j, x) in row.as_array().expect("row").iter().enumerate() {
-            m[(i, j)] = x.as_f64().expect("number");
-        }
-    }
-    m
+    pendulab_testkit::json::read(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hinf_reference.json"),
+    )
 }
 
 fn plant_of(case: &Value) -> StandardPlant {

@@ -3,18 +3,20 @@
 //! out from the closed forms of `docs/model.md` §1 and §2, so that every crate's tests, down to
 //! `pendulab-lti`, build the same systems from one hand-written copy.
 //!
-//! The crate depends on `nalgebra` alone, so any crate may take it as a dev-dependency without a
-//! cycle. Matrices are `nalgebra::DMatrix<f64>`, the type `pendulab_lti::Mat` names. Nothing
-//! here calls the library under test: the plants' own `linearize` (`pendulab-plants`) and the
+//! The crate depends on `nalgebra` and `serde_json` alone, so any crate may take it as a
+//! dev-dependency without a cycle. Matrices are `nalgebra::DMatrix<f64>`, the type
+//! `pendulab_lti::Mat` names. Nothing here calls the library under test: the plants' own `linearize` (`pendulab-plants`) and the
 //! finite-difference `linearize` (`pendulab-sim`) are tested *against* these formulas.
 //!
 //! - [`cart`]: the cart-type pendulum (`docs/model.md` §1), its upright and hanging
 //!   linearisations, the encoder outputs and the LQ weights the book's cart examples share;
-//! - [`arm`]: the arm-type pendulum (`docs/model.md` §2) linearised at any arm angle.
+//! - [`arm`]: the arm-type pendulum (`docs/model.md` §2) linearised at any arm angle;
+//! - [`json`]: reading the reference fixtures of `tools/reference/` and their matrices.
 #![warn(missing_docs)]
 
 pub mod arm;
 pub mod cart;
+pub mod json;
 
 /// The dense matrix type of the workspace (`pendulab_lti::Mat` is the same type).
 pub type Mat = nalgebra::DMatrix<f64>;
