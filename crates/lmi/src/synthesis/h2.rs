@@ -89,19 +89,8 @@ pub fn h2_state_feedback_lmi(
         solution,
     };
     if out.solution.all_checks_pass() {
-        let xv = crate::linalg::sym(&out.solution.value(&x)?);
-        let lv = out.solution.value(&l)?;
-        // K = −L X⁻¹ ⇔ Kᵀ = −X⁻¹ Lᵀ (X ⪰ εI by its constraint; an LU solve also serves the
-        // X of the scale of ε that a zero optimum produces).
-        let kt = xv
-            .clone()
-            .lu()
-            .solve(&lv.transpose())
-            .ok_or(LmiError::InvalidArgument {
-                what: "X".into(),
-                reason: "returned X is singular".into(),
-            })?;
-        out.gain = Some(-kt.transpose());
+        let (gain, xv) = super::hinf::state_feedback_gain(&out.solution, &x, &l)?;
+        out.gain = Some(gain);
         out.norm = out.solution.objective.map(|t| t.max(0.0).sqrt());
         out.x = Some(xv);
     }

@@ -477,21 +477,33 @@ pub fn hinf_state_feedback_lmi(
         solution,
     };
     if out.solution.all_checks_pass() {
-        let xv = crate::linalg::sym(&out.solution.value(&x)?);
-        let lv = out.solution.value(&l)?;
-        // K = −L X⁻¹ ⇔ Kᵀ = −X⁻¹ Lᵀ (X ⪰ εI by its constraint; an LU solve also serves the
-        // X of the scale of ε that a zero optimum produces).
-        let kt = xv
-            .clone()
-            .lu()
-            .solve(&lv.transpose())
-            .ok_or(LmiError::InvalidArgument {
-                what: "X".into(),
-                reason: "returned X is singular".into(),
-            })?;
-        out.gain = Some(-kt.transpose());
+        let (gain, xv) = state_feedback_gain(&out.solution, &x, &l)?;
+        out.gain = Some(gain);
         out.gamma = out.solution.objective;
         out.x = Some(xv);
     }
     Ok(out)
+}
+
+/// The state-feedback gain `K = −L X⁻¹` (`u = −K x`) and the symmetrised `X` of a solved
+/// problem in the variables `X`, `L` (the H∞ and H2 state-feedback LMIs).
+///
+/// `Kᵀ = −X⁻¹ Lᵀ` by an LU solve: `X ⪰ εI` by its constraint, and LU also serves the `X` of the
+/// scale of ε that a zero optimum produces.
+///
+/// # Errors
+/// [`LmiError::InvalidArgument`] when the returned `X` is singular; the solution's own errors
+/// when `X` or `L` is not one of its variables.
+pub(super) fn state_feedback_gain(solution: &Solution, x: &Expr, l: &Expr) -> Result<(Mat, Mat)> {
+    let xv = crate::linalg::sym(&solution.value(x)?);
+    let lv = solution.value(l)?;
+    let kt = xv
+        .clone()
+        .lu()
+        .solve(&lv.transpose())
+        .ok_or(LmiError::InvalidArgument {
+            what: "X".into(),
+            reason: "returned X is singular".into(),
+        })?;
+    Ok((-kt.transpose(), xv))
 }
