@@ -26,15 +26,9 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             max_magnitude,
             fig,
         } => nyquist_verb(&sys.load()?, *indent_radius, *max_magnitude, fig),
-        SysCommand::Nichols {
-            sys,
-            w_min,
-            w_max,
-            points,
-            fig,
-        } => {
+        SysCommand::Nichols { sys, freq, fig } => {
             let s = sys.load()?;
-            let w = frequencies(&s, *w_min, *w_max, *points)?;
+            let w = frequencies(&s, freq)?;
             let n = with_sys!(&s, |v| nichols(v, &w))?;
             if let Some(path) = &fig.out {
                 let f = Nichols::new()
@@ -102,15 +96,9 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             );
             Ok(())
         }
-        SysCommand::Sigma {
-            sys,
-            w_min,
-            w_max,
-            points,
-            fig,
-        } => {
+        SysCommand::Sigma { sys, freq, fig } => {
             let s = sys.load()?;
-            let w = frequencies(&s, *w_min, *w_max, *points)?;
+            let w = frequencies(&s, freq)?;
             let sv = with_sys!(&s, |v| sigma(v, &w))?;
             if let Some(path) = &fig.out {
                 let f = SigmaPlot::new()

@@ -20,6 +20,21 @@ pub use verbs::run;
 
 use std::path::PathBuf;
 
+/// The frequency grid of `bode`, `nichols` and `sigma`: MATLAB's automatic range, or `points`
+/// log-spaced frequencies on `[w_min, w_max]` (rad/s).
+#[derive(Debug, Clone, clap::Args)]
+pub struct FreqArgs {
+    /// Lowest frequency in rad/s (default: MATLAB's automatic range).
+    #[arg(long, allow_hyphen_values = true)]
+    pub w_min: Option<f64>,
+    /// Highest frequency in rad/s.
+    #[arg(long, allow_hyphen_values = true)]
+    pub w_max: Option<f64>,
+    /// Number of frequencies (log-spaced) when a range is given.
+    #[arg(long, default_value_t = 200)]
+    pub points: usize,
+}
+
 /// Response options shared by `step`, `impulse`, `initial` and `lsim`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FigureArgs {
@@ -211,15 +226,8 @@ pub enum SysCommand {
     Bode {
         #[command(flatten)]
         sys: SysArgs,
-        /// Lowest frequency in rad/s (default: MATLAB's automatic range).
-        #[arg(long, allow_hyphen_values = true)]
-        w_min: Option<f64>,
-        /// Highest frequency in rad/s.
-        #[arg(long, allow_hyphen_values = true)]
-        w_max: Option<f64>,
-        /// Number of frequencies (log-spaced) when a range is given.
-        #[arg(long, default_value_t = 200)]
-        points: usize,
+        #[command(flatten)]
+        freq: FreqArgs,
         #[command(flatten)]
         fig: FigureArgs,
     },
@@ -242,15 +250,8 @@ pub enum SysCommand {
     Nichols {
         #[command(flatten)]
         sys: SysArgs,
-        /// Lowest frequency in rad/s (default: MATLAB's automatic range).
-        #[arg(long, allow_hyphen_values = true)]
-        w_min: Option<f64>,
-        /// Highest frequency in rad/s.
-        #[arg(long, allow_hyphen_values = true)]
-        w_max: Option<f64>,
-        /// Number of frequencies (log-spaced) when a range is given.
-        #[arg(long, default_value_t = 200)]
-        points: usize,
+        #[command(flatten)]
+        freq: FreqArgs,
         #[command(flatten)]
         fig: FigureArgs,
     },
@@ -284,15 +285,8 @@ pub enum SysCommand {
     Sigma {
         #[command(flatten)]
         sys: SysArgs,
-        /// Lowest frequency in rad/s (default: MATLAB's automatic range).
-        #[arg(long, allow_hyphen_values = true)]
-        w_min: Option<f64>,
-        /// Highest frequency in rad/s.
-        #[arg(long, allow_hyphen_values = true)]
-        w_max: Option<f64>,
-        /// Number of frequencies (log-spaced) when a range is given.
-        #[arg(long, default_value_t = 200)]
-        points: usize,
+        #[command(flatten)]
+        freq: FreqArgs,
         #[command(flatten)]
         fig: FigureArgs,
     },

@@ -1,7 +1,7 @@
 //! The verbs' bodies: each calls the `pendulab-lti` function of its MATLAB name and prints.
 
 use super::input::{Sys, matrix_arg, vector_arg, with_sys};
-use super::{FigureArgs, SysCommand, SystemOut, TimeArgs};
+use super::{FigureArgs, FreqArgs, SysCommand, SystemOut, TimeArgs};
 use crate::lqr::{fmt_row, read_matrix, rows_of};
 use anyhow::{Context, Result, anyhow, bail};
 use pendulab_lti::Complex64;
@@ -217,13 +217,7 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             let traj = with_sys!(&s, |v| lsim(v, &u, &t, x0.as_deref(), &opts))?;
             trajectory_out(&[("lsim", traj)], fig, "lsim")
         }
-        SysCommand::Bode {
-            sys,
-            w_min,
-            w_max,
-            points,
-            fig,
-        } => bode(&sys.load()?, *w_min, *w_max, *points, fig),
+        SysCommand::Bode { sys, freq, fig } => bode(&sys.load()?, freq, fig),
         SysCommand::Nyquist { .. }
         | SysCommand::Nichols { .. }
         | SysCommand::Rlocus { .. }
@@ -785,13 +779,9 @@ pub(super) fn save_figure(f: &Figure, path: &Path) -> Result<()> {
 
 /// The frequencies of a frequency-domain verb: MATLAB's automatic range, or `points`
 /// log-spaced values on `[w_min, w_max]` (below the Nyquist frequency of a discrete system).
-pub(super) fn frequencies(
-    s: &Sys,
-    w_min: Option<f64>,
-    w_max: Option<f64>,
-    points: usize,
-) -> Result<Vec<f64>> {
-    Ok(match (w_min, w_max) {
+pub(super) fn frequencies(s: &Sys, freq: &FreqArgs) -> Result<Vec<f64>> {
+    let points = freq.points;
+    Ok(match (freq.w_min, freq.w_max) {
         (None, None) => with_sys!(s, |v| frequency_grid(v, 100))?,
         (Some(lo), Some(hi)) => {
             if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
@@ -814,14 +804,8 @@ pub(super) fn frequencies(
     })
 }
 
-fn bode(
-    s: &Sys,
-    w_min: Option<f64>,
-    w_max: Option<f64>,
-    points: usize,
-    fig: &FigureArgs,
-) -> Result<()> {
-    let w = frequencies(s, w_min, w_max, points)?;
+fn bode(s: &Sys, freq: &FreqArgs, fig: &FigureArgs) -> Result<()> {
+    let w = frequencies(s, freq)?;
     let fr = with_sys!(s, |v| freqresp(v, &w))?;
     let (_, b, c, _) = s.matrices();
     let (ny, nu) = (c.nrows(), b.ncols());
