@@ -280,22 +280,7 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
             break;
         }
         let gm = eval(&mids.iter().map(|m| m.1).collect::<Vec<_>>())?;
-        let mut nw = Vec::with_capacity(w.len() + mids.len());
-        let mut ng = Vec::with_capacity(w.len() + mids.len());
-        let mut next = mids.iter().zip(gm).peekable();
-        for i in 0..w.len() {
-            nw.push(w[i]);
-            ng.push(g[i]);
-            if let Some(((j, m), v)) = next.peek()
-                && *j == i
-            {
-                nw.push(*m);
-                ng.push(*v);
-                next.next();
-            }
-        }
-        w = nw;
-        g = ng;
+        (w, g) = insert_midpoints(&w, &g, &mids, &gm);
     }
     let logmag = |v: Complex64| v.norm().ln();
     let sinarg = |v: Complex64| v.im / v.norm();
@@ -358,6 +343,32 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
 /// [`stability_margins`].
 pub fn stability_margins_tf<D: TimeDomain>(l: &TransferFunction<D>) -> Result<StabilityMargins> {
     stability_margins(&l.to_state_space()?)
+}
+
+/// One step of adaptive frequency refinement: the grid `w` with its values `v`, and the new
+/// points `mids` (`(i, ω)`: ω lies between `w[i]` and `w[i + 1]`, `i` increasing) with their
+/// values `vm`, merged into one increasing grid and its values.
+pub(crate) fn insert_midpoints<T: Copy>(
+    w: &[f64],
+    v: &[T],
+    mids: &[(usize, f64)],
+    vm: &[T],
+) -> (Vec<f64>, Vec<T>) {
+    let mut nw = Vec::with_capacity(w.len() + mids.len());
+    let mut nv = Vec::with_capacity(w.len() + mids.len());
+    let mut next = mids.iter().zip(vm).peekable();
+    for i in 0..w.len() {
+        nw.push(w[i]);
+        nv.push(v[i]);
+        if let Some(((j, m), x)) = next.peek()
+            && *j == i
+        {
+            nw.push(*m);
+            nv.push(**x);
+            next.next();
+        }
+    }
+    (nw, nv)
 }
 
 fn changes_sign(a: f64, b: f64) -> bool {

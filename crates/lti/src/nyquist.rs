@@ -283,22 +283,7 @@ pub fn nyquist<D: TimeDomain>(l: &StateSpace<D>, opts: &NyquistOptions) -> Resul
             break;
         }
         let vm = eval(&mids.iter().map(|m| m.1).collect::<Vec<_>>())?;
-        let mut nw = Vec::with_capacity(w.len() + mids.len());
-        let mut nv = Vec::with_capacity(w.len() + mids.len());
-        let mut next = mids.iter().zip(vm).peekable();
-        for i in 0..w.len() {
-            nw.push(w[i]);
-            nv.push(v[i]);
-            if let Some(((j, m), x)) = next.peek()
-                && *j == i
-            {
-                nw.push(*m);
-                nv.push(*x);
-                next.next();
-            }
-        }
-        w = nw;
-        v = nv;
+        (w, v) = crate::margins::insert_midpoints(&w, &v, &mids, &vm);
     }
     let winding: f64 = -v
         .windows(2)
