@@ -7,18 +7,8 @@ mod common;
 use common::*;
 
 use pendulab_testkit::Mat;
+use pendulab_testkit::json::matrix;
 use std::process::Command;
-
-fn json(o: &std::process::Output) -> serde_json::Value {
-    assert!(o.status.success(), "stderr: {}", stderr(o));
-    serde_json::from_slice(&o.stdout).unwrap()
-}
-
-fn matrix(v: &serde_json::Value) -> Mat {
-    let rows: Vec<Vec<f64>> = serde_json::from_value(v.clone()).unwrap();
-    let (r, c) = (rows.len(), rows[0].len());
-    Mat::from_row_iterator(r, c, rows.into_iter().flatten())
-}
 
 fn row(v: &serde_json::Value) -> Mat {
     let r: Vec<f64> = serde_json::from_value(v.clone()).unwrap();

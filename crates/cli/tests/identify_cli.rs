@@ -25,15 +25,6 @@ fn run(args: &[&str]) -> Output {
         .unwrap()
 }
 
-fn json(o: &Output) -> Value {
-    assert!(
-        o.status.success(),
-        "failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).unwrap()
-}
-
 fn est(v: &Value, name: &str) -> f64 {
     v["estimates"][name]
         .as_f64()

@@ -9,6 +9,7 @@ use pendulab_plants::spec::PlantSpec;
 use pendulab_testkit::Mat;
 use pendulab_testkit::arm::ArmParams;
 use pendulab_testkit::cart::{CartParams, Rest};
+use pendulab_testkit::json::matrix;
 use std::path::PathBuf;
 
 /// A rig controller file of `docs/rig/examples/`.
@@ -18,17 +19,6 @@ fn example(name: &str) -> String {
         .join(name)
         .to_string_lossy()
         .into_owned()
-}
-
-fn json(o: &std::process::Output) -> serde_json::Value {
-    assert!(o.status.success(), "stderr: {}", stderr(o));
-    serde_json::from_slice(&o.stdout).unwrap()
-}
-
-fn matrix(v: &serde_json::Value) -> Mat {
-    let rows: Vec<Vec<f64>> = serde_json::from_value(v.clone()).unwrap();
-    let (r, c) = (rows.len(), rows[0].len());
-    Mat::from_row_iterator(r, c, rows.into_iter().flatten())
 }
 
 /// `lab init DIR --plant kind` into `dir/name`; the lab directory's path.

@@ -18,6 +18,12 @@ pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Successful run's standard output as one JSON document (panics, with stderr, on failure).
+pub fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "stderr: {}", stderr(o));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 /// Failing run: non-zero exit and a message containing every `needle`.
 pub fn fails_with(o: &Output, needles: &[&str]) {
     let err = stderr(o);
