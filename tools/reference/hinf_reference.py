@@ -45,24 +45,9 @@ import control
 import numpy as np
 import scipy
 import slycot
+from book_plants import cdip
 
 OUT = pathlib.Path(__file__).resolve().parents[2] / "crates/lti/tests/data/hinf_reference.json"
-
-
-def cart_upright():
-    """docs/model.md §1 at the upright rest, book table 3.5."""
-    a_c, b_c, m_p, l_p, J_p, mu_p, g = 6.25, 4.36, 0.107, 0.230, 1.59e-3, 2.35e-4, 9.81
-    J = J_p + m_p * l_p**2
-    A = np.array(
-        [
-            [0, 0, 1, 0],
-            [0, 0, 0, 1],
-            [0, 0, -a_c, 0],
-            [0, m_p * g * l_p / J, a_c * m_p * l_p / J, -mu_p / J],
-        ]
-    )
-    B = np.array([[0], [0], [b_c], [-b_c * m_p * l_p / J]])
-    return A, B
 
 
 def assemble(A, B1, B2, C1, C2, D11, D12, D21, D22):
@@ -83,7 +68,7 @@ def plants():
         1,
         1,
     )
-    A, Bu = cart_upright()
+    A, Bu = cdip()
     sigma = 0.1
     C1 = np.vstack([np.diag(np.sqrt([10.0, 10.0, 0.0, 0.0]))[:2], np.zeros((1, 4))])
     D12 = np.array([[0.0], [0.0], [1.0]])
