@@ -32,28 +32,11 @@ import warnings
 import control
 import numpy as np
 import scipy
+from fixture_json import mat, sysdict
 
 OUT = pathlib.Path("crates/lti/tests/data/loop_analysis_reference.json")
 # The disk-margin grid (stored once in the fixture as "disk_omega").
 OMEGA_DISK = np.logspace(-3, 3, 301)
-
-
-def mat(m):
-    return np.atleast_2d(np.asarray(m, dtype=float)).tolist()
-
-
-def sysdict(sys):
-    sys = control.ss(sys)
-    return {
-        "dt": None if sys.dt in (0, None) else float(sys.dt),
-        "a": mat(sys.A) if sys.nstates else [],
-        "b": mat(sys.B) if sys.nstates else [],
-        "c": mat(sys.C) if sys.nstates else [],
-        "d": mat(sys.D),
-        "nx": int(sys.nstates),
-        "nu": int(sys.ninputs),
-        "ny": int(sys.noutputs),
-    }
 
 
 def cplx(v):

@@ -37,25 +37,9 @@ import control
 import numpy as np
 import scipy
 import slycot
+from fixture_json import mat, sysdict
 
 OUT = pathlib.Path("crates/lti/tests/data/lti_toolbox_reference.json")
-
-
-def mat(m):
-    return np.atleast_2d(np.asarray(m, dtype=float)).tolist()
-
-
-def sysdict(sys):
-    return {
-        "dt": None if sys.dt in (0, None) else float(sys.dt),
-        "a": mat(sys.A) if sys.nstates else [],
-        "b": mat(sys.B) if sys.nstates else [],
-        "c": mat(sys.C) if sys.nstates else [],
-        "d": mat(sys.D),
-        "nx": int(sys.nstates),
-        "nu": int(sys.ninputs),
-        "ny": int(sys.noutputs),
-    }
 
 
 def fin(x):
