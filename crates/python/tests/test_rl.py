@@ -71,6 +71,25 @@ def test_the_mlp_gives_each_policy_the_same_bits_in_any_batch():
     np.testing.assert_allclose(together[0], ref, rtol=1e-12, atol=1e-12)
 
 
+def test_the_energy_feature_is_the_books_pendulum_energy_relative_to_upright():
+    # Book part 2 §3.2 / docs/model.md: E = ½ J θ̇² + m_p g l_p (1 + cos θ) with table 3.5's
+    # m_p = 0.107 kg, l_p = 0.23 m, J_p = 1.59e-3 kg m², J = J_p + m_p l_p², g = 9.81 m/s²;
+    # the feature is (E − 2 m_p g l_p) / (m_p g l_p).
+    m_p, l_p, J_p, g = 0.107, 0.23, 1.59e-3, 9.81
+    J = J_p + m_p * l_p**2
+    obs = np.array([[0.0, math.pi, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.1, 2.0, -0.3, 4.0], [0.0, -0.4, 0.2, -7.0]])
+    E = 0.5 * J * obs[:, 3] ** 2 + m_p * g * l_p * (1 + np.cos(obs[:, 1]))
+    f = rl._features(obs, "energy")
+    assert len(f) == rl.FEATURES["energy"] == 6
+    np.testing.assert_allclose(f[5], (E - 2 * m_p * g * l_p) / (m_p * g * l_p), rtol=2e-4, atol=1e-12)
+    assert f[5][0] == -2.0 and f[5][1] == 0.0
+    # The first five are the basic features, bit for bit.
+    for a, b in zip(f[:5], rl._features(obs)):
+        np.testing.assert_array_equal(a, b)
+    p = rl.MlpPolicy.initial((8,), seed=1, features="energy")
+    assert p.sizes == (6, 8, 1) and p.params.size == 7 * 8 + 9
+
+
 def test_the_committed_policy_catches_and_balances_near_upright():
     """A property of the committed weights, judged by the env's own success criterion: from the
     upright rest and from the env's reset distribution moved to upright (±0.05 in every state)
@@ -121,6 +140,17 @@ def test_save_load_round_trip_and_bad_input(tmp_path):
         rl.train(rl.ESConfig(hidden=(8,)), 1, initial=p)
     with pytest.raises(pl.InvalidArgumentError, match="anywhere"):
         rl.train(rl.ESConfig(anywhere=5), 1)
+    with pytest.raises(pl.InvalidArgumentError, match="popsize"):
+        rl.train(rl.CMAConfig(popsize=2), 1)
+    with pytest.raises(pl.InvalidArgumentError, match="features"):
+        rl.train(rl.CMAConfig(features="pixels"), 1)
+    with pytest.raises(pl.InvalidArgumentError, match="spread"):
+        rl.train(rl.CMAConfig(spread=(0.0, math.nan, 0.0, 0.0)), 1)
+    with pytest.raises(pl.InvalidArgumentError, match="layers"):
+        rl.train(rl.CMAConfig(features="energy"), 1, initial=p)  # a "basic" policy
+    e = rl.MlpPolicy.initial((4,), seed=2, features="energy")
+    e.save(tmp_path / "e.npz")
+    assert rl.MlpPolicy.load(tmp_path / "e.npz").features == "energy"
     assert not rl.swingup_success(np.zeros(300), True, 0.01)
     assert rl.swingup_success(np.full(300, 2 * math.pi + 0.1), False, 0.01)  # one turn more is upright
     assert not rl.swingup_success(np.r_[np.zeros(299), 0.3], False, 0.01)

@@ -52,7 +52,9 @@ from .errors import InvalidArgumentError
 __all__ = [
     "ENV_ID",
     "ENV_KWARGS",
+    "CMAConfig",
     "ESConfig",
+    "FEATURES",
     "MlpPolicy",
     "TrainResult",
     "evaluate",
@@ -126,25 +128,39 @@ def make_vec(num_envs: int, env_id: str = ENV_ID, **kwargs: Any):
 #: Observation features of the MLP: ``[z/0.2, sin θ, cos θ, ż/1, θ̇/3]`` (SI states divided
 #: by these scales, so that a balancing gain like the book's LQR is of order one per feature).
 FEATURE_SCALE = (0.2, 1.0, 3.0)
+#: The cart rig's pendulum frequency ``ω_np = √(m_p g l_p / J)`` (rad/s; book table 3.5,
+#: ``docs/model.md`` §"Linearisation"), the scale of the ``"energy"`` feature.
+OMEGA_NP = 5.7705
+#: The observation feature sets of :class:`MlpPolicy`: ``"basic"`` the five above;
+#: ``"energy"`` adds the pendulum's energy relative to the upright rest in units of
+#: ``m_p g l_p``, ``e = (θ̇/ω_np)²/2 + cos θ − 1`` (−2 at the hanging rest, 0 at the upright
+#: rest; book part 2 §3.2's ``E`` minus its upright value, divided by ``m_p g l_p``).
+FEATURES = {"basic": 5, "energy": 6}
 
 
-def _features(obs: np.ndarray) -> list:
+def _features(obs: np.ndarray, kind: str = "basic") -> list:
     z, th, dz, dth = obs[..., 0], obs[..., 1], obs[..., 2], obs[..., 3]
-    return [z / FEATURE_SCALE[0], np.sin(th), np.cos(th), dz / FEATURE_SCALE[1], dth / FEATURE_SCALE[2]]
+    c = np.cos(th)
+    f = [z / FEATURE_SCALE[0], np.sin(th), c, dz / FEATURE_SCALE[1], dth / FEATURE_SCALE[2]]
+    if kind == "energy":
+        w = dth / OMEGA_NP
+        f.append(0.5 * w * w + c - 1.0)
+    return f
 
 
 def _n_params(sizes: Sequence[int]) -> int:
     return sum((a + 1) * b for a, b in zip(sizes[:-1], sizes[1:]))
 
 
-def _forward(params: np.ndarray, sizes: Sequence[int], obs: np.ndarray, u_max: float) -> np.ndarray:
+def _forward(params: np.ndarray, sizes: Sequence[int], obs: np.ndarray, u_max: float,
+             features: str = "basic") -> np.ndarray:
     """The voltages of ``P`` policies (``params``: ``(P, D)``) for ``obs`` ``(P, E, 4)``:
     ``(P, E)``. Layer ``ℓ``: ``a ← tanh(b + Σₖ aₖ W[k, :])`` (the last layer without tanh),
     output ``u_max · tanh(·)``. Written with element-wise operations in a fixed order (the
     sum over ``k`` one input at a time), so each entry is the same bits whatever ``P`` and
     ``E`` are."""
     params = np.ascontiguousarray(params, dtype=np.float64)
-    a = np.ascontiguousarray(np.stack(_features(np.asarray(obs, dtype=np.float64)), axis=-1))
+    a = np.ascontiguousarray(np.stack(_features(np.asarray(obs, dtype=np.float64), features), axis=-1))
     o = 0
     nl = len(sizes) - 1
     for layer, (m, n) in enumerate(zip(sizes[:-1], sizes[1:])):
@@ -161,14 +177,19 @@ def _forward(params: np.ndarray, sizes: Sequence[int], obs: np.ndarray, u_max: f
 
 class MlpPolicy:
     """A multilayer perceptron ``u = u_max · tanh(MLP(features(obs)))`` (V) of the cart's
-    observation ``[z, θ, ż, θ̇]`` (m, rad, m/s, rad/s): features ``[z/0.2, sin θ, cos θ,
-    ż/1, θ̇/3]``, ``hidden`` layers of tanh units, one linear output. ``params`` is the flat
-    vector of every layer's ``W`` (``m × n``, row-major) then ``b``, layer by layer."""
+    observation ``[z, θ, ż, θ̇]`` (m, rad, m/s, rad/s): ``features`` (:data:`FEATURES`:
+    ``"basic"`` ``[z/0.2, sin θ, cos θ, ż/1, θ̇/3]``, ``"energy"`` these and the pendulum's
+    energy relative to upright), ``hidden`` layers of tanh units, one linear output.
+    ``params`` is the flat vector of every layer's ``W`` (``m × n``, row-major) then ``b``,
+    layer by layer."""
 
     def __init__(self, params: Sequence[float], hidden: Sequence[int] = (16,), u_max: float = 5.0,
-                 meta: Optional[Mapping[str, Any]] = None):
+                 meta: Optional[Mapping[str, Any]] = None, features: str = "basic"):
+        if features not in FEATURES:
+            raise InvalidArgumentError(f"rl: features {features!r}; expected one of {sorted(FEATURES)}")
+        self.features = features
         self.hidden = tuple(int(h) for h in hidden)
-        self.sizes = (5, *self.hidden, 1)
+        self.sizes = (FEATURES[features], *self.hidden, 1)
         self.params = np.array(params, dtype=np.float64).reshape(-1)
         self.u_max = float(u_max)
         self.meta = dict(meta or {})
@@ -179,41 +200,46 @@ class MlpPolicy:
             raise InvalidArgumentError("rl: the policy's parameters must be finite")
 
     @classmethod
-    def initial(cls, hidden: Sequence[int] = (16,), seed: int = 0, u_max: float = 5.0) -> "MlpPolicy":
+    def initial(cls, hidden: Sequence[int] = (16,), seed: int = 0, u_max: float = 5.0,
+                features: str = "basic") -> "MlpPolicy":
         """Hidden weights ``N(0, 1/m)`` for a layer of ``m`` inputs, drawn from
         ``default_rng([seed])``; biases and the output layer 0 (the initial policy commands
         0 V everywhere, as in Salimans et al.'s implementation, whose output layer starts
         near 0)."""
+        if features not in FEATURES:
+            raise InvalidArgumentError(f"rl: features {features!r}; expected one of {sorted(FEATURES)}")
         rng = np.random.default_rng([int(seed)])
-        sizes = (5, *hidden, 1)
+        sizes = (FEATURES[features], *hidden, 1)
         parts = []
         for layer, (m, n) in enumerate(zip(sizes[:-1], sizes[1:])):
             w = rng.standard_normal(m * n) / math.sqrt(m)
             parts += [w if layer < len(sizes) - 2 else np.zeros(m * n), np.zeros(n)]
-        return cls(np.concatenate(parts), hidden, u_max)
+        return cls(np.concatenate(parts), hidden, u_max, features=features)
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
         """The voltages ``(n,)`` for observations ``(n, 4)`` (or one ``(4,)``: a float)."""
         o = np.asarray(obs, dtype=np.float64)
-        u = _forward(self.params[None, :], self.sizes, o.reshape(1, -1, 4), self.u_max)[0]
+        u = _forward(self.params[None, :], self.sizes, o.reshape(1, -1, 4), self.u_max, self.features)[0]
         return float(u[0]) if o.ndim == 1 else u
 
     def save(self, path: Union[str, os.PathLike], **meta: Any) -> None:
-        """Writes ``params``, the layer sizes, ``u_max`` and ``meta`` (JSON: e.g. the seed
-        and the command that trained it) to a ``.npz`` file."""
+        """Writes ``params``, the layer sizes, ``u_max``, the feature set and ``meta`` (JSON:
+        e.g. the seed and the command that trained it) to a ``.npz`` file."""
         m = {**self.meta, **meta}
         np.savez(os.fspath(path), params=self.params, hidden=np.array(self.hidden, dtype=np.int64),
-                 u_max=np.float64(self.u_max), meta=np.array(json.dumps(m, sort_keys=True)))
+                 u_max=np.float64(self.u_max), features=np.array(self.features),
+                 meta=np.array(json.dumps(m, sort_keys=True)))
 
     @classmethod
     def load(cls, path: Union[str, os.PathLike]) -> "MlpPolicy":
-        """Reads a file written by :meth:`save`."""
+        """Reads a file written by :meth:`save` (a file without a feature set: ``"basic"``)."""
         with np.load(os.fspath(path), allow_pickle=False) as z:
+            features = str(z["features"]) if "features" in z.files else "basic"
             return cls(z["params"], tuple(int(h) for h in z["hidden"]), float(z["u_max"]),
-                       json.loads(str(z["meta"])))
+                       json.loads(str(z["meta"])), features)
 
     def __repr__(self) -> str:
-        return f"MlpPolicy(sizes={self.sizes}, {self.params.size} parameters)"
+        return f"MlpPolicy(sizes={self.sizes}, features={self.features!r}, {self.params.size} parameters)"
 
 
 # ----------------------------------------------------------------------------------------
@@ -271,12 +297,26 @@ def _starts(seed: int, generation: int, episodes: int, env_id: str, env_kwargs: 
     return x
 
 
+def _upright_still(x: np.ndarray) -> np.ndarray:
+    """The upright-and-still bonus ``cos⁴⁰(θ/2) / (1 + (θ̇/2)²)`` of states ``x`` ``(n, 4)``:
+    1 at the upright rest, 0.8 at 12° from upright, 0.26 at 30°, 0.003 at 60°; halved at
+    ``|θ̇| = 2`` rad/s."""
+    h = (1.0 + np.cos(x[:, 1])) * 0.5
+    h2 = h * h
+    h4 = h2 * h2
+    h20 = h4 * h4 * h4 * h4 * h4
+    return h20 / (1.0 + (x[:, 3] * 0.5) ** 2)
+
+
 def _run(params: np.ndarray, sizes: Sequence[int], u_max: float, starts: np.ndarray, env_id: str,
-         env_kwargs: Mapping[str, Any], record: bool = False, balance: bool = False) -> Dict[str, np.ndarray]:
+         env_kwargs: Mapping[str, Any], record: bool = False, balance: bool = False, features: str = "basic",
+         bonus: float = 0.0, termination_penalty: float = 0.0) -> Dict[str, np.ndarray]:
     """``P`` policies (``params`` ``(P, D)``) each from every row of ``starts`` ``(E, 4)`` on
     one native vector env of ``P·E`` environments for a whole episode (``max_steps``).
     Returns ``return`` (env reward summed up to the episode's end) and ``fitness`` (the
-    shaped reward of :class:`ESConfig`; with ``balance``, for the episodes that start within
+    shaped reward of :class:`ESConfig` plus ``bonus`` times the upright-and-still bonus of
+    :class:`CMAConfig`, less ``termination_penalty`` per step an episode ended early by the
+    travel did not run; with ``balance``, for the episodes that start within
     :data:`UPRIGHT_WINDOW` of upright it stops at the first step beyond it) as ``(P, E)``,
     ``terminated``, and with ``record``
     ``theta`` (``(steps, P, E)``, true angles), ``u`` (applied voltages) and ``x`` (states)."""
@@ -293,8 +333,8 @@ def _run(params: np.ndarray, sizes: Sequence[int], u_max: float, starts: np.ndar
     is_balance = np.tile(_is_balance(starts), P)
     rec_x, rec_u = [], []
     last_x, last_u = core.state.copy(), np.zeros(P * E)
-    for _ in range(steps):
-        u = _forward(params, sizes, obs.reshape(P, E, 4), u_max).reshape(-1)
+    for k in range(steps):
+        u = _forward(params, sizes, obs.reshape(P, E, 4), u_max, features).reshape(-1)
         obs, r, term, trunc, _ = env.step(u)
         x = core.state
         if record:
@@ -304,10 +344,14 @@ def _run(params: np.ndarray, sizes: Sequence[int], u_max: float, starts: np.ndar
             rec_x.append(last_x.copy())
             rec_u.append(last_u.copy())
         shaped = r * 0.25 * (1.0 + 1.0 / (1.0 + (x[:, 3] / 5.0) ** 2)) * (1.0 + 1.0 / (1.0 + (x[:, 0] / 0.2) ** 2))
+        if bonus:
+            shaped = shaped + bonus * _upright_still(x)
         ret += np.where(alive, r, 0.0)
         if balance:
             scoring &= ~(is_balance & (np.abs(_wrap(x[:, 1])) > UPRIGHT_WINDOW))
         fit += np.where(alive & scoring, shaped, 0.0)
+        if termination_penalty:
+            fit -= np.where(alive & term, termination_penalty * (steps - 1 - k), 0.0)
         terminated |= alive & term
         alive &= ~(term | trunc)
         if not alive.any():
@@ -420,10 +464,12 @@ def _centred_ranks(x: np.ndarray) -> np.ndarray:
 class TrainResult:
     """A finished training: ``policy`` (:class:`MlpPolicy`), ``config`` (:class:`ESConfig`),
     ``history`` (per generation: ``mean_return`` and ``max_return`` of the population's
-    policies, ``mean_fitness``, ``seconds``), ``generations``; ``adam`` the optimiser's
-    state (to continue with ``train(..., resume=result)``)."""
+    policies, ``mean_fitness``, ``seconds``; CMA-ES also ``max_fitness`` and ``sigma``),
+    ``generations``; ``adam`` the optimiser's state (Adam's for ES, the mean, step size,
+    covariance and paths for CMA-ES; to continue with ``train(..., resume=result)``)."""
 
-    def __init__(self, policy: MlpPolicy, config: ESConfig, history: Dict[str, np.ndarray], adam: Dict[str, Any]):
+    def __init__(self, policy: MlpPolicy, config: Union[ESConfig, "CMAConfig"], history: Dict[str, np.ndarray],
+                 adam: Dict[str, Any]):
         self.policy, self.config, self.history, self.adam = policy, config, history, adam
         self.generations = int(adam["t"])
 
@@ -439,7 +485,7 @@ def _chunks(n: int, chunk: int):
 
 
 def train(
-    config: Optional[ESConfig] = None,
+    config: Union[ESConfig, "CMAConfig", None] = None,
     generations: int = 100,
     *,
     backend: str = "local",
@@ -453,17 +499,19 @@ def train(
     max_retries: int = 3,
     resources: Optional[Dict[str, float]] = None,
 ) -> TrainResult:
-    """Trains an :class:`MlpPolicy` by Evolution Strategies for ``generations`` generations.
+    """Trains an :class:`MlpPolicy` by Evolution Strategies (an :class:`ESConfig`) or CMA-ES
+    (a :class:`CMAConfig`) for ``generations`` generations.
 
-    ``backend="local"`` evaluates the pairs in this process in chunks of ``chunk`` pairs
-    (default all); ``"ray"`` submits one Ray task per chunk (default
-    ``ceil(pairs / 2)``-pair chunks; each task asks for ``num_cpus`` CPUs and ``resources``
+    ``backend="local"`` evaluates the pairs (CMA-ES: the candidates) in this process in
+    chunks of ``chunk`` pairs (candidates; default all); ``"ray"`` submits one Ray task per
+    chunk (default ``ceil(pairs / 2)``-pair, ``ceil(popsize / 2)``-candidate chunks; each task asks for ``num_cpus`` CPUs and ``resources``
     and is retried up to ``max_retries`` times if its worker dies) after
     :func:`pendulab.ray.connect` to ``address`` (an unreachable one raises
     ``ConnectionError`` within ``timeout`` s). Same ``config`` (seed included) → same
     result bit for bit on either backend and for any ``chunk``. ``initial``: the starting
-    policy (default :meth:`MlpPolicy.initial` of the seed); ``resume``: continue a previous
-    result (its policy and Adam state; generation numbers continue). ``progress(generation,
+    policy (default :meth:`MlpPolicy.initial` of the seed; CMA-ES: the initial mean);
+    ``resume``: continue a previous result (its policy and optimiser state; generation
+    numbers continue). ``progress(generation,
     stats)`` after each generation."""
     cfg = config or ESConfig()
     cfg.check()
@@ -471,6 +519,10 @@ def train(
         raise InvalidArgumentError(f"rl: generations = {generations}; must be ≥ 0")
     if backend not in ("local", "ray"):
         raise InvalidArgumentError(f"rl: backend {backend!r}; expected \"local\" or \"ray\"")
+    if isinstance(cfg, CMAConfig):
+        return _train_cma(cfg, int(generations), backend, chunk, initial, resume, progress,
+                          dict(address=address, timeout=timeout, num_cpus=num_cpus, max_retries=max_retries,
+                               resources=resources))
     cd = cfg.to_dict()
     cd["env_kwargs"] = dict(cfg.env_kwargs)
     if resume is not None:
@@ -535,6 +587,171 @@ def train(
 
 
 # ----------------------------------------------------------------------------------------
+# CMA-ES
+
+
+@dataclasses.dataclass(frozen=True)
+class CMAConfig:
+    """CMA-ES's settings (Hansen, "The CMA Evolution Strategy: A Tutorial", 2016, with its
+    default constants; see :func:`train`).
+
+    Each generation samples ``popsize`` candidates ``m + σ B D zₖ`` (``zₖ`` standard normal
+    from ``default_rng([seed, generation, k])``, ``C = B D² Bᵀ``), scores each over
+    ``episodes`` episodes and moves the mean to the weighted mean of the best
+    ``popsize // 2`` (log-linear weights), adapting ``C`` (rank-one and rank-μ updates) and
+    ``σ`` (cumulative step-size adaptation); initial step size ``sigma`` (on the
+    parameters), initial ``C = I``. The policy: an :class:`MlpPolicy` with ``hidden`` tanh
+    layers on the ``features`` (:data:`FEATURES`). The fitness of an episode is the shaped
+    reward of :class:`ESConfig` plus ``bonus`` times the upright-and-still bonus
+    ``cos⁴⁰(θ/2) / (1 + (θ̇/2)²)`` per step, less ``termination_penalty`` for every step the
+    episode did not run because the cart left its travel; a candidate's fitness is the
+    weighted mean over its episodes (balance episodes, those starting within 12° of upright,
+    weighted by ``balance_weight`` and scored only until they first leave the window). The
+    episodes start from the env's reset distribution with uniform offsets within
+    ``±spread`` (``[z, θ, ż, θ̇]``: m, rad, m/s, rad/s) added, drawn from
+    ``default_rng([seed, generation, 2⁶²])``; of them, the last ``anywhere`` start with the
+    angle uniform in ``±anywhere_angle`` about upright instead (no offsets). ``env_id`` with
+    ``env_kwargs`` overriding its registered arguments; ``seed`` fixes everything."""
+
+    popsize: int = 32
+    sigma: float = 0.5
+    episodes: int = 4
+    hidden: Tuple[int, ...] = (16,)
+    features: str = "energy"
+    u_max: float = 5.0
+    env_id: str = ENV_ID
+    env_kwargs: Mapping[str, Any] = dataclasses.field(default_factory=dict)
+    bonus: float = 2.0
+    termination_penalty: float = 1.0
+    spread: Tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    anywhere: int = 0
+    anywhere_angle: float = 0.15
+    balance_weight: float = 1.0
+    seed: int = 0
+
+    def to_dict(self) -> Dict[str, Any]:
+        d = dataclasses.asdict(self)
+        d["hidden"] = list(self.hidden)
+        d["spread"] = [float(v) for v in self.spread]
+        d["env_kwargs"] = dict(self.env_kwargs)
+        return d
+
+    def check(self) -> None:
+        if self.popsize < 4 or self.episodes < 1:
+            raise InvalidArgumentError("rl: popsize must be at least 4 and episodes at least 1")
+        if not 0 <= self.anywhere <= self.episodes:
+            raise InvalidArgumentError(f"rl: anywhere = {self.anywhere}; must be between 0 and episodes")
+        if not (math.isfinite(self.sigma) and self.sigma > 0):
+            raise InvalidArgumentError(f"rl: sigma = {self.sigma}; it must be finite and positive")
+        if self.features not in FEATURES:
+            raise InvalidArgumentError(f"rl: features {self.features!r}; expected one of {sorted(FEATURES)}")
+        vals = [self.bonus, self.termination_penalty, self.balance_weight, self.anywhere_angle]
+        if len(self.spread) != 4 or not all(math.isfinite(v) and v >= 0 for v in [*self.spread, *vals]):
+            raise InvalidArgumentError("rl: spread (4 values), bonus, termination_penalty, balance_weight and "
+                                       "anywhere_angle must be finite and ≥ 0")
+        if isinstance(self.seed, bool) or not 0 <= int(self.seed) < 2**63:
+            raise InvalidArgumentError(f"rl: seed must be an integer in [0, 2⁶³), got {self.seed!r}")
+
+
+def _cma_starts(cfg: "CMAConfig", generation: int) -> np.ndarray:
+    x = _starts(cfg.seed, generation, cfg.episodes, cfg.env_id, cfg.env_kwargs, cfg.anywhere, cfg.anywhere_angle)
+    n = cfg.episodes - cfg.anywhere
+    if n and any(cfg.spread):
+        rng = np.random.default_rng([int(cfg.seed), int(generation), 2**62])
+        x[:n] += rng.uniform(-1.0, 1.0, size=(n, 4)) * np.asarray(cfg.spread, dtype=np.float64)
+    return x
+
+
+def _candidates_task(cfg: Mapping[str, Any], params: np.ndarray, starts: np.ndarray) -> Dict[str, np.ndarray]:
+    """What a worker runs for CMA-ES: the candidates ``params`` ``(count, D)`` over the
+    generation's episodes. Returns ``fitness`` (weighted mean) and ``return`` (mean) as
+    ``(count,)``."""
+    sizes = (FEATURES[cfg["features"]], *cfg["hidden"], 1)
+    out = _run(params, sizes, cfg["u_max"], starts, cfg["env_id"], cfg["env_kwargs"], balance=True,
+               features=cfg["features"], bonus=cfg["bonus"], termination_penalty=cfg["termination_penalty"])
+    w = np.where(_is_balance(starts), cfg["balance_weight"], 1.0)
+    return {"fitness": (out["fitness"] * w).sum(axis=1) / w.sum(), "return": out["return"].mean(axis=1)}
+
+
+def _train_cma(cfg: CMAConfig, generations: int, backend: str, chunk: Optional[int], initial: Optional[MlpPolicy],
+               resume: Optional[TrainResult], progress, ray_opts: Dict[str, Any]) -> TrainResult:
+    cd = cfg.to_dict()
+    if resume is not None:
+        st = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in resume.adam.items()}
+        history = {k: list(v) for k, v in resume.history.items()}
+        policy = resume.policy
+    else:
+        policy = initial or MlpPolicy.initial(cfg.hidden, cfg.seed, cfg.u_max, cfg.features)
+        d = policy.params.size
+        st = {"mean": policy.params.copy(), "sigma": float(cfg.sigma), "C": np.eye(d), "pc": np.zeros(d),
+              "ps": np.zeros(d), "t": 0}
+        history = {k: [] for k in ("mean_return", "max_return", "mean_fitness", "max_fitness", "sigma", "seconds")}
+    if policy.hidden != tuple(cfg.hidden) or policy.features != cfg.features:
+        raise InvalidArgumentError(f"rl: the initial policy's layers {policy.sizes} differ from the config's "
+                                   f"{(FEATURES[cfg.features], *cfg.hidden, 1)}")
+    n, lam = policy.params.size, int(cfg.popsize)
+    mu = lam // 2
+    w = np.log(mu + 0.5) - np.log(np.arange(1, mu + 1))
+    w /= w.sum()
+    mueff = 1.0 / float(np.sum(w * w))
+    cc = (4 + mueff / n) / (n + 4 + 2 * mueff / n)
+    cs = (mueff + 2) / (n + mueff + 5)
+    c1 = 2 / ((n + 1.3) ** 2 + mueff)
+    cmu = min(1 - c1, 2 * (mueff - 2 + 1 / mueff) / ((n + 2) ** 2 + mueff))
+    damps = 1 + 2 * max(0.0, math.sqrt((mueff - 1) / (n + 1)) - 1) + cs
+    chi_n = math.sqrt(n) * (1 - 1 / (4 * n) + 1 / (21 * n * n))
+    ranges = _chunks(lam, chunk or (lam if backend == "local" else max(1, -(-lam // 2))))
+    if backend == "ray":
+        from . import ray as pray
+
+        ray = pray._ray()
+        pray.connect(ray_opts["address"], timeout=ray_opts["timeout"])
+        task = ray.remote(_candidates_task).options(num_cpus=ray_opts["num_cpus"],
+                                                    resources=ray_opts["resources"] or {},
+                                                    max_retries=int(ray_opts["max_retries"]))
+        cfg_ref = ray.put(cd)
+    for _ in range(generations):
+        t0 = time.perf_counter()
+        g = st["t"]
+        m, sigma, C = st["mean"], st["sigma"], st["C"]
+        evals, B = np.linalg.eigh(C)
+        D = np.sqrt(np.maximum(evals, 1e-20))
+        Z = np.array([_noise(cfg.seed, g, k, n) for k in range(lam)])
+        Y = (Z * D) @ B.T
+        X = m + sigma * Y
+        starts = _cma_starts(cfg, g)
+        if backend == "local":
+            parts = [_candidates_task(cd, X[s:s + c], starts) for s, c in ranges]
+        else:
+            refs = [task.remote(cfg_ref, X[s:s + c], starts) for s, c in ranges]
+            parts = ray.get(refs)
+        fit = np.concatenate([p["fitness"] for p in parts])
+        ret = np.concatenate([p["return"] for p in parts])
+        order = np.argsort(-fit, kind="stable")[:mu]
+        ysel = Y[order]
+        yw = w @ ysel
+        m = m + sigma * yw
+        ps = (1 - cs) * st["ps"] + math.sqrt(cs * (2 - cs) * mueff) * (B @ ((B.T @ yw) / D))
+        hsig = float(np.linalg.norm(ps) / math.sqrt(1 - (1 - cs) ** (2 * (g + 1))) / chi_n < 1.4 + 2 / (n + 1))
+        pc = (1 - cc) * st["pc"] + hsig * math.sqrt(cc * (2 - cc) * mueff) * yw
+        c1a = c1 * (1 - (1 - hsig) * cc * (2 - cc))
+        C = (1 - c1a - cmu) * C + c1 * np.outer(pc, pc) + cmu * (ysel.T * w) @ ysel
+        C = (C + C.T) * 0.5
+        sigma = sigma * math.exp((cs / damps) * (float(np.linalg.norm(ps)) / chi_n - 1))
+        st = {"mean": m, "sigma": sigma, "C": C, "pc": pc, "ps": ps, "t": g + 1}
+        stats = {"mean_return": float(ret.mean()), "max_return": float(ret.max()), "mean_fitness": float(fit.mean()),
+                 "max_fitness": float(fit.max()), "sigma": sigma, "seconds": time.perf_counter() - t0}
+        for k, v in stats.items():
+            history[k].append(v)
+        if progress:
+            progress(g, stats)
+    meta = {"algorithm": "CMA-ES (Hansen 2016)", "config": cd, "generations": int(st["t"]),
+            "pendulab_version": __version__}
+    final = MlpPolicy(st["mean"], cfg.hidden, cfg.u_max, meta, cfg.features)
+    return TrainResult(final, cfg, {k: np.array(v) for k, v in history.items()}, st)
+
+
+# ----------------------------------------------------------------------------------------
 # Evaluation
 
 
@@ -543,7 +760,8 @@ def rollout(policy: MlpPolicy, x0: Sequence[float], env_id: str = ENV_ID, **env_
     each step), ``x`` (states), ``u`` (voltages applied, V), ``return``, ``terminated``,
     ``success`` (:func:`swingup_success`)."""
     x0 = np.asarray(x0, dtype=np.float64).reshape(1, 4)
-    out = _run(policy.params[None, :], policy.sizes, policy.u_max, x0, env_id, env_kwargs, record=True)
+    out = _run(policy.params[None, :], policy.sizes, policy.u_max, x0, env_id, env_kwargs, record=True,
+               features=policy.features)
     dt = float(make_vec(1, env_id, **env_kwargs).unwrapped._core.dt)
     x = out["x"][:, 0, 0]
     n = x.shape[0]
@@ -560,7 +778,8 @@ def evaluate(policy: MlpPolicy, states: np.ndarray, env_id: str = ENV_ID, **env_
     ``peak_voltage`` (V, the largest |command|; within ±5 V by the policy's ``u_max``),
     ``max_travel`` (m, the largest |z|)."""
     st = np.asarray(states, dtype=np.float64).reshape(-1, 4)
-    out = _run(policy.params[None, :], policy.sizes, policy.u_max, st, env_id, env_kwargs, record=True)
+    out = _run(policy.params[None, :], policy.sizes, policy.u_max, st, env_id, env_kwargs, record=True,
+               features=policy.features)
     dt = float(make_vec(1, env_id, **env_kwargs).unwrapped._core.dt)
     th = out["theta"][:, 0, :]
     tu = time_to_upright(th, dt)

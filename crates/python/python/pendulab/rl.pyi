@@ -9,6 +9,8 @@ ENV_KWARGS: Dict[str, Any]
 UPRIGHT_WINDOW: float
 HOLD_SECONDS: float
 FEATURE_SCALE: Tuple[float, float, float]
+OMEGA_NP: float
+FEATURES: Dict[str, int]
 
 def register_rllib(env_id: str = ...) -> str: ...
 def make_vec(num_envs: int, env_id: str = ..., **kwargs: Any) -> Any: ...
@@ -19,15 +21,19 @@ class MlpPolicy:
     params: NDArray[np.float64]
     u_max: float
     meta: Dict[str, Any]
+    features: str
     def __init__(
         self,
         params: Sequence[float],
         hidden: Sequence[int] = ...,
         u_max: float = ...,
         meta: Optional[Mapping[str, Any]] = ...,
+        features: str = ...,
     ) -> None: ...
     @classmethod
-    def initial(cls, hidden: Sequence[int] = ..., seed: int = ..., u_max: float = ...) -> "MlpPolicy": ...
+    def initial(
+        cls, hidden: Sequence[int] = ..., seed: int = ..., u_max: float = ..., features: str = ...
+    ) -> "MlpPolicy": ...
     def __call__(self, obs: NDArray[Any]) -> Union[float, NDArray[np.float64]]: ...
     def save(self, path: Union[str, os.PathLike], **meta: Any) -> None: ...
     @classmethod
@@ -76,15 +82,52 @@ class ESConfig:
     def to_dict(self) -> Dict[str, Any]: ...
     def check(self) -> None: ...
 
+class CMAConfig:
+    popsize: int
+    sigma: float
+    episodes: int
+    hidden: Tuple[int, ...]
+    features: str
+    u_max: float
+    env_id: str
+    env_kwargs: Mapping[str, Any]
+    bonus: float
+    termination_penalty: float
+    spread: Tuple[float, float, float, float]
+    anywhere: int
+    anywhere_angle: float
+    balance_weight: float
+    seed: int
+    def __init__(
+        self,
+        popsize: int = ...,
+        sigma: float = ...,
+        episodes: int = ...,
+        hidden: Tuple[int, ...] = ...,
+        features: str = ...,
+        u_max: float = ...,
+        env_id: str = ...,
+        env_kwargs: Mapping[str, Any] = ...,
+        bonus: float = ...,
+        termination_penalty: float = ...,
+        spread: Tuple[float, float, float, float] = ...,
+        anywhere: int = ...,
+        anywhere_angle: float = ...,
+        balance_weight: float = ...,
+        seed: int = ...,
+    ) -> None: ...
+    def to_dict(self) -> Dict[str, Any]: ...
+    def check(self) -> None: ...
+
 class TrainResult:
     policy: MlpPolicy
-    config: ESConfig
+    config: Union[ESConfig, CMAConfig]
     history: Dict[str, NDArray[np.float64]]
     adam: Dict[str, Any]
     generations: int
 
 def train(
-    config: Optional[ESConfig] = ...,
+    config: Union[ESConfig, CMAConfig, None] = ...,
     generations: int = ...,
     *,
     backend: str = ...,
