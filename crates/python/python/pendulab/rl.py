@@ -405,16 +405,14 @@ class ESConfig:
     seed: int = 0
 
     def to_dict(self) -> Dict[str, Any]:
-        d = dataclasses.asdict(self)
-        d["hidden"] = list(self.hidden)
-        d["env_kwargs"] = dict(self.env_kwargs)
-        return d
+        """The settings as a JSON-able dict (tuples as lists)."""
+        return _config_dict(self)
 
     def check(self) -> None:
-        if self.pairs < 1 or self.episodes < 1:
-            raise InvalidArgumentError("rl: pairs and episodes must be at least 1")
-        if not 0 <= self.anywhere <= self.episodes:
-            raise InvalidArgumentError(f"rl: anywhere = {self.anywhere}; must be between 0 and episodes")
+        """Raises :class:`InvalidArgumentError` naming the first bad setting."""
+        if self.pairs < 1:
+            raise InvalidArgumentError("rl: pairs must be at least 1")
+        _check_common(self)
         for name in ("sigma", "learning_rate"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
@@ -423,8 +421,21 @@ class ESConfig:
             raise InvalidArgumentError(f"rl: weight_decay = {self.weight_decay}; it must be ≥ 0")
         if self.fitness not in ("shaped", "return"):
             raise InvalidArgumentError(f"rl: fitness {self.fitness!r}; expected \"shaped\" or \"return\"")
-        if isinstance(self.seed, bool) or not 0 <= int(self.seed) < 2**63:
-            raise InvalidArgumentError(f"rl: seed must be an integer in [0, 2⁶³), got {self.seed!r}")
+
+
+def _config_dict(cfg: Any) -> Dict[str, Any]:
+    d = dataclasses.asdict(cfg)
+    return {k: (list(v) if isinstance(v, tuple) else dict(v) if k == "env_kwargs" else v) for k, v in d.items()}
+
+
+def _check_common(cfg: Any) -> None:
+    """The checks :class:`ESConfig` and :class:`CMAConfig` share: episodes, anywhere, seed."""
+    if cfg.episodes < 1:
+        raise InvalidArgumentError("rl: episodes must be at least 1")
+    if not 0 <= cfg.anywhere <= cfg.episodes:
+        raise InvalidArgumentError(f"rl: anywhere = {cfg.anywhere}; must be between 0 and episodes")
+    if isinstance(cfg.seed, bool) or not 0 <= int(cfg.seed) < 2**63:
+        raise InvalidArgumentError(f"rl: seed must be an integer in [0, 2⁶³), got {cfg.seed!r}")
 
 
 def _is_balance(starts: np.ndarray) -> np.ndarray:
@@ -476,6 +487,17 @@ class TrainResult:
     def __repr__(self) -> str:
         last = self.history["mean_return"][-1] if len(self.history["mean_return"]) else math.nan
         return f"TrainResult({self.generations} generations, last mean return {last:.1f})"
+
+
+def _ray_task(fn: Callable, address: Optional[str], timeout: float, num_cpus: float, max_retries: int,
+              resources: Optional[Dict[str, float]]):
+    """``ray`` connected to ``address`` (:func:`pendulab.ray.connect`) and ``fn`` as a Ray task
+    with these options."""
+    from . import ray as pray
+
+    ray = pray._ray()
+    pray.connect(address, timeout=timeout)
+    return ray, ray.remote(fn).options(num_cpus=num_cpus, resources=resources or {}, max_retries=int(max_retries))
 
 
 def _chunks(n: int, chunk: int):
@@ -539,12 +561,8 @@ def train(
     theta = policy.params.copy()
     ranges = _chunks(cfg.pairs, chunk or (cfg.pairs if backend == "local" else max(1, -(-cfg.pairs // 2))))
     if backend == "ray":
-        from . import ray as pray
-
-        ray = pray._ray()
-        pray.connect(address, timeout=timeout)
-        task = ray.remote(_pairs_task).options(num_cpus=num_cpus, resources=resources or {},
-                                               max_retries=int(max_retries))
+        ray, task = _ray_task(_pairs_task, address=address, timeout=timeout, num_cpus=num_cpus,
+                              max_retries=max_retries, resources=resources)
         cfg_ref = ray.put(cd)
     b1, b2, eps_adam = 0.9, 0.999, 1e-8
     for _ in range(int(generations)):
@@ -630,17 +648,14 @@ class CMAConfig:
     seed: int = 0
 
     def to_dict(self) -> Dict[str, Any]:
-        d = dataclasses.asdict(self)
-        d["hidden"] = list(self.hidden)
-        d["spread"] = [float(v) for v in self.spread]
-        d["env_kwargs"] = dict(self.env_kwargs)
-        return d
+        """The settings as a JSON-able dict (tuples as lists)."""
+        return _config_dict(self)
 
     def check(self) -> None:
-        if self.popsize < 4 or self.episodes < 1:
-            raise InvalidArgumentError("rl: popsize must be at least 4 and episodes at least 1")
-        if not 0 <= self.anywhere <= self.episodes:
-            raise InvalidArgumentError(f"rl: anywhere = {self.anywhere}; must be between 0 and episodes")
+        """Raises :class:`InvalidArgumentError` naming the first bad setting."""
+        if self.popsize < 4:
+            raise InvalidArgumentError("rl: popsize must be at least 4")
+        _check_common(self)
         if not (math.isfinite(self.sigma) and self.sigma > 0):
             raise InvalidArgumentError(f"rl: sigma = {self.sigma}; it must be finite and positive")
         if self.features not in FEATURES:
@@ -649,8 +664,6 @@ class CMAConfig:
         if len(self.spread) != 4 or not all(math.isfinite(v) and v >= 0 for v in [*self.spread, *vals]):
             raise InvalidArgumentError("rl: spread (4 values), bonus, termination_penalty, balance_weight and "
                                        "anywhere_angle must be finite and ≥ 0")
-        if isinstance(self.seed, bool) or not 0 <= int(self.seed) < 2**63:
-            raise InvalidArgumentError(f"rl: seed must be an integer in [0, 2⁶³), got {self.seed!r}")
 
 
 def _cma_starts(cfg: "CMAConfig", generation: int) -> np.ndarray:
@@ -702,13 +715,7 @@ def _train_cma(cfg: CMAConfig, generations: int, backend: str, chunk: Optional[i
     chi_n = math.sqrt(n) * (1 - 1 / (4 * n) + 1 / (21 * n * n))
     ranges = _chunks(lam, chunk or (lam if backend == "local" else max(1, -(-lam // 2))))
     if backend == "ray":
-        from . import ray as pray
-
-        ray = pray._ray()
-        pray.connect(ray_opts["address"], timeout=ray_opts["timeout"])
-        task = ray.remote(_candidates_task).options(num_cpus=ray_opts["num_cpus"],
-                                                    resources=ray_opts["resources"] or {},
-                                                    max_retries=int(ray_opts["max_retries"]))
+        ray, task = _ray_task(_candidates_task, **ray_opts)
         cfg_ref = ray.put(cd)
     for _ in range(generations):
         t0 = time.perf_counter()
