@@ -1,7 +1,11 @@
 """Policy training on Ray without a deep-learning framework (``docs/studies.md``, "RL").
 
-The trainer is Evolution Strategies as in Salimans, Ho, Chen, Sidor & Sutskever, "Evolution
-Strategies as a Scalable Alternative to Reinforcement Learning" (2017): a population of
+Two trainers, each with its rollouts as Ray tasks: **CMA-ES** (Hansen, "The CMA Evolution
+Strategy: A Tutorial", 2016; :class:`CMAConfig`, which trained the committed swing-up policy:
+candidates ``m + σ B D zₖ`` from the adapted covariance ``C = B D² Bᵀ``, computed in the
+driver and shipped to the workers in chunks) and **Evolution Strategies** as in Salimans,
+Ho, Chen, Sidor & Sutskever, "Evolution Strategies as a Scalable Alternative to
+Reinforcement Learning" (2017; :class:`ESConfig`): a population of
 ``pairs`` antithetic perturbations ``θ ± σ εᵢ`` of the policy's parameters (``εᵢ`` standard
 normal), each scored by its episodes' return on the native vector env, fitness shaped by
 centred ranks (ranks scaled to ``[−0.5, 0.5]``), the gradient estimate
