@@ -91,6 +91,28 @@ def test_the_energy_feature_is_the_books_pendulum_energy_relative_to_upright():
     assert p.sizes == (6, 8, 1) and p.params.size == 7 * 8 + 9
 
 
+def test_the_cma_fitness_bonus_and_termination_penalty():
+    # The bonus is cos⁴⁰(θ/2) / (1 + (θ̇/2)²), evaluated by repeated squaring.
+    x = np.array([[0.0, 0.0, 0.0, 0.0], [0.0, math.radians(12), 0.0, 0.0], [0.0, 0.5, 0.0, 2.0], [0.0, 3.0, 0.0, 0.0]])
+    ref = [math.cos(th / 2) ** 40 / (1 + (w / 2) ** 2) for th, w in x[:, [1, 3]]]
+    np.testing.assert_allclose(rl._upright_still(x), ref, rtol=1e-13, atol=1e-300)
+    # A policy pinned at +5 V leaves the travel at step k of 300; with the penalty its fitness
+    # is the one without less penalty × (300 − 1 − k) (the steps it did not run), and with
+    # bonus b it gains b × the bonus summed over the steps it ran.
+    d = rl.MlpPolicy.initial((4,), features="energy").params.size
+    params = np.zeros((1, d))
+    params[0, -1] = 10.0  # the output bias: u = 5 tanh(10)
+    starts = np.array([[0.0, math.pi, 0.0, 0.0]])
+    kw = {"max_steps": 300}
+    runs = [rl._run(params, (6, 4, 1), 5.0, starts, rl.ENV_ID, kw, record=True, features="energy", bonus=b,
+                    termination_penalty=c) for b, c in ((0.0, 0.0), (0.0, 1.5), (0.5, 0.0))]
+    k = runs[0]["x"].shape[0] - 1  # the terminating step (the loop stops after it)
+    assert runs[0]["terminated"][0, 0] and 0 < k < 299
+    assert runs[1]["fitness"][0, 0] == pytest.approx(runs[0]["fitness"][0, 0] - 1.5 * (300 - 1 - k), rel=1e-12)
+    bonus = rl._upright_still(runs[0]["x"][:, 0, 0]).sum()
+    assert runs[2]["fitness"][0, 0] == pytest.approx(runs[0]["fitness"][0, 0] + 0.5 * bonus, rel=1e-12)
+
+
 def test_the_committed_policy_swings_up_and_balances_from_hanging():
     """A property of the committed weights, judged by the env's own success criterion
     (within 12° of upright for the episode's last 2 s, never beyond the travel) on the env's
