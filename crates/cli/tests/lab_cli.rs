@@ -411,6 +411,22 @@ fn closed_loop(lab: &str, k: &[f64]) -> Vec<(f64, f64)> {
     sorted_eigenvalues(a - b * Mat::from_row_slice(1, 4, k))
 }
 
+/// `pendulab design VERB --lab LAB ARGS --json`: a successful design's JSON.
+fn design(verb: &str, lab: &str, args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["design", verb, "--lab", lab];
+    all.extend(args);
+    all.push("--json");
+    json(&pendulab(&all))
+}
+
+/// The LQ servo's weights and reference of the servo designs below.
+const SERVO_WEIGHTS: [&str; 6] = ["--q", "10 10 0 0 20", "--r", "1", "--reference", "0.1"];
+
+/// The gain `k` (for `u = −K x`) of a design's JSON.
+fn gain(v: &serde_json::Value) -> Vec<f64> {
+    serde_json::from_value(v["k"].clone()).unwrap()
+}
+
 fn poles_of(v: &serde_json::Value) -> Vec<(f64, f64)> {
     let p: Vec<[f64; 2]> = serde_json::from_value(v["closed_loop_poles"].clone()).unwrap();
     let mut p: Vec<(f64, f64)> = p.into_iter().map(|[r, i]| (r, i)).collect();
@@ -423,18 +439,8 @@ fn design_writes_a_controller_file_that_simulate_takes() {
     let d = Dir::new("design");
     let lab = own_cart(&d, "lab", 1.1, 0.9);
     // LQR: the printed poles are eig(A − BK) of the lab's model; K_book = −K.
-    let v = json(&pendulab(&[
-        "design",
-        "lqr",
-        "--lab",
-        &lab,
-        "--q",
-        "10 10 0 0",
-        "--r",
-        "1",
-        "--json",
-    ]));
-    let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+    let v = design("lqr", &lab, &["--q", "10 10 0 0", "--r", "1"]);
+    let k = gain(&v);
     let kb: Vec<f64> = serde_json::from_value(v["k_book"].clone()).unwrap();
     assert!(k.iter().zip(&kb).all(|(a, b)| *a == -b));
     let (want, got) = (closed_loop(&lab, &k), poles_of(&v));
@@ -457,16 +463,8 @@ fn design_writes_a_controller_file_that_simulate_takes() {
     assert_eq!(s["left_angle_window"], false);
 
     // place: eig(A − BK) are the requested poles.
-    let v = json(&pendulab(&[
-        "design",
-        "place",
-        "--lab",
-        &lab,
-        "--poles",
-        "-3+1j -3-1j -5 -6",
-        "--json",
-    ]));
-    let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+    let v = design("place", &lab, &["--poles", "-3+1j -3-1j -5 -6"]);
+    let k = gain(&v);
     let want = [(-6.0, 0.0), (-5.0, 0.0), (-3.0, -1.0), (-3.0, 1.0)];
     for (w, g) in want.iter().zip(closed_loop(&lab, &k)) {
         assert!(
@@ -475,19 +473,7 @@ fn design_writes_a_controller_file_that_simulate_takes() {
         );
     }
     // servo: a file of kind lq-servo that simulate takes.
-    let v = json(&pendulab(&[
-        "design",
-        "servo",
-        "--lab",
-        &lab,
-        "--q",
-        "10 10 0 0 20",
-        "--r",
-        "1",
-        "--reference",
-        "0.1",
-        "--json",
-    ]));
+    let v = design("servo", &lab, &SERVO_WEIGHTS);
     let text = std::fs::read_to_string(v["file"].as_str().unwrap()).unwrap();
     assert!(text.contains("kind = \"lq-servo\""), "{text}");
     assert!(poles_of(&v).iter().all(|p| p.0 < 0.0));
@@ -596,21 +582,8 @@ fn design_lmi_servo_equals_the_riccati_servo_and_tracks() {
     let d = Dir::new("design-lmi-servo");
     let lab = own_cart(&d, "lab", 1.1, 0.9);
     let gain = |method: &str| {
-        let v = json(&pendulab(&[
-            "design",
-            method,
-            "--lab",
-            &lab,
-            "--q",
-            "10 10 0 0 20",
-            "--r",
-            "1",
-            "--reference",
-            "0.1",
-            "--json",
-        ]));
-        let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
-        (Mat::from_row_slice(1, 5, &k), v)
+        let v = design(method, &lab, &SERVO_WEIGHTS);
+        (Mat::from_row_slice(1, 5, &gain(&v)), v)
     };
     // Two independent algorithms for the same LQ servo gain on [x; w]: the LMI guaranteed
     // cost (interior point, margin ε = 1e-6, gap 1e-8, amplified by κ(X)) and the CARE.
@@ -636,26 +609,25 @@ fn design_lmi_servo_equals_the_riccati_servo_and_tracks() {
 fn design_robust_is_stable_at_every_vertex() {
     let d = Dir::new("design-robust");
     let lab = own_cart(&d, "lab", 1.0, 1.0);
-    let v = json(&pendulab(&[
-        "design",
+    let v = design(
         "robust",
-        "--lab",
         &lab,
-        "--q",
-        "10 10 0 0",
-        "--r",
-        "1",
-        "--vary",
-        "a_c=±20%",
-        "--vary",
-        "b_c=+-20%",
-        "--decay-rate",
-        "1",
-        "--speed-limit",
-        "40",
-        "--json",
-    ]));
-    let k: Vec<f64> = serde_json::from_value(v["k"].clone()).unwrap();
+        &[
+            "--q",
+            "10 10 0 0",
+            "--r",
+            "1",
+            "--vary",
+            "a_c=±20%",
+            "--vary",
+            "b_c=+-20%",
+            "--decay-rate",
+            "1",
+            "--speed-limit",
+            "40",
+        ],
+    );
+    let k = gain(&v);
     // Each vertex as its own lab, linearised by `model`: eig(A − BK) in the requested region
     // −40 < Re λ < −1 at all four corners of the box.
     for (i, (fa, fb)) in [(0.8, 0.8), (0.8, 1.2), (1.2, 0.8), (1.2, 1.2)]
