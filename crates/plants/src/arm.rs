@@ -140,55 +140,24 @@ impl Default for ArmPendulumParams {
     }
 }
 
-/// The state `x = [θ₁, θ₂, θ̇₁, θ̇₂]` of the arm-type pendulum, named. `θ₂` is absolute.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ArmPendulumState {
-    /// Arm angle `θ₁` from the upward vertical \[rad\].
-    pub theta1: f64,
-    /// Pendulum angle `θ₂` from the upward vertical (absolute) \[rad\].
-    pub theta2: f64,
-    /// Arm angular velocity `θ̇₁` \[rad/s\].
-    pub dtheta1: f64,
-    /// Pendulum angular velocity `θ̇₂` \[rad/s\].
-    pub dtheta2: f64,
+crate::state::named_state! {
+    /// The state `x = [θ₁, θ₂, θ̇₁, θ̇₂]` of the arm-type pendulum, named. `θ₂` is absolute.
+    pub struct ArmPendulumState, "[θ₁, θ₂, θ̇₁, θ̇₂]" {
+        /// Arm angle `θ₁` from the upward vertical \[rad\].
+        theta1,
+        /// Pendulum angle `θ₂` from the upward vertical (absolute) \[rad\].
+        theta2,
+        /// Arm angular velocity `θ̇₁` \[rad/s\].
+        dtheta1,
+        /// Pendulum angular velocity `θ̇₂` \[rad/s\].
+        dtheta2,
+    }
 }
 
 impl ArmPendulumState {
-    /// The state as `[θ₁, θ₂, θ̇₁, θ̇₂]`.
-    pub fn to_array(self) -> [f64; 4] {
-        [self.theta1, self.theta2, self.dtheta1, self.dtheta2]
-    }
-
-    /// The state from `[θ₁, θ₂, θ̇₁, θ̇₂]`.
-    pub fn from_array(x: [f64; 4]) -> Self {
-        Self {
-            theta1: x[0],
-            theta2: x[1],
-            dtheta1: x[2],
-            dtheta2: x[3],
-        }
-    }
-
     /// The pendulum's angle relative to the arm, `θ₂ − θ₁` \[rad\].
     pub fn relative_angle(&self) -> f64 {
         self.theta2 - self.theta1
-    }
-
-    /// `true` if every component is finite.
-    pub fn is_finite(&self) -> bool {
-        self.to_array().iter().all(|v| v.is_finite())
-    }
-}
-
-impl From<[f64; 4]> for ArmPendulumState {
-    fn from(x: [f64; 4]) -> Self {
-        Self::from_array(x)
-    }
-}
-
-impl From<ArmPendulumState> for [f64; 4] {
-    fn from(s: ArmPendulumState) -> Self {
-        s.to_array()
     }
 }
 

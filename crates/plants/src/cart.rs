@@ -142,57 +142,26 @@ impl Default for CartPendulumParams {
     }
 }
 
-/// The state `x = [z, θ, ż, θ̇]` of the cart-type pendulum, named.
-///
-/// Converts to and from `[f64; 4]` in that order (`From` both ways).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CartPendulumState {
-    /// Cart position `z` \[m\].
-    pub z: f64,
-    /// Pendulum angle `θ` from the upward vertical \[rad\] (`π`: hanging).
-    pub theta: f64,
-    /// Cart velocity `ż` \[m/s\].
-    pub dz: f64,
-    /// Pendulum angular velocity `θ̇` \[rad/s\].
-    pub dtheta: f64,
+crate::state::named_state! {
+    /// The state `x = [z, θ, ż, θ̇]` of the cart-type pendulum, named.
+    ///
+    /// Converts to and from `[f64; 4]` in that order (`From` both ways).
+    pub struct CartPendulumState, "[z, θ, ż, θ̇]" {
+        /// Cart position `z` \[m\].
+        z,
+        /// Pendulum angle `θ` from the upward vertical \[rad\] (`π`: hanging).
+        theta,
+        /// Cart velocity `ż` \[m/s\].
+        dz,
+        /// Pendulum angular velocity `θ̇` \[rad/s\].
+        dtheta,
+    }
 }
 
 impl CartPendulumState {
-    /// The state as `[z, θ, ż, θ̇]`.
-    pub fn to_array(self) -> [f64; 4] {
-        [self.z, self.theta, self.dz, self.dtheta]
-    }
-
-    /// The state from `[z, θ, ż, θ̇]`.
-    pub fn from_array(x: [f64; 4]) -> Self {
-        Self {
-            z: x[0],
-            theta: x[1],
-            dz: x[2],
-            dtheta: x[3],
-        }
-    }
-
     /// The angle from the hanging position, `φ = θ − π` \[rad\] (book eq. 3.44; not wrapped).
     pub fn phi(&self) -> f64 {
         self.theta - std::f64::consts::PI
-    }
-
-    /// `true` if every component is finite.
-    pub fn is_finite(&self) -> bool {
-        self.to_array().iter().all(|v| v.is_finite())
-    }
-}
-
-impl From<[f64; 4]> for CartPendulumState {
-    fn from(x: [f64; 4]) -> Self {
-        Self::from_array(x)
-    }
-}
-
-impl From<CartPendulumState> for [f64; 4] {
-    fn from(s: CartPendulumState) -> Self {
-        s.to_array()
     }
 }
 

@@ -67,6 +67,7 @@ mod linear;
 mod pendulum;
 pub mod rig;
 pub mod spec;
+mod state;
 pub mod two_pendulum;
 
 pub use angle::{wrap_about, wrap_angle};
