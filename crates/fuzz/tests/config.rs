@@ -185,6 +185,8 @@ fn key_name() -> impl Strategy<Value = String> {
                 "reference",
                 "step_time",
                 "coefficients",
+                "x_coefficients",
+                "l_coefficients",
                 "schedule",
                 "design_points_deg",
                 "balance",

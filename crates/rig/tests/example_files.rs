@@ -30,7 +30,7 @@ fn every_example_controller_file_loads() {
             n += 1;
         }
     }
-    assert_eq!(n, 5);
+    assert_eq!(n, 6);
 }
 
 #[test]
