@@ -31,19 +31,14 @@ pub(super) fn p1c211_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError>
         "book Part 1 §2.1.1",
         0.0005 * std::f64::consts::SQRT_2,
     );
-    out.notes.push(NOTE_GAINS.into());
-    out.notes.push(
+    finish_response(
+        ID211,
+        ctx,
+        out,
         "z_max: the largest cart position of each run (k_P = 5, 10, 20); the overshoot grows \
-         with k_P as the damping ratio a_c/(2√(b_c k_P)) falls."
-            .into(),
-    );
-    write_response(ID211, ctx, &mut out, &runs)?;
-    no_display_note(
-        &mut out,
-        "p1c211_pcont",
-        "it sets the gains and draws the responses of its Simulink model",
-    );
-    Ok(out)
+         with k_P as the damping ratio a_c/(2√(b_c k_P)) falls.",
+        &runs,
+    )
 }
 
 pub(super) const ID212: &str = "p1c212_pdcont";
@@ -70,19 +65,14 @@ pub(super) fn p1c212_pdcont(ctx: &RunContext) -> Result<ExampleOutput, BookError
         runs.push(run);
     }
     out.value("z_final", Value::Vector(finals));
-    out.notes.push(NOTE_GAINS.into());
-    out.notes.push(
+    finish_response(
+        ID212,
+        ctx,
+        out,
         "poles_kD01, poles_kD08: roots of s² + (a_c + b_c k_D) s + b_c k_P; the derivative \
-         term adds damping. z_final: z at 10 s for k_D = 0.1, 0.8."
-            .into(),
-    );
-    write_response(ID212, ctx, &mut out, &runs)?;
-    no_display_note(
-        &mut out,
-        "p1c212_pdcont",
-        "it sets the gains and draws the responses of its Simulink model",
-    );
-    Ok(out)
+         term adds damping. z_final: z at 10 s for k_D = 0.1, 0.8.",
+        &runs,
+    )
 }
 
 pub(super) const D: f64 = -0.1;
@@ -119,20 +109,15 @@ pub(super) fn p1c213_picont(ctx: &RunContext) -> Result<ExampleOutput, BookError
         out.value(&format!("e_final_kI{ki}"), Value::Number(R - run.z_final()));
         runs.push(run);
     }
-    out.notes.push(NOTE_GAINS.into());
-    out.notes.push(
+    finish_response(
+        ID213I,
+        ctx,
+        out,
         "Input disturbance d = −0.1 V from t = 0. P control leaves e∞ = −d/k_P = 0.01 m \
          (final-value theorem); the integral term removes it (internal model principle). \
-         e_final_*: r − z at 10 s."
-            .into(),
-    );
-    write_response(ID213I, ctx, &mut out, &runs)?;
-    no_display_note(
-        &mut out,
-        "p1c213_picont",
-        "it sets the gains and draws the responses of its Simulink model",
-    );
-    Ok(out)
+         e_final_*: r − z at 10 s.",
+        &runs,
+    )
 }
 
 pub(super) const ID213D: &str = "p1c213_pidcont";
@@ -162,16 +147,32 @@ pub(super) fn p1c213_pidcont(ctx: &RunContext) -> Result<ExampleOutput, BookErro
     )?;
     out.value("e_final", Value::Number(R - run.z_final()));
     out.value("z_max", Value::Number(run.z_max()));
-    out.notes.push(NOTE_GAINS.into());
-    out.notes.push(
+    finish_response(
+        ID213D,
+        ctx,
+        out,
         "poles: roots of s³ + (a_c + b_c k_D) s² + b_c k_P s + b_c k_I; the PI run with the \
-         same k_P, k_I is drawn for comparison. d = −0.1 V from t = 0."
-            .into(),
-    );
-    write_response(ID213D, ctx, &mut out, &[pi_run, run])?;
+         same k_P, k_I is drawn for comparison. d = −0.1 V from t = 0.",
+        &[pi_run, run],
+    )
+}
+
+/// The tail of the PID family's response examples: the gains' note and the example's own
+/// `note`, the response figure and animation of `runs` (when `ctx` asks for figures), and the
+/// note that the example's M-file only sets the gains and draws its Simulink model's responses.
+fn finish_response(
+    id: &'static str,
+    ctx: &RunContext,
+    mut out: ExampleOutput,
+    note: &str,
+    runs: &[CartRun],
+) -> Result<ExampleOutput, BookError> {
+    out.notes.push(NOTE_GAINS.into());
+    out.notes.push(note.into());
+    write_response(id, ctx, &mut out, runs)?;
     no_display_note(
         &mut out,
-        "p1c213_pidcont",
+        id,
         "it sets the gains and draws the responses of its Simulink model",
     );
     Ok(out)
