@@ -5,6 +5,7 @@ use crate::error::Result;
 use crate::expr::Expr;
 use crate::problem::Problem;
 use pendulab_lti::Mat;
+use pendulab_lti::random::SplitMix64;
 
 /// A problem of [`planted_sdp`] and its optimal value.
 #[derive(Debug, Clone)]
@@ -17,23 +18,10 @@ pub struct PlantedSdp {
     pub optimum: f64,
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a small deterministic generator, so that a seed
-/// gives the same problem on every platform.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[lo, hi)` (53 random bits).
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next() >> 11) as f64 / (1u64 << 53) as f64)
-    }
+/// Uniform in `[lo, hi)` from `rng` (53 random bits): SplitMix64, so that a seed gives the
+/// same problem on every platform.
+fn uniform(rng: &mut SplitMix64, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * rng.unit()
 }
 
 /// `maximise bᵀy  s.t.  C_k − Σ_i y_i A_{k,i} ⪰ 0` (`blocks` LMIs of side `side`, `variables`
@@ -66,21 +54,23 @@ pub fn planted_sdp(
             ),
         });
     }
-    let mut rng = SplitMix(seed);
-    let y_star: Vec<f64> = (0..variables).map(|_| rng.uniform(-1.0, 1.0)).collect();
+    let mut rng = SplitMix64::new(seed);
+    let y_star: Vec<f64> = (0..variables)
+        .map(|_| uniform(&mut rng, -1.0, 1.0))
+        .collect();
     let mut b = vec![0.0; variables];
     let mut optimum = 0.0;
     let mut problem = Problem::new();
     let y = problem.matrix("y", variables, 1);
     for k in 0..blocks {
-        let q = Mat::from_fn(side, side, |_, _| rng.uniform(-1.0, 1.0))
+        let q = Mat::from_fn(side, side, |_, _| uniform(&mut rng, -1.0, 1.0))
             .qr()
             .q();
         let mut x_star = Mat::zeros(side, side);
         let mut z_star = Mat::zeros(side, side);
         for j in 0..side {
             let v = q.column(j);
-            let w = rng.uniform(0.1, 10.0);
+            let w = uniform(&mut rng, 0.1, 10.0);
             if j < rank {
                 x_star += (v * v.transpose()) * w;
             } else {
@@ -90,7 +80,7 @@ pub fn planted_sdp(
         let mut c = z_star;
         let mut lmi = Expr::zeros(side, side);
         for (i, yi_star) in y_star.iter().enumerate() {
-            let m = Mat::from_fn(side, side, |_, _| rng.uniform(-1.0, 1.0));
+            let m = Mat::from_fn(side, side, |_, _| uniform(&mut rng, -1.0, 1.0));
             let a = (&m + m.transpose()) * 0.5;
             c += &a * *yi_star;
             b[i] += a.component_mul(&x_star).sum();

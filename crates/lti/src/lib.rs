@@ -62,6 +62,7 @@ pub mod matrix_functions;
 pub mod norms;
 pub mod nyquist;
 pub mod polynomial;
+pub mod random;
 pub mod reduction;
 pub mod response;
 pub mod rlocus;

@@ -334,17 +334,9 @@ fn discrete_rotation_on_and_near_the_unit_circle() {
     assert!(d <= 1e-8, "{d:e}");
 }
 
-/// SplitMix64 entries uniform in [−1, 1).
+/// SplitMix64 entries uniform in [−1, 1) (`pendulab_lti::random`).
 fn splitmix(r: usize, c: usize, seed: u64) -> Mat {
-    let mut s = seed;
-    Mat::from_fn(r, c, |_, _| {
-        s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    })
+    pendulab_lti::random::SplitMix64::new(seed).matrix(r, c)
 }
 
 /// A random 100-state system (about half its modes unstable) driven through one input of

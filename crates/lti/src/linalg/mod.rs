@@ -239,15 +239,7 @@ pub(crate) mod testing {
     /// `r × c` matrix with entries uniform in `[−1, 1)` from the SplitMix64 sequence started
     /// at `seed` (filled column by column).
     pub(crate) fn splitmix_matrix(r: usize, c: usize, seed: u64) -> Mat {
-        let mut s = seed;
-        Mat::from_fn(r, c, |_, _| {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0
-        })
+        crate::random::SplitMix64::new(seed).matrix(r, c)
     }
 }
 

@@ -72,24 +72,9 @@ pub fn num_or_inf(v: &Value) -> f64 {
     v.as_f64().unwrap_or(f64::INFINITY)
 }
 
-/// SplitMix64 stream, uniform in `[−1, 1)`.
-pub struct Rng(pub u64);
-
-impl Rng {
-    /// Next value in `[−1, 1)`.
-    pub fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0
-    }
-    /// `r × c` matrix of uniform entries.
-    pub fn matrix(&mut self, r: usize, c: usize) -> Mat {
-        Mat::from_fn(r, c, |_, _| self.uniform())
-    }
-}
+/// The SplitMix64 stream of the toolbox tests (`Rng(seed)`; `matrix` draws uniform entries in
+/// `[−1, 1)`).
+pub use pendulab_lti::random::SplitMix64 as Rng;
 
 /// A random stable continuous system: `A = M − (α + ρ(M)) I` style shift to put every
 /// eigenvalue left of `−margin`.
