@@ -125,3 +125,13 @@ for stem in p1c43_stability1 p1c43_stability2 p1c511_ex1 \
         2>/dev/null > "$out/$stem.txt" || true
     echo "% $stem.m run unchanged (sim, input and format shimmed) in $(octave-cli --version | head -n 1), control $(octave-cli --eval "pkg load control; v = pkg('list', 'control'); disp(v{1}.version)" 2>/dev/null)" >> "$out/$stem.txt"
 done
+
+# ---------------------------------------------------------------------------------------------
+# The numeric part of p1c511_ex4_cdip.m (lines 48 to the end: the book's parameters, ctrb and
+# det_Mcn of the 1.2-times pendulum), run unchanged; the lines before it are symbolic (Symbolic
+# Math Toolbox), which these runs do not have.
+tail -n +48 "$book"/mfiles/p1c5/p1c511_ex4_cdip.m > "$work/m2/p1c511_ex4_cdip_numeric.m"
+octave-cli --no-gui --norc --eval \
+    "pkg load control; addpath('$work/noplot'); warning('off', 'all'); format long g; p1c511_ex4_cdip_numeric" \
+    2>/dev/null > "$out/p1c511_ex4_cdip_numeric.txt" || true
+echo "% lines 48 to the end of p1c511_ex4_cdip.m run unchanged in $(octave-cli --version | head -n 1), control $(octave-cli --eval "pkg load control; v = pkg('list', 'control'); disp(v{1}.version)" 2>/dev/null)" >> "$out/p1c511_ex4_cdip_numeric.txt"

@@ -24,5 +24,7 @@ pub mod registry;
 pub mod report;
 
 pub use error::{BookError, Cause};
-pub use output::{Comparison, ExampleOutput, Graphic, GraphicKind, Reference, RenderedFile, Value};
+pub use output::{
+    Comparison, ExampleOutput, Graphic, GraphicKind, Reference, RenderedFile, Uncompared, Value,
+};
 pub use registry::{Example, RunContext, find, registry};

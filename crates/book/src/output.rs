@@ -83,6 +83,23 @@ pub struct ExampleOutput {
     pub figures: Vec<Graphic>,
     /// Short remarks for the report (what the figure shows, differences from the book).
     pub notes: Vec<String>,
+    /// Numbers the book prints or the M-file displays that are *not* compared with pendulab's
+    /// (each with the reason). An example that reproduces every reference but lists one here
+    /// only agrees where compared ([`crate::report::Status::PartlyCompared`]).
+    pub uncompared: Vec<Uncompared>,
+    /// The unit of a value, keyed by the value's name ([`ExampleOutput::unit`]); a value
+    /// without an entry has no stated unit (dimensionless, or a gain whose compound unit the
+    /// example does not state).
+    pub units: Vec<(String, String)>,
+}
+
+/// A number the book prints or an M-file displays that the example does not compare.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Uncompared {
+    /// What is displayed (the M-file's names, with its line).
+    pub what: String,
+    /// Why it is not compared.
+    pub why: String,
 }
 
 impl ExampleOutput {
@@ -127,6 +144,24 @@ impl ExampleOutput {
     /// Looks a value up by name.
     pub fn get(&self, name: &str) -> Option<&Value> {
         self.values.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+    /// States the SI unit of the values `names` as the book writes it (`m`, `rad`, `V`, `s`,
+    /// `1/s`, `N·m`, …); a later call for the same name replaces the unit.
+    pub fn unit(&mut self, names: &[&str], unit: &str) -> &mut Self {
+        for name in names {
+            match self.units.iter_mut().find(|(n, _)| n == name) {
+                Some((_, u)) => *u = unit.to_string(),
+                None => self.units.push((name.to_string(), unit.to_string())),
+            }
+        }
+        self
+    }
+    /// The stated unit of value `name`, if any.
+    pub fn unit_of(&self, name: &str) -> Option<&str> {
+        self.units
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, u)| u.as_str())
     }
 }
 

@@ -273,3 +273,69 @@ fn p1c63_p1c522_p1c74_badges_are_the_octave_displays() {
             .any(|n| n.contains("Not compared: L, and Ac, Bc"))
     );
 }
+
+#[test]
+fn p1c511_ex4_det_mcn_is_the_octave_display_of_its_numeric_part() {
+    // p1c511_ex4_cdip.m line 100 (det_Mcn = det(ctrb(A, B)) of the 1.2-times pendulum), from
+    // its numeric part (lines 48 on) run in Octave; the symbolic lines before it are named.
+    octave_badge("p1c511_ex4_cdip", "p1c511_ex4_cdip", &["det_Mcn"]);
+    let out = run("p1c511_ex4_cdip");
+    assert!(out.uncompared.is_empty(), "{:?}", out.uncompared);
+}
+
+/// The symbolic M-files (Symbolic Math Toolbox) and the example that runs each: every one says
+/// what the M-file derives and how pendulab checks the same equations.
+const SYMBOLIC: [(&str, &str); 8] = [
+    ("p1c311_cdip_lagrange", "p1c311_cdip_lagrange"),
+    ("p1c511_ex2", "p1c511_ex2"),
+    ("p1c511_ex3_adip", "p1c511_ex3_adip"),
+    ("p1c511_ex4_cdip", "p1c511_ex4_cdip"),
+    ("p1c522_ex6", "p1c522_ex6"),
+    ("p1c74_ex1_cdip_Mc", "p1c74_ex1_cdip_ob_design"),
+    ("p1c74_ex2_cdip_Mo", "p1c74_ex2_cdip_Mo"),
+    (
+        "p1c75_ex3_cdip_detectability",
+        "p1c75_ex3_cdip_detectability",
+    ),
+];
+
+#[test]
+fn symbolic_mfiles_say_what_they_derive_and_how_pendulab_checks_it() {
+    for (stem, id) in SYMBOLIC {
+        // The stem is an example id or an alias of the example.
+        assert_eq!(pendulab_book::find(stem).unwrap().id, id, "{stem}");
+        let out = run(id);
+        let note = out
+            .notes
+            .iter()
+            .find(|n| {
+                n.starts_with(&format!(
+                    "{stem}.m is symbolic (Symbolic Math Toolbox): it derives "
+                ))
+            })
+            .unwrap_or_else(|| panic!("{id}: no note on the symbolic {stem}.m: {:?}", out.notes));
+        assert!(
+            note.contains("pendulab checks the same equations "),
+            "{note}"
+        );
+        // Each compares something, and what it compares is reproduced.
+        assert!(
+            !out.references.is_empty()
+                || stem == "p1c311_cdip_lagrange"
+                || stem == "p1c511_ex3_adip",
+            "{id}"
+        );
+        all_reproduced(&out);
+    }
+    // p1c511_ex2: the M-file's symbolic M_c does not depend on a: the exact integer matrix.
+    let out = run("p1c511_ex2");
+    assert!(
+        out.references
+            .iter()
+            .any(|r| r.name == "Mc" && r.tolerance == 0.0)
+    );
+    // p1c522_ex6: K from the canonical form is the M-file's solve() result k1 = s1 s2 − 1,
+    // k2 = s1 + s2 − s1 s2 − 1 at s1 = −1, s2 = −2: [1, −6].
+    assert_eq!(vector(&run("p1c522_ex6"), "K").len(), 2);
+    assert!(run("p1c522_ex6").references.iter().any(|r| r.name == "K"));
+}

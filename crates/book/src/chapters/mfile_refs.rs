@@ -12,7 +12,7 @@
 
 use super::common::{fail, sorted};
 use crate::error::BookError;
-use crate::output::{ExampleOutput, Value};
+use crate::output::{ExampleOutput, Uncompared, Value};
 use pendulab_lti::Complex64;
 
 /// Where the displays come from, for the references' sources.
@@ -320,13 +320,25 @@ fn rows_len(rows: &[Vec<Complex64>]) -> usize {
 }
 
 /// The note that lists what an M-file displays: the numbers compared with pendulab's (each a
-/// reference of the example) and those that are not, each with the reason.
+/// reference of the example), the displayed numbers that are not (each with the reason; they
+/// also go to [`ExampleOutput::uncompared`], so the example's badge says it agrees only where
+/// compared), and what the M-file shows that is not a displayed number of its own
+/// (`not_numbers`: responses it only draws, a number it displays again that is compared under
+/// another name), each with the reason.
 pub(crate) fn display_note(
     out: &mut ExampleOutput,
     stem: &str,
     compared: &[&str],
     not_compared: &[(&str, &str)],
+    not_numbers: &[(&str, &str)],
 ) {
+    let list = |items: &[(&str, &str)]| {
+        items
+            .iter()
+            .map(|(what, why)| format!("{what} ({why})"))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
     let mut s = format!("{stem}.m displays ");
     if compared.is_empty() {
         s.push_str("no number that can be compared");
@@ -338,14 +350,30 @@ pub(crate) fn display_note(
     }
     if !not_compared.is_empty() {
         s.push_str(". Not compared: ");
-        let items: Vec<String> = not_compared
-            .iter()
-            .map(|(what, why)| format!("{what} ({why})"))
-            .collect();
-        s.push_str(&items.join("; "));
+        s.push_str(&list(not_compared));
+    }
+    if !not_numbers.is_empty() {
+        s.push_str(". Not a displayed number of its own: ");
+        s.push_str(&list(not_numbers));
     }
     s.push('.');
     out.notes.push(s);
+    out.uncompared
+        .extend(not_compared.iter().map(|(what, why)| Uncompared {
+            what: format!("{stem}.m: {what}"),
+            why: (*why).to_string(),
+        }));
+}
+
+/// The note of an example whose M-file derives equations with the Symbolic Math Toolbox:
+/// what it derives (`derives`; its display is formulas, not numbers to compare digit by
+/// digit) and how pendulab checks the same equations (`checks`).
+pub(crate) fn symbolic_note(out: &mut ExampleOutput, stem: &str, derives: &str, checks: &str) {
+    out.notes.push(format!(
+        "{stem}.m is symbolic (Symbolic Math Toolbox): it derives {derives}. Its display is \
+         formulas, not numbers to compare digit by digit. pendulab checks the same equations \
+         {checks}."
+    ));
 }
 
 /// The note of an example whose M-file displays no number: what it shows instead (`shows`).

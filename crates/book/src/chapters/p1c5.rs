@@ -4,7 +4,7 @@
 //! `u = −K x`; `K_book = −K`).
 
 use super::common::*;
-use super::mfile_refs::{OctaveDisplay, display_note};
+use super::mfile_refs::{OctaveDisplay, display_note, symbolic_note};
 use crate::error::{BookError, Cause};
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -130,8 +130,27 @@ fn ex2(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "book Part 1 §5.1.1, example 5.2",
         [("rank", Value::Number(2.0))],
     );
+    // The M-file's symbolic Mc = [B, AB, A²B] (line 11): B = e3, AB = e2, A²B = A e2 = 0 for
+    // every a, so its display is this integer matrix whatever a is.
+    out.reference(
+        "Mc",
+        Value::Matrix(vec![
+            vec![0.0, 0.0, 0.0],
+            vec![0.0, 1.0, 0.0],
+            vec![1.0, 0.0, 0.0],
+        ]),
+        "p1c511_ex2.m line 16 (symbolic; a drops out of [B, AB, A²B])",
+        0.0,
+    );
     out.notes.push(
         "The mode x1' = a x1 receives no input: rank M_c = 2 < 3, uncontrollable (a = 1).".into(),
+    );
+    symbolic_note(
+        &mut out,
+        id,
+        "M_c = [B, AB, A²B] for a symbolic a, and its rank",
+        "by computing M_c with a = 1: M_c does not depend on a (B = e3, AB = e2, A²B = 0), so the \
+         M-file's displayed matrix and rank_Mc = 2 are compared exactly",
     );
     Ok(out)
 }
@@ -165,6 +184,17 @@ fn ex3_adip(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "det M_c vanishes only where cos θ1e = 0 and μ2 = 0: with the book's μ2 = 1.01e-4 it is \
          {d90:.4e} at θ1e = π/2 (tiny against {d0:.4e} at 0), without friction {d90_free:.1e}."
     ));
+    symbolic_note(
+        &mut out,
+        id,
+        "det M_c of the arm model linearised at a symbolic θ1e (in α2, α3, α5, a1, b1, μ2) and \
+         det_Mc_0, the same with μ2 = 0",
+        "numerically: det M_c of the book's arm at θ1e = 0 and π/2, with and without μ2, here, \
+         and in pendulab-plants' tests (arm.rs) against the closed form det M_c = α5 b1⁴/α2⁴ · \
+         [μ2² (α2 + α3 cos θ1e) − α5 α3² cos² θ1e] at 25 angles for three parameter sets; the \
+         M-file's conclusion, det_Mc_0 = 0 exactly where cos θ1e = 0, is what \
+         det_Mc_at_pi_over_2_mu2_zero shows",
+    );
     if ctx.figures {
         let th: Vec<f64> = (0..=360).map(|k| -PI + k as f64 * PI / 180.0).collect();
         let deg: Vec<f64> = th.iter().map(|t| t.to_degrees()).collect();
@@ -218,9 +248,39 @@ fn ex4_cdip(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     };
     let rd = rank_of(TwoPendulumCartParams::book_example())?;
     let ri = rank_of(TwoPendulumCartParams::identical())?;
+    let plant = TwoPendulumCart::new(TwoPendulumCartParams::book_example()).ctx(id)?;
+    let sys = plant
+        .linearize(0.0, Posture::Upright, Posture::Upright)
+        .ctx(id)?;
+    let det_mcn = ctrb(sys.a(), sys.b()).ctx(id)?.determinant();
     let mut out = ExampleOutput::default();
     out.value("rank_different", Value::Number(rd as f64))
-        .value("rank_identical", Value::Number(ri as f64));
+        .value("rank_identical", Value::Number(ri as f64))
+        .value("det_Mcn", Value::Number(det_mcn));
+    // The numeric part of the M-file (lines 48 on, after its symbolic part) displays
+    // det_Mcn = det(ctrb(A, B)) of the 1.2-times pendulum (line 100), as GNU Octave printed
+    // it running those lines unchanged; compared to MATLAB's short format (1.6650e+13).
+    OctaveDisplay::parse(
+        "p1c511_ex4_cdip",
+        include_str!("../../tests/data/octave/p1c511_ex4_cdip_numeric.txt"),
+    )
+    .compare(
+        id,
+        &mut out,
+        "det_Mcn",
+        "det_Mcn",
+        "line 100 (its numeric part, lines 48 on)",
+    )?;
+    display_note(
+        &mut out,
+        "p1c511_ex4_cdip",
+        &["det_Mcn"],
+        &[],
+        &[(
+            "det_Mc, det_Mc_same (lines 40, 43)",
+            "formulas of the symbolic part, see the next note",
+        )],
+    );
     exact_references(
         &mut out,
         "book Part 1 §5.1.1, example 5.4 (controllable: full rank 6)",
@@ -230,6 +290,15 @@ fn ex4_cdip(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "Identical pendulums: θa − θb obeys an input-free second-order equation, so two \
          directions are uncontrollable (rank 4)."
             .into(),
+    );
+    symbolic_note(
+        &mut out,
+        id,
+        "det M_c of the two-pendulum cart for symbolic pendulums (α1, α2, β1, β2) and \
+         det_Mc_same, which is 0 when the pendulums are the same",
+        "numerically: rank M_c = 6 for the book's 1.2-times pendulum (compared with the book) \
+         and 4 for identical pendulums (det_Mc_same = 0 means rank < 6), and the numeric \
+         det_Mcn that the M-file's last part displays (compared with its Octave run)",
     );
     Ok(out)
 }
@@ -302,11 +371,28 @@ fn ex6(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         "design specification",
         1e-9,
     );
+    // The M-file's symbolic solution (line 29): k1 = s1 s2 − 1, k2 = s1 + s2 − s1 s2 − 1.
+    let (s1, s2) = (-1.0, -2.0);
+    out.reference(
+        "K",
+        Value::Vector(vec![s1 * s2 - 1.0, s1 + s2 - s1 * s2 - 1.0]),
+        "p1c522_ex6.m line 29 (solve), at s1 = −1, s2 = −2",
+        1e-9,
+    );
     out.notes.push(format!(
         "The book solves det(λI − A − BK) = (λ − s1)(λ − s2) symbolically: k1 = s1 s2 − 1, \
          k2 = s1 + s2 − s1 s2 − 1. Shown for s1 = −1, s2 = −2 (the book keeps them symbolic), \
          through the controllable canonical form. {BOOK_CONVENTION}."
     ));
+    symbolic_note(
+        &mut out,
+        id,
+        "det(λI − (A + BK)) for symbolic k1, k2 and its coefficients, (λ − s1)(λ − s2) and \
+         its coefficients, and k1, k2 by equating them (solve)",
+        "at s1 = −1, s2 = −2: K from the controllable canonical form equals the M-file's \
+         solution k1 = s1 s2 − 1 = 1, k2 = s1 + s2 − s1 s2 − 1 = −6, and the closed loop's \
+         poles are the assigned ones (both compared)",
+    );
     Ok(out)
 }
 
@@ -337,7 +423,7 @@ fn ex7_adip_place(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         include_str!("../../tests/data/octave/p1c522_ex7_adip_place.txt"),
     )
     .compare(id, &mut out, "K", "K", "line 20")?;
-    display_note(&mut out, id, &["K"], &[]);
+    display_note(&mut out, id, &["K"], &[], &[]);
     out.notes.push(BOOK_CONVENTION.into());
     if ctx.figures {
         let open = sorted(sys.poles().ctx(id)?);
@@ -412,6 +498,7 @@ fn ex8_adip_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             "the weights of the plotting variant p1c523_ex8_adip_lqr_plot.m, which displays \
              them only around its Simulink runs",
         )],
+        &[],
     );
     out.notes.push(format!(
         "Nonlinear arm pendulum from θ1 = 0 (pendulum upright) under u = K(x − x_e), \

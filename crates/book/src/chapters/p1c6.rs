@@ -237,6 +237,8 @@ struct DriveCase {
     octave: &'static str,
     octave_poles: (&'static str, &'static str),
     not_compared: &'static [(&'static str, &'static str)],
+    /// What it shows that is not a displayed number of its own (see [`display_note`]).
+    not_numbers: &'static [(&'static str, &'static str)],
 }
 
 fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookError> {
@@ -282,7 +284,13 @@ fn drive_example(ctx: &RunContext, c: &DriveCase) -> Result<ExampleOutput, BookE
     let disp = OctaveDisplay::parse(id, c.octave);
     let (ans, line) = c.octave_poles;
     disp.compare(id, &mut out, "poles", ans, line)?;
-    display_note(&mut out, id, &["tzero(Delta) (as poles)"], c.not_compared);
+    display_note(
+        &mut out,
+        id,
+        &["tzero(Delta) (as poles)"],
+        c.not_compared,
+        c.not_numbers,
+    );
     out.notes.push(format!(
         "e∞ by the final-value theorem; the simulated error at {} s is {e_end:.4} m.",
         c.t_final
@@ -306,6 +314,7 @@ fn ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             octave: include_str!("../../tests/data/octave/p1c62_ex1_cart_p_step.txt"),
             octave_poles: ("ans", "line 21"),
             not_compared: &[],
+            not_numbers: &[],
         },
     )
 }
@@ -325,6 +334,7 @@ fn ex2(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             octave: include_str!("../../tests/data/octave/p1c62_ex2_cart_pi_ramp.txt"),
             octave_poles: ("ans", "line 23"),
             not_compared: &[],
+            not_numbers: &[],
         },
     )
 }
@@ -345,8 +355,10 @@ fn ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             octave_poles: ("ans", "line 28"),
             not_compared: &[(
                 "Delta (line 27)",
-                "the transfer function 1 + P(s)C(s); its zeros are the poles compared",
+                "the transfer function 1 + P(s)C(s); its zeros are the poles compared, its \
+                 coefficients are not",
             )],
+            not_numbers: &[],
         },
     )
 }
@@ -365,16 +377,15 @@ fn ex4(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             book_e_inf: 0.0,
             octave: include_str!("../../tests/data/octave/p1c62_ex4_cart_pi_step_dis.txt"),
             octave_poles: ("ans#2", "line 44"),
-            not_compared: &[
-                (
-                    "Delta (lines 30, 43)",
-                    "the transfer functions 1 + P(s)C(s); their zeros are the poles",
-                ),
-                (
-                    "tzero(Delta) of the P loop (line 31)",
-                    "the poles of example p1c62_ex3_cart_p_step_dis, compared there",
-                ),
-            ],
+            not_compared: &[(
+                "Delta (lines 30, 43)",
+                "the transfer functions 1 + P(s)C(s); their zeros are the poles compared, their \
+                 coefficients are not",
+            )],
+            not_numbers: &[(
+                "tzero(Delta) of the P loop (line 31)",
+                "the poles of example p1c62_ex3_cart_p_step_dis, compared there",
+            )],
         },
     )
 }
@@ -468,6 +479,7 @@ fn ex5_cdip_lqr_servo(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         &mut out,
         id,
         &["K1", "K2"],
+        &[],
         &[(
             "the simulated responses",
             "Simulink runs (cdip_lqr_servo_sim, line 58 on), drawn, not displayed",

@@ -4,7 +4,7 @@
 //! library: `u = −K x`, `A − L C`).
 
 use super::common::*;
-use super::mfile_refs::{OctaveDisplay, display_note};
+use super::mfile_refs::{OctaveDisplay, display_note, symbolic_note};
 use crate::error::BookError;
 use crate::output::{ExampleOutput, Value};
 use crate::registry::{Example, RunContext};
@@ -276,6 +276,16 @@ fn ob_display_references(
                 lb[(2, 0)]
             ),
         )],
+        &[],
+    );
+    symbolic_note(
+        out,
+        "p1c74_ex1_cdip_Mc",
+        "the cart pendulum's controllability matrix M_c = [B, AB, A²B, A³B] in symbolic Jp, \
+         mp, lp, mup, g, ac, bc (line 24), det_Mc (line 25) and rank_Mc (line 26)",
+        "numerically on the book's parameters: rank_Mc = 4, which this example's M-file \
+         displays too (line 32) and which is compared above; pendulab-plants' tests check the \
+         linearised A, B that M_c is built from against their closed form (cart.rs)",
     );
     Ok(())
 }
@@ -314,6 +324,15 @@ fn ex2_cdip_mo(_ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     );
     out.notes
         .push("Neither sensor alone makes the cart pendulum observable (rank M_o < 4).".into());
+    symbolic_note(
+        &mut out,
+        id,
+        "M_o = [C; CA; CA²; CA³] of the cart pendulum with symbolic a1, a2, a3, b1, ac, bc for \
+         y = z and for y = θ, det_Mo (0 for both) and rank_Mo (lines 30-36 and 43-49)",
+        "numerically on the book's parameters: rank M_o of the linearised cart pendulum, \
+         rank_y_z = 2 and rank_y_theta = 3, compared with the ranks the M-file displays (a \
+         symbolic rank is the rank for generic parameters, which the book's are)",
+    );
     Ok(out)
 }
 
@@ -336,6 +355,17 @@ fn ex3_cdip_detectability(_ctx: &RunContext) -> Result<ExampleOutput, BookError>
         "y = z misses the unstable pendulum mode (+5.75), y = θ misses the cart's integrator \
          (eigenvalue 0, not asymptotically stable): neither is detectable."
             .into(),
+    );
+    symbolic_note(
+        &mut out,
+        id,
+        "the observer's characteristic polynomial det(sI − (A + LC)) for a symbolic gain \
+         L = [l1; l2; l3; l4], factored (eq1 for y = z, line 37; eq2 for y = θ, line 46): a \
+         factor free of L is a mode no observer gain moves",
+        "numerically: the PBH test on the book's parameters finds for each sensor an \
+         eigenvalue with Re λ ≥ 0 that C does not see (the pendulum's +5.75 for y = z, the \
+         cart's integrator 0 for y = θ), i.e. the L-free factors' roots, so detectable_y_z and \
+         detectable_y_theta are false, as the book states",
     );
     Ok(out)
 }

@@ -420,7 +420,7 @@ fn p2c244_ex3(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
          (tools/reference/book_p2c2.py)",
         short_half_unit(9.363318455665842),
     );
-    display_note(&mut out, id, &["K", "Kd"], &[]);
+    display_note(&mut out, id, &["K", "Kd"], &[], &[]);
     out.notes
         .push("Gains in the book's convention u = +K x.".into());
     out.notes.push(

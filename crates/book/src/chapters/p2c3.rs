@@ -154,6 +154,7 @@ fn p2c323_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             "the switching time of the Simulink run cdip_swing_up_sim; pendulab's own run's is \
              switch_time",
         )],
+        &[],
     );
     out.notes.push(
         "final_state is [z, θ wrapped to (−π, π], ż, θ̇] at 16 s for δ = 0 (sign switching); the *_delta5 values for the boundary layer δ = 5 (plain plant, full state, 1 ms); *_quantised: δ = 5 on the rig preset with quantizer (encoders, pseudo-differentiated velocities, ±5 V, 16-bit D/A)."
@@ -381,7 +382,9 @@ fn p2c33_nmpc(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
             "final_state",
             Value::Vector(run.diagnostics.final_state.clone()),
         )
+        .unit(&["swing_up_time"], "s")
         .value("swing_up_time_book_program", Value::Number(t_up_book))
+        .unit(&["swing_up_time_book_program"], "s")
         .value("max_abs_u_book_program", Value::Number(umax_book))
         .value(
             "max_dev_theta1",

@@ -7,8 +7,12 @@ use crate::output::{ExampleOutput, Reference};
 use std::fmt::Write as _;
 use std::path::{Component, Path, PathBuf};
 
-/// The page's style sheet: inline, so the page needs nothing but its figure files.
-const STYLE: &str = r#"
+/// The page's style sheet: inline, so the page needs nothing but its figure files. The lab
+/// notebook (`pendulab report --lab`) uses it too: its layout is the same (a column of at most
+/// 1180 px, tables in `div.scroll` that scroll inside their card, figures in `div.figscroll`
+/// at their own size, scrolling sideways on narrow screens, `pre.file` for files shown as
+/// written).
+pub const STYLE: &str = r#"
 :root { --fg:#1d2327; --muted:#5f6b73; --line:#d8dee3; --bg:#ffffff; --panel:#f6f8fa;
   --ok:#1a7f37; --bad:#c62828; --warn:#9a6700; --info:#0b5cad; --bar:44px; }
 * { box-sizing: border-box; }
@@ -30,7 +34,7 @@ h3 code, nav.toc code { overflow-wrap:anywhere; }
 .counts { display:flex; flex-wrap:wrap; gap:8px; margin:14px 0 0; padding:0; list-style:none; }
 .badge { display:inline-block; padding:1px 9px; border-radius:10px; font-size:12.5px; font-weight:600;
   color:#fff; white-space:nowrap; }
-.st-ok { background:var(--ok); } .st-runs { background:var(--info); } .st-differs { background:var(--warn); }
+.st-ok { background:var(--ok); } .st-part { background:#4d7c5a; } .st-runs { background:var(--info); } .st-differs { background:var(--warn); }
 .st-data { background:#6e7781; } .st-fail { background:var(--bad); }
 nav.toc { margin-top:20px; }
 nav.toc > ol { padding-left:20px; columns:2 420px; column-gap:32px; }
@@ -55,6 +59,10 @@ table.values th, table.values td { border-bottom:1px solid var(--line); padding:
   vertical-align:middle; }
 table.values th { font-size:13px; color:var(--muted); font-weight:600; }
 table.values td.name { font-family:ui-monospace,"DejaVu Sans Mono",Menlo,monospace; font-size:13.5px; }
+table.values td.name .unit { display:block; font-family:system-ui,sans-serif; font-size:12.5px; color:var(--muted); }
+.uncompared { border-radius:6px; padding:8px 14px; margin:8px 0; background:var(--panel); border:1px solid var(--line);
+  overflow-wrap:anywhere; }
+.uncompared ul { margin:4px 0 0; padding-left:20px; }
 table.mat { border-collapse:separate; border-spacing:0; border-left:2px solid var(--fg);
   border-right:2px solid var(--fg); border-radius:4px; display:inline-table; }
 table.mat td { padding:1px 8px; text-align:right; border:0; white-space:nowrap; }
@@ -71,6 +79,11 @@ ul.notes { margin:6px 0 10px; padding-left:20px; color:#33404a; overflow-wrap:an
 figure { margin:0; flex:0 1 auto; min-width:0; max-width:100%; border:1px solid var(--line); border-radius:6px;
   padding:8px; background:#fff; }
 figure img, figure svg { display:block; max-width:100%; height:auto; }
+figure .figscroll { margin:0; }
+figure .figscroll img, figure .figscroll svg { max-width:none; }
+.fighint { display:none; }
+pre.file { background:var(--panel); padding:10px; overflow-x:auto; font-size:13px; max-width:100%; }
+table.params td, table.params th { border-bottom:1px solid var(--line); padding:4px 10px; text-align:right; }
 figcaption { font-size:12.5px; color:var(--muted); margin-top:4px; overflow-wrap:anywhere; }
 .controls { display:flex; align-items:center; gap:10px; margin-top:6px; }
 .controls[hidden] { display:none; }
@@ -85,6 +98,9 @@ figcaption { font-size:12.5px; color:var(--muted); margin-top:4px; overflow-wrap
 .error pre { margin:4px 0 0; white-space:pre-wrap; font-size:13px; }
 .needs { background:var(--panel); border:1px solid var(--line); }
 footer { color:var(--muted); font-size:12.5px; padding:24px; }
+@media (max-width:1179px) {
+  .fighint { display:inline; }
+}
 @media (max-width:600px) {
   header, main, nav.toc, footer, .topbar { padding-left:12px; padding-right:12px; }
   article.example { padding:12px 10px; }
@@ -102,6 +118,8 @@ footer { color:var(--muted); font-size:12.5px; padding:24px; }
   article.example { break-before:page; border:0; padding:0; margin:0; }
   section.chapter > h2 + article.example { break-before:avoid; }
   .scroll { overflow:visible; background:none; }
+  figure .figscroll img, figure .figscroll svg { max-width:100%; }
+  .fighint { display:none; }
   table.values, table.values > tbody { display:block; }
   table.values > thead { display:none; }
   table.values > tbody > tr { display:grid; grid-template-columns:minmax(7em, max-content) minmax(0, 1fr);
@@ -364,9 +382,13 @@ fn output_html(
         s.push_str("</tr></thead>\n<tbody>\n");
         for (name, v) in &out.values {
             let mine: Vec<_> = refs.iter().filter(|(r, _)| &r.name == name).collect();
+            let unit = out
+                .unit_of(name)
+                .map(|u| format!("<span class=\"unit\">{}</span>", escape(u)))
+                .unwrap_or_default();
             let _ = write!(
                 s,
-                "<tr><td class=\"name\">{}</td><td>{}</td>",
+                "<tr><td class=\"name\">{}{unit}</td><td>{}</td>",
                 escape(name),
                 value_html(v)
             );
@@ -389,6 +411,18 @@ fn output_html(
             s.push_str("</tr>\n");
         }
         s.push_str("</tbody></table></div>\n");
+    }
+    if !out.uncompared.is_empty() {
+        // Why the badge says "agrees where compared" rather than "reproduced".
+        s.push_str(
+            "<div class=\"uncompared\"><strong>Not compared</strong> — numbers the book prints \
+             or the M-file displays that are not shown beside pendulab's, so the example only \
+             agrees where compared:\n<ul>\n",
+        );
+        for u in &out.uncompared {
+            let _ = writeln!(s, "<li>{}: {}</li>", escape(&u.what), escape(&u.why));
+        }
+        s.push_str("</ul></div>\n");
     }
     if !out.notes.is_empty() {
         s.push_str("<ul class=\"notes\">\n");
@@ -479,17 +513,19 @@ fn figures_html(s: &mut String, figures: &[PathBuf], options: &ReportOptions) {
                 Some(markup) if extension(shown) == "svg" => {
                     let _ = write!(
                         s,
-                        "<figure class=\"anim\"><div class=\"player\">{svg}\
+                        "<figure class=\"anim\"><div class=\"player\">{scroll}{svg}</div>\
                          <div class=\"controls\" hidden><button type=\"button\" aria-label=\"Play or pause {alt}\">Pause</button>\
                          <input type=\"range\" min=\"0\" max=\"1\" step=\"0.01\" value=\"0\" aria-label=\"Animation time of {alt}, seconds\">\
                          <output aria-live=\"off\">0.00 s</output></div></div><figcaption>{alt}",
+                        scroll = figscroll_open(&alt),
                         svg = inline_svg(markup, &alt)
                     );
                 }
                 _ => {
                     let _ = write!(
                         s,
-                        "<figure><a href=\"{src}\"><img src=\"{src}\" alt=\"{alt}\" loading=\"lazy\"></a><figcaption>{alt}"
+                        "<figure>{scroll}<a href=\"{src}\"><img src=\"{src}\" alt=\"{alt}\" loading=\"lazy\"></a></div><figcaption>{alt}",
+                        scroll = figscroll_open(&alt)
                     );
                 }
             }
@@ -501,6 +537,7 @@ fn figures_html(s: &mut String, figures: &[PathBuf], options: &ReportOptions) {
                     escape(&extension(f))
                 );
             }
+            s.push_str(FIGHINT);
             s.push_str("</figcaption></figure>\n");
         }
         s.push_str("</div>\n");
@@ -522,6 +559,21 @@ fn figures_html(s: &mut String, figures: &[PathBuf], options: &ReportOptions) {
         s.push_str("</p>\n");
     }
 }
+
+/// The opening tag of the frame that shows a figure at its own size (its text at the size it
+/// was drawn, ≥ 12 px = 9 pt) and scrolls sideways inside the card when the screen is
+/// narrower; focusable, so the keyboard can scroll it. `label` is already escaped.
+pub fn figscroll_open(label: &str) -> String {
+    format!(
+        "<div class=\"scroll figscroll\" tabindex=\"0\" role=\"region\" aria-label=\"figure {label}, \
+         at its own size\">"
+    )
+}
+
+/// The caption's hint, shown on screens narrower than a full-size figure (CSS), that the
+/// figure is at its own size and scrolls sideways.
+pub const FIGHINT: &str =
+    "<span class=\"fighint\"> · shown at its own size: scroll sideways to see all of it</span>";
 
 /// An SVG document's markup for inlining into the page: the XML declaration and doctype
 /// dropped, `role="img"` and the accessible name `label` (already escaped) added to the root.
@@ -726,6 +778,19 @@ mod tests {
         assert_eq!(a.matches("<figure>").count(), 4, "{a}");
         // SVG shown when a PNG shares the stem; both linked.
         assert!(a.contains("<img src=\"figures/fig/step.svg\" alt=\"step\" loading=\"lazy\">"));
+        // Shown at its own size in a frame that scrolls sideways on a narrow screen, with the
+        // hint in the caption.
+        assert!(a.contains(
+            "<figure><div class=\"scroll figscroll\" tabindex=\"0\" role=\"region\" \
+             aria-label=\"figure step, at its own size\"><a href=\"figures/fig/step.svg\">"
+        ));
+        assert_eq!(a.matches(FIGHINT).count(), 4);
+        for rule in [
+            "figure .figscroll img, figure .figscroll svg { max-width:none; }",
+            "@media (max-width:1179px) {\n  .fighint { display:inline; }",
+        ] {
+            assert!(STYLE.contains(rule), "{rule}");
+        }
         assert!(a.contains("<a href=\"figures/fig/step.png\">png</a>"));
         // The animation: SVG shown, GIF linked; the space is percent-encoded.
         assert!(a.contains("<img src=\"figures/fig/cart%20anim.svg\""));
@@ -825,6 +890,33 @@ mod tests {
     }
 
     #[test]
+    fn partly_compared_examples_list_what_is_not_compared_and_units_show() {
+        let mut o = ExampleOutput::default();
+        o.value("K", Value::Vector(vec![1.0, 2.0]));
+        o.value("a_c", Value::Number(6.25));
+        o.unit(&["a_c"], "1/s");
+        o.reference("K", Value::Vector(vec![1.0, 2.0]), "x.m line 3", 5e-5);
+        o.uncompared.push(crate::output::Uncompared {
+            what: "x.m: L (line 41)".into(),
+            why: "not unique <with two outputs>".into(),
+        });
+        let page = html(
+            &[entry("part", "Part 1 §7.4", Ok(o))],
+            &ReportOptions::default(),
+        );
+        let a = article(&page, "part");
+        assert!(
+            a.contains("badge st-part\">agrees where compared</span>"),
+            "{a}"
+        );
+        assert!(!a.contains(">reproduced<"));
+        assert!(a.contains("<li>x.m: L (line 41): not unique &lt;with two outputs&gt;</li>"));
+        assert!(a.contains("<td class=\"name\">a_c<span class=\"unit\">1/s</span></td>"));
+        assert!(a.contains("<td class=\"name\">K</td>"));
+        assert!(page.contains("1 agrees where compared") && page.contains("0 reproduced"));
+    }
+
+    #[test]
     fn values_without_book_values_have_no_book_columns() {
         let mut o = ExampleOutput::default();
         o.value("rank", Value::Number(2.0));
@@ -864,8 +956,10 @@ mod tests {
         assert_eq!(a.matches("<div class=\"player\">").count(), 1, "{a}");
         // Inlined without the XML declaration, named for assistive technology.
         assert!(a.contains(
-            "<figure class=\"anim\"><div class=\"player\"><svg role=\"img\" aria-label=\"a\" \
-             xmlns=\"http://www.w3.org/2000/svg\" width=\"480\"><animate dur=\"2s\"/></svg>"
+            "<figure class=\"anim\"><div class=\"player\"><div class=\"scroll figscroll\" \
+             tabindex=\"0\" role=\"region\" aria-label=\"figure a, at its own size\"><svg \
+             role=\"img\" aria-label=\"a\" xmlns=\"http://www.w3.org/2000/svg\" \
+             width=\"480\"><animate dur=\"2s\"/></svg></div>"
         ));
         assert!(!a.contains("<?xml"));
         // The controls: a button and a range input, hidden until the script shows them.

@@ -16,7 +16,7 @@
 pub mod format;
 mod html;
 
-pub use html::html;
+pub use html::{FIGHINT, STYLE, figscroll_open, html};
 
 use crate::error::BookError;
 use crate::output::ExampleOutput;
@@ -48,8 +48,13 @@ impl Entry {
 /// What became of one example.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Status {
-    /// It ran, compares with at least one printed value, and reproduces every one.
+    /// It ran, compares with at least one printed value, reproduces every one, and every
+    /// number the book prints or the M-file displays is compared
+    /// ([`ExampleOutput::uncompared`] is empty).
     Reproduced,
+    /// It ran and reproduces every value it compares, but some number the book prints or the
+    /// M-file displays is not compared ([`ExampleOutput::uncompared`], each with the reason).
+    PartlyCompared,
     /// It ran; there is no printed value to compare with.
     Runs,
     /// It ran, but at least one printed value is not reproduced within its tolerance.
@@ -62,8 +67,9 @@ pub enum Status {
 
 impl Status {
     /// Every status, in the order the report lists them.
-    pub const ALL: [Status; 5] = [
+    pub const ALL: [Status; 6] = [
         Status::Reproduced,
+        Status::PartlyCompared,
         Status::Runs,
         Status::Differs,
         Status::NeedsData,
@@ -80,7 +86,11 @@ impl Status {
                 if comparisons.is_empty() {
                     Status::Runs
                 } else if comparisons.iter().all(|c| c.reproduced) {
-                    Status::Reproduced
+                    if out.uncompared.is_empty() {
+                        Status::Reproduced
+                    } else {
+                        Status::PartlyCompared
+                    }
                 } else {
                     Status::Differs
                 }
@@ -92,6 +102,7 @@ impl Status {
     pub fn label(self) -> &'static str {
         match self {
             Status::Reproduced => "reproduced",
+            Status::PartlyCompared => "agrees where compared",
             Status::Runs => "runs",
             Status::Differs => "differs from book",
             Status::NeedsData => "needs data",
@@ -103,6 +114,7 @@ impl Status {
     fn class(self) -> &'static str {
         match self {
             Status::Reproduced => "st-ok",
+            Status::PartlyCompared => "st-part",
             Status::Runs => "st-runs",
             Status::Differs => "st-differs",
             Status::NeedsData => "st-data",
@@ -118,6 +130,8 @@ pub struct Summary {
     pub total: usize,
     /// [`Status::Reproduced`].
     pub reproduced: usize,
+    /// [`Status::PartlyCompared`].
+    pub partly_compared: usize,
     /// [`Status::Runs`].
     pub runs: usize,
     /// [`Status::Differs`].
@@ -150,6 +164,7 @@ impl Summary {
     pub fn count(&self, status: Status) -> usize {
         match status {
             Status::Reproduced => self.reproduced,
+            Status::PartlyCompared => self.partly_compared,
             Status::Runs => self.runs,
             Status::Differs => self.differs,
             Status::NeedsData => self.needs_data,
@@ -160,6 +175,7 @@ impl Summary {
     fn count_mut(&mut self, status: Status) -> &mut usize {
         match status {
             Status::Reproduced => &mut self.reproduced,
+            Status::PartlyCompared => &mut self.partly_compared,
             Status::Runs => &mut self.runs,
             Status::Differs => &mut self.differs,
             Status::NeedsData => &mut self.needs_data,
@@ -376,6 +392,19 @@ mod tests {
         assert_eq!(Status::of(&needs), Status::NeedsData);
         let failed = Err(BookError::UnknownId("a".into()));
         assert_eq!(Status::of(&failed), Status::Failing);
+        // Every reference reproduced but a displayed number not compared: only partly.
+        let mut partly = ok_with(1.0, 1.0004, 5e-4).unwrap();
+        partly.uncompared.push(crate::output::Uncompared {
+            what: "x.m: L (line 41)".into(),
+            why: "not unique".into(),
+        });
+        assert_eq!(Status::of(&Ok(partly.clone())), Status::PartlyCompared);
+        // ... and a failing comparison still makes it differ.
+        partly.values[0].1 = Value::Number(1.001);
+        assert_eq!(Status::of(&Ok(partly.clone())), Status::Differs);
+        // Nothing compared at all: it runs.
+        partly.references.clear();
+        assert_eq!(Status::of(&Ok(partly)), Status::Runs);
         // A reference to a value the example never reported does not count as reproduced.
         let mut o = ExampleOutput::default();
         o.reference("missing", Value::Number(1.0), "book", 1.0);
@@ -410,6 +439,7 @@ mod tests {
             Summary {
                 total: 3,
                 reproduced: 1,
+                partly_compared: 0,
                 runs: 1,
                 differs: 0,
                 needs_data: 0,

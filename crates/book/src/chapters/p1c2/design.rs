@@ -118,6 +118,19 @@ pub(super) fn p1c221_id_cart(ctx: &RunContext) -> Result<ExampleOutput, BookErro
     let kx = round3(mean(&|c| c.k, &exact));
     out.value("ac_unquantised", Value::Number(1.0 / tx));
     out.value("bc_unquantised", Value::Number(kx / tx));
+    // The drive model z̈ = −a_c ż + b_c v (z in m, v in V): K = b_c/a_c is the steady
+    // velocity per volt, T = 1/a_c the time constant.
+    let (ks, ts): (Vec<String>, Vec<String>) = (1..=ids.len())
+        .map(|j| (format!("K{j}"), format!("T{j}")))
+        .unzip();
+    let ks: Vec<&str> = ks.iter().map(String::as_str).collect();
+    let ts: Vec<&str> = ts.iter().map(String::as_str).collect();
+    out.unit(&["ac", "a", "ac_unquantised"], "1/s")
+        .unit(&["bc", "b", "bc_unquantised"], "m/(s²·V)")
+        .unit(&["Kave"], "m/(s·V)")
+        .unit(&ks, "m/(s·V)")
+        .unit(&["Tave"], "s")
+        .unit(&ts, "s");
     // The book prints a = 6.250e+00, b = 4.362e+00 (Kave = 0.698, Tave = 0.160 → b = 4.3625):
     // both are exact results of the rounded means, so the tolerance is the rounding of b's
     // last printed digit.

@@ -264,6 +264,14 @@ pub(super) fn p1c332_adip_id_pend(ctx: &RunContext) -> Result<ExampleOutput, Boo
     out.value("mu2", Value::Number(mu2));
     out.value("Amax", Value::Vector(osc.amax.clone()));
     out.value("tmax", Value::Vector(osc.tmax.clone()));
+    out.unit(&["T", "T_average", "tmax"], "s")
+        .unit(&["gamma"], "1/s")
+        .unit(&["delta", "omega_n"], "rad/s")
+        .unit(&["m2"], "kg")
+        .unit(&["l2"], "m")
+        .unit(&["g"], "m/s²")
+        .unit(&["J2"], "kg·m²")
+        .unit(&["mu2"], "kg·m²/s");
     if ctx.data_csv.is_none() {
         // What the M-file displays on its record (lines 94-95 in MATLAB's short format, four
         // decimals; lines 143-160: T(i), lambda(i) as %5.3e, the rest as %5.2e), half a unit

@@ -39,6 +39,9 @@ pub(super) fn p1c321_cdip_plot_pcont(ctx: &RunContext) -> Result<ExampleOutput, 
     out.value("z_max", Value::Vector(zmax));
     out.value("t_z_max", Value::Vector(tmax));
     out.value("phi_max", Value::Vector(thmax));
+    out.unit(&["z_max"], "m")
+        .unit(&["t_z_max"], "s")
+        .unit(&["phi_max"], "rad");
     out.notes.push(
         "Measured on the rig: u = k_P (0.2 − z), k_P = 2.5, 5, 10, 20 (values in that order), \
          the reference stepping at t = 1 s, the pendulum hanging. z_max: largest cart position \

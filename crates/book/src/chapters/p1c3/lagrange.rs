@@ -95,6 +95,18 @@ pub(super) fn p1c311_cdip_lagrange(ctx: &RunContext) -> Result<ExampleOutput, Bo
          largest change of E)."
             .into(),
     );
+    super::super::mfile_refs::symbolic_note(
+        &mut out,
+        ID311,
+        "the cart pendulum's equations of motion eq (line 48) by the Euler–Lagrange equations \
+         of W − U with the dissipation D and a force f_c on the cart, in symbolic m_c, μ_c, \
+         J_p, m_p, μ_p, g, l_p",
+        "three ways: pendulab-plants' model (the same pendulum equation, with the cart driven \
+         as the acceleration source z̈ = −a_c ż + b_c v that the book identifies) against a \
+         SymPy Euler–Lagrange derivation at 40 digits (tools/reference/plants_lagrange.py, \
+         plants' cart.rs), its linearisation against the closed form of docs/model.md §1 \
+         (cart.rs), and here by the energy and power balance of the simulated motion",
+    );
     if ctx.figures {
         let phi_free: Vec<f64> = free.x_signal(1).iter().map(|th| th - PI).collect();
         let phi_dr: Vec<f64> = driven.x_signal(1).iter().map(|th| th - PI).collect();

@@ -142,6 +142,10 @@ pub(super) fn report_peak_feature(
         "sysGyr_den",
         Value::Vector(vec![1.0, 2.0 * f.zeta * f.omega_n, w2]),
     );
+    // γ = ζω_n (decay rate), δ = ω_n√(1−ζ²) (damped frequency) of the fitted second order.
+    out.unit(&["Tp"], "s")
+        .unit(&["gamma"], "1/s")
+        .unit(&["delta", "omega_n"], "rad/s");
 }
 
 pub(super) const ID321C: &str = "p1c321_cdip_id_cart";
@@ -159,6 +163,7 @@ pub(super) fn p1c321_cdip_id_cart(ctx: &RunContext) -> Result<ExampleOutput, Boo
     let mut out = ExampleOutput::default();
     report_peak_feature(&mut out, &f, "ac", "bc");
     out.value("fit_percent", Value::Number(val.fit_percent));
+    out.unit(&["ac"], "1/s").unit(&["bc"], "m/(s²·V)");
     // What the M-file displays (lines 59-71: fprintf %5.2e, and the tf of line 71 with four
     // significant digits), as GNU Octave 7.3.0 printed it running the M-file unchanged.
     let text = include_str!("../../../tests/data/octave/p1c321_cdip_id_cart.txt");
@@ -192,6 +197,7 @@ pub(super) fn p1c321_cdip_id_cart(ctx: &RunContext) -> Result<ExampleOutput, Boo
         &[
             "Tp", "Amax", "gamma_c", "delta_c", "omega_nc", "zeta_c", "ac", "bc", "sysGyr",
         ],
+        &[],
         &[],
     );
     out.notes.push(
@@ -256,6 +262,15 @@ pub(super) fn p1c321_cdip_id_pend(ctx: &RunContext) -> Result<ExampleOutput, Boo
     out.value("mp", Value::Number(c.mp));
     out.value("lp", Value::Number(c.lp));
     out.value("g", Value::Number(c.g));
+    // γ = ln(1/λ̄)/T̄, δ = 2π/T̄ (ident's Oscillation::second_order).
+    out.unit(&["Jp"], "kg·m²")
+        .unit(&["mup"], "kg·m²/s")
+        .unit(&["period", "T", "T_average"], "s")
+        .unit(&["gamma"], "1/s")
+        .unit(&["delta", "omega_n"], "rad/s")
+        .unit(&["mp"], "kg")
+        .unit(&["lp"], "m")
+        .unit(&["g"], "m/s²");
     // What the M-file displays, as GNU Octave 7.3.0 printed it running the M-file unchanged:
     // T_average, lambda_average (lines 99-100), T(i), lambda(i) (%5.3e, lines 149-152), the
     // rest %5.2e (lines 154-165).
@@ -317,6 +332,7 @@ pub(super) fn p1c321_cdip_id_pend(ctx: &RunContext) -> Result<ExampleOutput, Boo
             "Jp",
             "mup",
         ],
+        &[],
         &[(
             "T, lambda of lines 154-155",
             "T_average and lambda_average again, to three digits",
@@ -368,6 +384,10 @@ pub(super) fn p1c322_cdip_id_least_square(ctx: &RunContext) -> Result<ExampleOut
     out.value("bc", Value::Number(drive.b));
     out.value("Jp", Value::Number(pend.jp));
     out.value("mup", Value::Number(pend.mup));
+    out.unit(&["ac"], "1/s")
+        .unit(&["bc"], "m/(s²·V)")
+        .unit(&["Jp"], "kg·m²")
+        .unit(&["mup"], "kg·m²/s");
     // Table 3.5 prints the estimates of this recipe to three significant digits: half a unit
     // of the last digit.
     let src = "book table 3.5";

@@ -52,6 +52,7 @@ pub(super) fn p2c112_ex1(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
              feasible set answers the question, so no other run's digits are the M-file's; \
              pendulab's P is checked against the LMIs instead",
         )],
+        &[],
     );
     save_figure(
         ctx,
@@ -349,6 +350,7 @@ fn p2c122_display_references(
                 "Kt_LQ",
                 "poles_LQ",
             ],
+            &[],
             &[lq_pair],
         );
     } else {
@@ -364,14 +366,12 @@ fn p2c122_display_references(
             out,
             id,
             &["trace_X", "Kt_LQ", "poles_LQ"],
-            &[
-                (
-                    "X, L, Kt, trace_invX, K1, K2, poles",
-                    "not determined by this objective (see the note on Kt above): any solver's \
+            &[(
+                "X, L, Kt, trace_invX, K1, K2, poles",
+                "not determined by this objective (see the note on Kt above): any solver's \
                      digits, the M-file's included, are where it stopped",
-                ),
-                lq_pair,
-            ],
+            )],
+            &[lq_pair],
         );
     }
     Ok(())

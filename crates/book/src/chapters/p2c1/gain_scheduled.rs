@@ -83,6 +83,7 @@ pub(super) fn p2c15_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         &mut out,
         id,
         &["Kt", "K1", "K2"],
+        &[],
         &[(
             "the response",
             "a Simulink run (adip_lqr_servo_sim, line 51), drawn, not displayed",
@@ -304,6 +305,7 @@ pub(super) fn p2c15_gs(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
                  schedule by its own SOS residual checks instead",
             ),
         ],
+        &[],
     );
     out.notes.push(format!(
         "Why gamma_obj differs from the book's 236 by more than the printed digit: pendulab solves the \

@@ -157,6 +157,7 @@ pub(super) fn p2c13_lqr(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         &mut out,
         id,
         &["Kt_LQ", "ve", "vertex", "K1", "K2"],
+        &[],
         &[(
             "the responses at the vertices",
             "Simulink runs (adip_servo_sim, line 64 on), drawn, not displayed",
@@ -309,6 +310,7 @@ fn mfile_display_references(
                 "K1",
                 "K2",
             ],
+            &[],
             &[(
                 "the closed-loop poles",
                 "drawn (line 96), not displayed; reported here as poles per vertex",
@@ -336,6 +338,7 @@ fn mfile_display_references(
                      trace(inv(X)) = 6.6e5); any solver's digits, the M-file's included, are \
                      where it stopped",
             )],
+            &[],
         );
     }
     Ok(())

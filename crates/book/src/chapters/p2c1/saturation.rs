@@ -261,6 +261,7 @@ fn saturation_display_references(id: &str, out: &mut ExampleOutput) -> Result<()
                 "the solver's report and the constraint list, not numbers of the design",
             ),
         ],
+        &[],
     );
     Ok(())
 }
