@@ -22,7 +22,34 @@
 //! ```
 //!
 //! (an observer of the worst-case disturbance `ŵ = γ⁻²B₁ᵀX∞x̂`); a non-zero `D₂₂` is
-//! handled by loop shifting ([`StandardPlant::shift_d22`]). The state-feedback
+//! handled by loop shifting ([`StandardPlant::shift_d22`]).
+//!
+//! **`D₁₁ ≠ 0`** (Glover & Doyle, "State-space formulae for all stabilizing controllers that
+//! satisfy an H∞-norm bound and relations to risk sensitivity", Systems & Control Letters
+//! 11, 1988; Zhou, Doyle & Glover §17.1, theorem 17.1; the formulas of SLICOT `SB10AD`):
+//! the plant is first normalised to `D₁₂ = [0; I]`, `D₂₁ = [0 I]` by `u = T_u ũ`
+//! (`T_u = (D₁₂ᵀD₁₂)^{-1/2}`), `ỹ = T_y y` (`T_y = (D₂₁D₂₁ᵀ)^{-1/2}`) and orthogonal changes of
+//! `z` and `w` (which leave `‖T_zw‖∞` unchanged). `D₁₁` is partitioned conformally,
+//! `D₁₁ = [D₁₁₁₁ D₁₁₁₂; D₁₁₂₁ D₁₁₂₂]` with `D₁₁₂₂` of size `ncon × nmeas`: no controller
+//! changes `D₁₁₁₁`, `D₁₁₁₂` (the `z` directions `u` cannot reach) or `D₁₁₂₁` (the `w`
+//! directions `y` does not see), so a level is feasible only if (condition 0)
+//! `γ > max(‖[D₁₁₁₁ D₁₁₁₂]‖₂, ‖[D₁₁₁₁; D₁₁₂₁]‖₂)` ([`HinfCondition::D11Bound`]). With
+//! `D₁• = [D₁₁ D₁₂]`, `D•₁ = [D₁₁; D₂₁]`, `R = D₁•ᵀD₁• − diag(γ²I, 0)`,
+//! `R̃ = D•₁D•₁ᵀ − diag(γ²I, 0)`, `B = [B₁ B₂]`, `C = [C₁; C₂]`, the Riccati equations are
+//! `AₓᵀX + XAₓ − X B R⁻¹Bᵀ X + C₁ᵀ(I − D₁•R⁻¹D₁•ᵀ)C₁ = 0`, `Aₓ = A − BR⁻¹D₁•ᵀC₁`, and
+//! `A_yY + YA_yᵀ − Y CᵀR̃⁻¹C Y + B₁(I − D•₁ᵀR̃⁻¹D•₁)B₁ᵀ = 0`, `A_y = A − B₁D•₁ᵀR̃⁻¹C`
+//! (conditions 1–3 as above). With `F = −R⁻¹(D₁•ᵀC₁ + BᵀX∞) = [F₁₁; F₁₂; F₂]`,
+//! `L = −(B₁D•₁ᵀ + Y∞Cᵀ)R̃⁻¹ = [L₁₁ L₁₂ L₂]`, `Z = (I − γ⁻²Y∞X∞)⁻¹` and
+//! `D̂₁₁ = −D₁₁₂₁D₁₁₁₁ᵀ(γ²I − D₁₁₁₁D₁₁₁₁ᵀ)⁻¹D₁₁₁₂ − D₁₁₂₂`, the central controller is
+//!
+//! ```text
+//! B̂₁ = −Z L₂ + Z (B₂ + L₁₂) D̂₁₁,   Ĉ₁ = F₂ − D̂₁₁ (C₂ + F₁₂),
+//! Â = A + B F − B̂₁ (C₂ + F₁₂),      K̃ = (Â, B̂₁, Ĉ₁, D̂₁₁),
+//! ```
+//!
+//! mapped back as `K = (Â, B̂₁T_y, T_uĈ₁, T_uD̂₁₁T_y)`. These formulas are used whenever
+//! `D₁₁ ≠ 0` (for `D₁₁ = 0` they reduce to the ones above, which are used then; a unit test
+//! checks that both give the same optimal level). The state-feedback
 //! (full-information) problem needs condition 1 only, with the static gain
 //! `u = −K x`, `K = R₁⁻¹(B₂ᵀX∞ + D₁₂ᵀC₁)` ([`hinf_state_feedback`]).
 //!
@@ -47,6 +74,8 @@ use crate::domain::Continuous;
 use crate::equations::lyap;
 use crate::equations::riccati::solution_from_subspace;
 use crate::error::{LtiError, Result};
+#[cfg(test)]
+use crate::linalg::Complex64;
 use crate::linalg::schur::real_schur;
 use crate::linalg::{Mat, eigenvalues, symmetric_eigenvalues, symmetrize};
 use crate::state_space::StateSpace;
@@ -99,6 +128,13 @@ pub enum HinfCondition {
         /// Its smallest eigenvalue.
         min_eigenvalue: f64,
     },
+    /// `γ` is not above the bound that `D₁₁` sets (condition 0 of the `D₁₁ ≠ 0` formulas):
+    /// `γ ≤ max(‖[D₁₁₁₁ D₁₁₁₂]‖₂, ‖[D₁₁₁₁; D₁₁₂₁]‖₂)`, the parts of `D₁₁` that no
+    /// controller can reach (module documentation).
+    D11Bound {
+        /// The bound `max(‖[D₁₁₁₁ D₁₁₁₂]‖₂, ‖[D₁₁₁₁; D₁₁₂₁]‖₂)`.
+        bound: f64,
+    },
     /// The coupling condition fails: `ρ(X∞Y∞) ≥ γ²` (condition 3).
     SpectralRadius {
         /// `ρ(X∞Y∞)`.
@@ -124,6 +160,10 @@ impl std::fmt::Display for HinfCondition {
             HinfCondition::SpectralRadius { rho, gamma_squared } => {
                 write!(f, "ρ(X∞Y∞) = {rho:e} ≥ γ² = {gamma_squared:e}")
             }
+            HinfCondition::D11Bound { bound } => write!(
+                f,
+                "γ ≤ max(‖[D1111 D1112]‖, ‖[D1111; D1121]‖) = {bound:e}, the part of D11 no controller reaches"
+            ),
         }
     }
 }
@@ -207,14 +247,15 @@ pub struct GammaOptimal<T> {
 ///
 /// # Errors
 /// [`LtiError::InvalidArgument`] unless `γ` is finite and positive;
-/// [`LtiError::SynthesisAssumption`] for a plant violating an assumption (`D₁₁ = 0`
-/// included); [`LtiError::HinfInfeasible`] naming the failed [`HinfCondition`];
+/// [`LtiError::SynthesisAssumption`] for a plant violating an assumption (any `D₁₁` is
+/// accepted); [`LtiError::HinfInfeasible`] naming the failed [`HinfCondition`]
+/// ([`HinfCondition::D11Bound`] when `γ` is not above the bound `D₁₁` sets);
 /// numerical errors of the eigenvalue and Lyapunov solvers.
 #[doc(alias = "hinfsyn")]
 pub fn hinf_syn(plant: &StandardPlant, gamma: f64) -> Result<HinfController> {
     check_gamma(gamma)?;
-    plant.check_assumptions(true)?;
-    output_feedback_at(plant, gamma)
+    plant.check_assumptions(false)?;
+    output_feedback(plant, gamma)
 }
 
 /// The optimal output-feedback H∞ level by bisection on `γ` (geometric means), each level
@@ -229,8 +270,13 @@ pub fn hinf_syn_optimal(
     plant: &StandardPlant,
     options: &GammaIteration,
 ) -> Result<GammaOptimal<HinfController>> {
-    plant.check_assumptions(true)?;
-    gamma_iteration(options, |g| output_feedback_at(plant, g))
+    plant.check_assumptions(false)?;
+    if d11_is_zero(plant) {
+        gamma_iteration(options, |g| output_feedback_at(plant, g))
+    } else {
+        let normalized = Normalized::new(plant)?;
+        gamma_iteration(options, |g| output_feedback_d11(plant, &normalized, g))
+    }
 }
 
 /// The state-feedback (full-information) H∞ gain `u = −K x` at the level `γ`: condition 1
@@ -641,4 +687,296 @@ fn state_feedback_at(plant: &StandardPlant, gamma: f64) -> Result<HinfStateFeedb
         x,
         closed_loop,
     })
+}
+
+fn d11_is_zero(plant: &StandardPlant) -> bool {
+    plant.d11().iter().all(|v| *v == 0.0)
+}
+
+/// The central controller at `γ` by the formulas for the plant's `D₁₁`.
+fn output_feedback(plant: &StandardPlant, gamma: f64) -> Result<HinfController> {
+    if d11_is_zero(plant) {
+        output_feedback_at(plant, gamma)
+    } else {
+        output_feedback_d11(plant, &Normalized::new(plant)?, gamma)
+    }
+}
+
+/// The plant normalised to `D₁₂ = [0; I]`, `D₂₁ = [0 I]` (module documentation): `z̃ = Q₁₂ᵀz`,
+/// `w = Q₂₁w̃` with orthogonal `Q₁₂`, `Q₂₁`, `u = T_u ũ`, `ỹ = T_y y`; `D₂₂` is ignored
+/// (loop-shifted by the caller).
+struct Normalized {
+    b1: Mat,
+    b2: Mat,
+    c1: Mat,
+    c2: Mat,
+    d11: Mat,
+    tu: Mat,
+    ty: Mat,
+    /// `max(‖[D₁₁₁₁ D₁₁₁₂]‖₂, ‖[D₁₁₁₁; D₁₁₂₁]‖₂)`.
+    bound: f64,
+}
+
+/// `M^{-1/2}` of a symmetric positive definite `M` (by its eigendecomposition).
+fn inverse_sqrt(what: &str, m: &Mat) -> Result<Mat> {
+    let eig = symmetrize(m).symmetric_eigen();
+    let min = eig
+        .eigenvalues
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    if min.is_nan() || min <= 0.0 {
+        return Err(LtiError::NotPositiveDefinite {
+            what: what.into(),
+            min_eigenvalue: min,
+        });
+    }
+    let v = &eig.eigenvectors;
+    let s = Mat::from_diagonal(&eig.eigenvalues.map(|l| 1.0 / l.sqrt()));
+    Ok(symmetrize(&(v * s * v.transpose())))
+}
+
+/// An orthonormal basis of the orthogonal complement of the range of `u` (orthonormal
+/// columns): the eigenvectors of the projector `I − UUᵀ` for the eigenvalue 1.
+fn complement(u: &Mat) -> Mat {
+    let k = u.nrows();
+    let p = symmetrize(&(Mat::identity(k, k) - u * u.transpose()));
+    let eig = p.symmetric_eigen();
+    let cols: Vec<usize> = (0..k).filter(|&i| eig.eigenvalues[i] > 0.5).collect();
+    let mut out = Mat::zeros(k, cols.len());
+    for (j, &i) in cols.iter().enumerate() {
+        out.set_column(j, &eig.eigenvectors.column(i));
+    }
+    out
+}
+
+/// `[M N]` (same rows).
+fn hcat(m: &Mat, n: &Mat) -> Mat {
+    let mut out = Mat::zeros(m.nrows(), m.ncols() + n.ncols());
+    out.view_mut((0, 0), m.shape()).copy_from(m);
+    out.view_mut((0, m.ncols()), n.shape()).copy_from(n);
+    out
+}
+
+/// `[M; N]` (same columns).
+fn vcat(m: &Mat, n: &Mat) -> Mat {
+    hcat(&m.transpose(), &n.transpose()).transpose()
+}
+
+/// The largest singular value (`0` for an empty matrix).
+fn norm2(m: &Mat) -> f64 {
+    super::standard_plant::singular_values(m)
+        .into_iter()
+        .fold(0.0, f64::max)
+}
+
+impl Normalized {
+    fn new(plant: &StandardPlant) -> Result<Self> {
+        let (d12, d21) = (plant.d12(), plant.d21());
+        let tu = inverse_sqrt("D12ᵀD12", &(d12.transpose() * &d12))?;
+        let ty = inverse_sqrt("D21D21ᵀ", &(&d21 * d21.transpose()))?;
+        let u2 = &d12 * &tu;
+        let v2 = (&ty * &d21).transpose();
+        let q12 = hcat(&complement(&u2), &u2);
+        let q21 = hcat(&complement(&v2), &v2);
+        let d11 = q12.transpose() * plant.d11() * &q21;
+        let (nd1, nd2) = (plant.nz() - plant.ncon(), plant.nw() - plant.nmeas());
+        let bound =
+            norm2(&d11.rows(0, nd1).clone_owned()).max(norm2(&d11.columns(0, nd2).clone_owned()));
+        Ok(Self {
+            b1: plant.b1() * &q21,
+            b2: plant.b2() * &tu,
+            c1: q12.transpose() * plant.c1(),
+            c2: &ty * plant.c2(),
+            d11,
+            tu,
+            ty,
+            bound,
+        })
+    }
+}
+
+/// `M⁻¹` of a square matrix or the condition [`HinfCondition::D11Bound`] (`R`, `R̃` are
+/// invertible above the bound).
+fn inverse_or_bound(m: Mat, gamma: f64, bound: f64) -> Result<Mat> {
+    if m.nrows() == 0 {
+        return Ok(m);
+    }
+    m.try_inverse()
+        .ok_or_else(|| infeasible(gamma, HinfCondition::D11Bound { bound }))
+}
+
+/// The central controller at `γ` by the general (`D₁₁ ≠ 0`) formulas of the module
+/// documentation (assumptions already checked).
+fn output_feedback_d11(
+    plant: &StandardPlant,
+    nm: &Normalized,
+    gamma: f64,
+) -> Result<HinfController> {
+    let bound = nm.bound;
+    if gamma.is_nan() || gamma <= bound {
+        return Err(infeasible(gamma, HinfCondition::D11Bound { bound }));
+    }
+    let (n, nw, nz, ny, nu) = (
+        plant.nx(),
+        plant.nw(),
+        plant.nz(),
+        plant.nmeas(),
+        plant.ncon(),
+    );
+    let (nd1, nd2) = (nz - nu, nw - ny);
+    let g2 = gamma * gamma;
+    let a = plant.a();
+    let (b1, b2, c1, c2, d11) = (&nm.b1, &nm.b2, &nm.c1, &nm.c2, &nm.d11);
+    let mut d12 = Mat::zeros(nz, nu);
+    d12.view_mut((nd1, 0), (nu, nu)).fill_with_identity();
+    let mut d21 = Mat::zeros(ny, nw);
+    d21.view_mut((0, nd2), (ny, ny)).fill_with_identity();
+    let b = hcat(b1, b2);
+    let c = vcat(c1, c2);
+    // X∞.
+    let d1dot = hcat(d11, &d12);
+    let mut r = d1dot.transpose() * &d1dot;
+    for i in 0..nw {
+        r[(i, i)] -= g2;
+    }
+    let rinv = inverse_or_bound(r, gamma, bound)?;
+    let ax = a - &b * &rinv * d1dot.transpose() * c1;
+    let gx = symmetrize(&(&b * &rinv * b.transpose()));
+    let qx = symmetrize(
+        &(c1.transpose() * c1 - c1.transpose() * &d1dot * &rinv * d1dot.transpose() * c1),
+    );
+    let x = psd_solution(gamma, HinfRiccati::X, &ax, &gx, &qx)?;
+    // Y∞.
+    let ddot1 = vcat(d11, &d21);
+    let mut rt = &ddot1 * ddot1.transpose();
+    for i in 0..nz {
+        rt[(i, i)] -= g2;
+    }
+    let rtinv = inverse_or_bound(rt, gamma, bound)?;
+    let ay = a - b1 * ddot1.transpose() * &rtinv * &c;
+    let gy = symmetrize(&(c.transpose() * &rtinv * &c));
+    let qy = symmetrize(
+        &(b1 * b1.transpose() - b1 * ddot1.transpose() * &rtinv * &ddot1 * b1.transpose()),
+    );
+    let y = psd_solution(gamma, HinfRiccati::Y, &ay.transpose(), &gy, &qy)?;
+    let rho = spectral_radius(&(&x * &y))?;
+    let coupling = || {
+        infeasible(
+            gamma,
+            HinfCondition::SpectralRadius {
+                rho,
+                gamma_squared: g2,
+            },
+        )
+    };
+    if rho.is_nan() || rho >= g2 {
+        return Err(coupling());
+    }
+    let f = -(&rinv * (d1dot.transpose() * c1 + b.transpose() * &x));
+    let l = -((b1 * ddot1.transpose() + &y * c.transpose()) * &rtinv);
+    let f12 = f.rows(nd2, ny).clone_owned();
+    let f2 = f.rows(nw, nu).clone_owned();
+    let l12 = l.columns(nd1, nu).clone_owned();
+    let l2 = l.columns(nz, ny).clone_owned();
+    let d1111 = d11.view((0, 0), (nd1, nd2)).clone_owned();
+    let d1112 = d11.view((0, nd2), (nd1, ny)).clone_owned();
+    let d1121 = d11.view((nd1, 0), (nu, nd2)).clone_owned();
+    let d1122 = d11.view((nd1, nd2), (nu, ny)).clone_owned();
+    let gdum = inverse_or_bound(
+        Mat::identity(nd1, nd1) * g2 - &d1111 * d1111.transpose(),
+        gamma,
+        bound,
+    )?;
+    let dhat11 = -(&d1121 * d1111.transpose() * gdum * &d1112) - d1122;
+    let zinv = (Mat::identity(n, n) - &y * &x / g2).lu();
+    let zb2 = zinv.solve(&(b2 + &l12)).ok_or_else(coupling)?;
+    let zl2 = zinv.solve(&l2).ok_or_else(coupling)?;
+    let bhat1 = &zb2 * &dhat11 - zl2;
+    let c2f = c2 + f12;
+    let chat1 = f2 - &dhat11 * &c2f;
+    let ahat = a + &b * &f - &bhat1 * &c2f;
+    let k0 = StateSpace::continuous(
+        ahat,
+        bhat1 * &nm.ty,
+        &nm.tu * chat1,
+        &nm.tu * dhat11 * &nm.ty,
+    )?;
+    let controller = plant.shift_d22(k0)?;
+    let closed_loop = plant.close_loop(&controller)?;
+    Ok(HinfController {
+        controller,
+        gamma,
+        x,
+        y,
+        spectral_radius: rho,
+        closed_loop,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic pseudo-random plant (linear congruential generator) with `D₁₁ = 0`.
+    fn plant(seed: u64) -> StandardPlant {
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        let mut mat = |r: usize, c: usize| Mat::from_fn(r, c, |_, _| next());
+        let (n, nw, nu, nz, ny) = (5, 3, 2, 3, 1);
+        let (a, b1, b2, c1, c2) = (mat(n, n), mat(n, nw), mat(n, nu), mat(nz, n), mat(ny, n));
+        let (d12, d21, d22) = (mat(nz, nu), mat(ny, nw), mat(ny, nu));
+        StandardPlant::from_blocks(
+            &a,
+            &b1,
+            &b2,
+            &c1,
+            &c2,
+            &Mat::zeros(nz, nw),
+            &d12,
+            &d21,
+            &d22,
+        )
+        .unwrap()
+    }
+
+    /// For `D₁₁ = 0` the general formulas (normalised plant, `R`, `R̃`) and the DGKF ones
+    /// decide every level alike: the same optimal level, and at a level above it the same
+    /// closed loop (the central controller is unique up to a state transformation).
+    #[test]
+    fn general_formulas_reduce_to_dgkf() {
+        let options = GammaIteration {
+            tolerance: 1e-10,
+            ..GammaIteration::default()
+        };
+        for seed in [1, 2, 3] {
+            let p = plant(seed);
+            p.check_assumptions(true).unwrap();
+            let nm = Normalized::new(&p).unwrap();
+            assert_eq!(nm.bound, 0.0);
+            let dgkf = gamma_iteration(&options, |g| output_feedback_at(&p, g)).unwrap();
+            let general = gamma_iteration(&options, |g| output_feedback_d11(&p, &nm, g)).unwrap();
+            assert!(
+                (dgkf.gamma - general.gamma).abs() <= 1e-8 * dgkf.gamma,
+                "{seed}: {} vs {}",
+                dgkf.gamma,
+                general.gamma
+            );
+            let g = 1.1 * dgkf.gamma;
+            let (k0, k1) = (
+                output_feedback_at(&p, g).unwrap(),
+                output_feedback_d11(&p, &nm, g).unwrap(),
+            );
+            for w in [0.01, 0.3, 1.0, 7.0] {
+                let s = Complex64::new(0.0, w);
+                let d = k0.closed_loop.evaluate(s).unwrap() - k1.closed_loop.evaluate(s).unwrap();
+                assert!(d.norm() < 1e-7, "{seed} at {w}: {d}");
+            }
+        }
+    }
 }

@@ -40,8 +40,10 @@ pub enum PlantAssumption {
     P12NoImaginaryZeros,
     /// `P₂₁ = (A, B₁, C₂, D₂₁)` has no invariant zero on the imaginary axis.
     P21NoImaginaryZeros,
-    /// `D₁₁ = 0`: the Riccati formulas implemented here (and the H2 problem, whose norm is
-    /// infinite otherwise) need it; the LMI synthesis of `pendulab-lmi` accepts any `D₁₁`.
+    /// `D₁₁ = 0`: the H2 problem needs it (its norm is infinite otherwise), as do the
+    /// state-feedback H∞ formulas; the output-feedback H∞ synthesis accepts any `D₁₁`
+    /// ([`hinf_syn`](super::hinf_syn): Glover–Doyle formulas) and so does the LMI synthesis of
+    /// `pendulab-lmi`.
     D11Zero,
     /// The plant has at least one measurement and one control (output feedback).
     HasMeasurementsAndControls,

@@ -66,17 +66,20 @@ fn wrap(py: Python<'_>, s: Ss<Continuous>) -> PyResult<Py<PyAny>> {
 }
 
 /// `hinfsyn(P, nmeas, ncon, gamma=None, tol=1e-6)`: H∞ output-feedback synthesis by the
-/// Riccati equations of Doyle, Glover, Khargonekar & Francis (the central controller).
+/// Riccati equations of Doyle, Glover, Khargonekar & Francis (the central controller; for
+/// `D11 ≠ 0` the formulas of Glover & Doyle 1988, as SLICOT's SB10AD).
 /// Without `gamma`, the optimal level is found by bisection to the relative tolerance `tol`
 /// and the controller at the smallest feasible level found is returned (a controller this
 /// close to the optimum is ill-conditioned: ask for a `gamma` a little above `gam` for one
 /// to use); with `gamma`, the controller at that level. Returns `HinfsynResult`
-/// (`K, CL, gam = hinfsyn(...)`). Requires `D11 = 0`; `D22 ≠ 0` is handled by loop shifting.
+/// (`K, CL, gam = hinfsyn(...)`). Any `D11` (a level must exceed the bound
+/// max(‖[D1111 D1112]‖, ‖[D1111; D1121]‖) that no controller moves); `D22 ≠ 0` is handled by
+/// loop shifting.
 ///
 /// Raises `pendulab.InvalidArgumentError` (variant `SynthesisAssumption`) naming the violated
 /// assumption ((A, B2) stabilisable, (C2, A) detectable, D12 full column rank, D21 full row
-/// rank, no imaginary-axis zeros of P12 and P21, D11 = 0), `pendulab.InfeasibleError`
-/// (variant `HinfInfeasible`) naming the failed condition when `gamma` is below the optimum.
+/// rank, no imaginary-axis zeros of P12 and P21), `pendulab.InfeasibleError` (variant
+/// `HinfInfeasible`) naming the failed condition when `gamma` is below the optimum.
 #[pyfunction]
 #[pyo3(signature = (P, nmeas, ncon, gamma = None, tol = 1e-6))]
 #[allow(non_snake_case)]
