@@ -77,6 +77,10 @@ use crate::lab;
 use crate::lqr::fmt_row;
 use crate::model::state_names;
 use anyhow::{Context, Result, bail};
+use pendulab_control::spec::design::{
+    UprightDesign, drive_servo_model, lqr_upright, place_upright, pole_inputs, servo_upright,
+    weight_inputs,
+};
 use pendulab_control::spec::{
     ControllerSpec, DesignInput, DesignRecord, ObserverSpec, build_for, observer_design,
 };
@@ -85,7 +89,7 @@ use pendulab_lmi::synthesis::{
     GainScheduleSpec, LpvPlant, LqWeights, Region, ScheduledGain, Vertex, gain_scheduled_lq,
     lq_state_feedback, robust_state_feedback,
 };
-use pendulab_lti::design::{lq_servo, lqr, place, place_observer};
+use pendulab_lti::design::{integral_augmentation, place_observer};
 use pendulab_lti::margins::stability_margins;
 use pendulab_lti::{Complex64, Mat, StateSpace};
 use pendulab_plants::ArmPendulum;
@@ -307,13 +311,14 @@ fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>> {
     Ok(v)
 }
 
-/// The LQ regulator `Q = diag(q)` (four weights ≥ 0), `R = r` (> 0) on `ss`; errors name the
-/// flag or the Riccati equation without a stabilising solution.
+/// The LQ regulator `Q = diag(q)` (four weights ≥ 0), `R = r` (> 0) on `ss`
+/// (`pendulab_control::spec::design`), with the weights and the record's inputs; errors name
+/// the flag or the Riccati equation without a stabilising solution.
 fn lqr_design(
     ss: &StateSpace<pendulab_lti::Continuous>,
     q: &str,
     r: f64,
-) -> Result<(pendulab_lti::design::Lqr, Vec<f64>)> {
+) -> Result<(UprightDesign, Vec<f64>, Vec<(String, DesignInput)>)> {
     let qv = numbers("--q", q, 4)?;
     if qv.iter().any(|&x| x < 0.0) {
         bail!("--q {q}: the weights must be ≥ 0");
@@ -321,10 +326,10 @@ fn lqr_design(
     if !(r.is_finite() && r > 0.0) {
         bail!("--r {r}: must be a finite number > 0");
     }
-    let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
-    let l = lqr(ss, &qm, &Mat::from_element(1, 1, r), None)
+    let l = lqr_upright(ss, &qv, r)
         .with_context(|| format!("lqr with Q = diag({q}), R = {r}: no stabilising solution"))?;
-    Ok((l, qv))
+    let inputs = weight_inputs(&qv, r).into_iter().collect();
+    Ok((l, qv, inputs))
 }
 
 /// Four finite poles in the open left half-plane, written as [`parse_pole`] reads them;
@@ -724,7 +729,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
     // the inputs as recorded, extra lines of the header)
     let (table, k, poles, loop_ss, inputs, note, record): Designed = match &args.method {
         DesignMethod::Lqr { q, r, .. } => {
-            let (l, qv) = lqr_design(&ss, q, *r)?;
+            let (l, qv, inputs) = lqr_design(&ss, q, *r)?;
             let k: Vec<f64> = l.gain.row(0).iter().copied().collect();
             let loop_ss = StateSpace::new(
                 a.clone(),
@@ -736,30 +741,27 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             (
                 format!("kind = \"state-feedback\"\nk = [{}]\n", fmt(&k)),
                 k,
-                l.closed_loop_poles,
+                l.poles,
                 Some(loop_ss),
                 format!("Q = diag([{}]), R = {r}", fmt(&qv)),
                 "",
-                vec![
-                    ("q".to_string(), DesignInput::List(qv)),
-                    ("r".to_string(), DesignInput::Number(*r)),
-                ],
+                inputs,
             )
         }
         DesignMethod::Place { poles, .. } => {
             let p = four_poles("--poles", poles)?;
-            let pl = place(&a, &b, &p).with_context(|| format!("place with poles {poles}"))?;
+            let pl = place_upright(&ss, &p).with_context(|| format!("place with poles {poles}"))?;
             let k: Vec<f64> = pl.gain.row(0).iter().copied().collect();
             let loop_ss =
                 StateSpace::new(a.clone(), b.clone(), pl.gain, Mat::zeros(1, 1), ss.domain())?;
             (
                 format!("kind = \"state-feedback\"\nk = [{}]\n", fmt(&k)),
                 k,
-                pl.achieved_poles,
+                pl.poles,
                 Some(loop_ss),
                 format!("poles = {}", pole_words(&p)),
                 "",
-                vec![("poles".to_string(), DesignInput::Rows(pole_rows(&p)))],
+                pole_inputs(&p).into_iter().collect(),
             )
         }
         DesignMethod::Servo {
@@ -794,20 +796,14 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                     "--reference {reference}, --step-time {step_time}: must be finite, the step time ≥ 0"
                 );
             }
-            let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
-            let servo_sys = StateSpace::new(
-                a.clone(),
-                b.clone(),
-                Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
-                Mat::zeros(1, 1),
-                ss.domain(),
-            )?;
-            let rm = Mat::from_element(1, 1, *r);
-            let (aa, ba) = pendulab_lti::design::integral_augmentation(&servo_sys)?;
-            // The gain on [x; w] (1 × 5, u = −K [x; w]) and its closed-loop poles: by the
-            // Riccati equation (`servo`), or by the LMI guaranteed-cost LQ design on the same
-            // augmented model (`lmi-servo`, book part 2 §1.2.2).
-            let (gain, cl_poles) = if method == "lmi-servo" {
+            // The gain on [x; w] (1 × 5, u = −K [x; w]), its closed-loop poles and the
+            // augmented model: by the Riccati equation (`servo`), or by the LMI
+            // guaranteed-cost LQ design on the same augmented model (`lmi-servo`, book part 2
+            // §1.2.2).
+            let (gain, cl_poles, aa, ba) = if method == "lmi-servo" {
+                let qm = Mat::from_diagonal(&nalgebra::DVector::from_vec(qv.clone()));
+                let rm = Mat::from_element(1, 1, *r);
+                let (aa, ba) = integral_augmentation(&drive_servo_model(&ss)?)?;
                 let d = lq_state_feedback(&aa, &ba, &qm, &rm, &SolveOptions::default())
                     .with_context(|| {
                         format!("LMI LQ servo with Q = diag({}), R = {r}", fmt(&qv))
@@ -820,15 +816,15 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                     );
                 };
                 let poles = f.closed_loop_poles.into_iter().next().unwrap_or_default();
-                (f.gain, poles)
+                (f.gain, poles, aa, ba)
             } else {
-                let s = lq_servo(&servo_sys, &qm, &rm).with_context(|| {
+                let s = servo_upright(&ss, &qv, *r).with_context(|| {
                     format!(
                         "lq servo with Q = diag({}), R = {r}: no stabilising solution",
                         fmt(&qv)
                     )
                 })?;
-                (s.lqr.gain, s.lqr.closed_loop_poles)
+                (s.gain, s.poles, s.a, s.b)
             };
             let k: Vec<f64> = gain.row(0).iter().copied().collect();
             let (k1, k2) = (k[..4].to_vec(), k[4]);
@@ -846,12 +842,13 @@ pub fn run(args: &DesignArgs) -> Result<()> {
                     fmt(&qv)
                 ),
                 "",
-                vec![
-                    ("q".to_string(), DesignInput::List(qv)),
-                    ("r".to_string(), DesignInput::Number(*r)),
-                    ("reference".to_string(), DesignInput::Number(*reference)),
-                    ("step_time".to_string(), DesignInput::Number(*step_time)),
-                ],
+                weight_inputs(&qv, *r)
+                    .into_iter()
+                    .chain([
+                        ("reference".to_string(), DesignInput::Number(*reference)),
+                        ("step_time".to_string(), DesignInput::Number(*step_time)),
+                    ])
+                    .collect(),
             )
         }
         DesignMethod::Robust {
@@ -980,25 +977,18 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             // K: an LQ regulator or a placement, as `lqr` and `place` design it.
             let (k_mat, k_inputs, k_words) = match (q, r, poles) {
                 (Some(q), Some(r), None) => {
-                    let (l, qv) = lqr_design(&ss, q, *r)?;
+                    let (l, qv, inputs) = lqr_design(&ss, q, *r)?;
                     let words = format!("K by LQR, Q = diag([{}]), R = {r}", fmt(&qv));
-                    (
-                        l.gain,
-                        vec![
-                            ("q".to_string(), DesignInput::List(qv)),
-                            ("r".to_string(), DesignInput::Number(*r)),
-                        ],
-                        words,
-                    )
+                    (l.gain, inputs, words)
                 }
                 (None, None, Some(text)) => {
                     let p = four_poles("--poles", text)?;
-                    let g = place(&a, &b, &p)
+                    let g = place_upright(&ss, &p)
                         .with_context(|| format!("place with poles {text}"))?
                         .gain;
                     (
                         g,
-                        vec![("poles".to_string(), DesignInput::Rows(pole_rows(&p)))],
+                        pole_inputs(&p).into_iter().collect(),
                         format!("K placed at {}", pole_words(&p)),
                     )
                 }

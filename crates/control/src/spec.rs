@@ -88,6 +88,7 @@ use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFee
 use pendulab_sim::signal::Signal;
 use serde::{Deserialize, Serialize};
 
+pub mod design;
 pub mod nmpc;
 pub mod observer;
 pub mod pid;

@@ -17,16 +17,21 @@
 //! lab, in a response and in an exported controller file is the gain shown.
 
 use crate::error::WebError;
+use pendulab_control::spec::design::{
+    UprightDesign, drive_servo_model, lqr_upright, place_upright, pole_inputs, servo_upright,
+    weight_inputs,
+};
 use pendulab_control::spec::{
     ControllerSpec, DesignInput, DesignRecord, GainSpec, LqServoSpec, StateFeedbackSpec,
     SwingUpBalanceSpec,
 };
 use pendulab_lmi::synthesis::{LqWeights, Region, StateFeedbackSpec as LmiSpec, Vertex};
 use pendulab_lmi::{Backend, SolveOptions, Status};
-use pendulab_lti::design::{integral_augmentation, lq_servo, lqr, place};
+use pendulab_lti::design::integral_augmentation;
 use pendulab_lti::linalg::Complex64;
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_plants::spec::PlantSpec;
+use std::collections::BTreeMap;
 
 /// The state count of both rigs' models, `[q₀, q₁, q̇₀, q̇₁]`.
 pub const NX: usize = 4;
@@ -204,21 +209,21 @@ impl Designer {
         let sys = &self.sys;
         let (a, b) = (sys.a().clone(), sys.b().clone());
         let mut lmi = None;
-        let (gain, poles) = match method {
+        let (gain, poles, inputs) = match method {
+            Method::Lmi { q, r, alpha } => {
+                let (gain, poles, cert) = lmi_design(sys, q, *r, *alpha)?;
+                lmi = Some(cert);
+                let mut w = weight_inputs(q, *r);
+                w.insert("decay_rate".into(), DesignInput::Number(*alpha));
+                (gain, poles, w)
+            }
             Method::Lqr { q, r } => {
                 check_weights(q, NX, *r)?;
-                let d = lqr(sys, &diag(q), &Mat::from_element(1, 1, *r), None)?;
-                (d.gain.iter().copied().collect(), d.closed_loop_poles)
+                upright(lqr_upright(sys, q, *r)?, weight_inputs(q, *r))
             }
             Method::Servo { q, r } => {
                 check_weights(q, NX + 1, *r)?;
-                let c = Mat::from_row_slice(1, NX, &[1.0, 0.0, 0.0, 0.0]);
-                let on_q0 = StateSpace::continuous(a.clone(), b.clone(), c, Mat::zeros(1, 1))?;
-                let d = lq_servo(&on_q0, &diag(q), &Mat::from_element(1, 1, *r))?;
-                (
-                    d.lqr.gain.iter().copied().collect(),
-                    d.lqr.closed_loop_poles,
-                )
+                upright(servo_upright(sys, q, *r)?, weight_inputs(q, *r))
             }
             Method::Place { poles } => {
                 if poles.len() != NX {
@@ -228,31 +233,15 @@ impl Designer {
                         expected: NX,
                     });
                 }
-                let d = place(&a, &b, poles)?;
-                (d.gain.iter().copied().collect(), d.achieved_poles)
-            }
-            Method::Lmi { q, r, alpha } => {
-                let (gain, poles, cert) = lmi_design(sys, q, *r, *alpha)?;
-                lmi = Some(cert);
-                (gain, poles)
+                upright(place_upright(sys, poles)?, pole_inputs(poles))
             }
         };
-        let (name, inputs) = match method {
-            Method::Lqr { q, r } => ("lqr", weights(q, *r)),
-            Method::Lmi { q, r, alpha } => {
-                let mut w = weights(q, *r);
-                w.insert("decay_rate".into(), DesignInput::Number(*alpha));
-                (if q.len() == NX { "lmi-lq" } else { "lmi-servo" }, w)
-            }
-            Method::Servo { q, r } => ("lq-servo", weights(q, *r)),
-            Method::Place { poles } => (
-                "place",
-                [(
-                    "poles".to_string(),
-                    DesignInput::Rows(poles.iter().map(|p| vec![p.re, p.im]).collect()),
-                )]
-                .into(),
-            ),
+        let name = match method {
+            Method::Lqr { .. } => "lqr",
+            Method::Lmi { q, .. } if q.len() == NX => "lmi-lq",
+            Method::Lmi { .. } => "lmi-servo",
+            Method::Servo { .. } => "lq-servo",
+            Method::Place { .. } => "place",
         };
         let mut record = self.record.clone();
         record.method = name.to_string();
@@ -290,9 +279,7 @@ fn lmi_design(
     let (a, b) = if n == NX {
         (sys.a().clone(), sys.b().clone())
     } else {
-        let c = Mat::from_row_slice(1, NX, &[1.0, 0.0, 0.0, 0.0]);
-        let on_q0 = StateSpace::continuous(sys.a().clone(), sys.b().clone(), c, Mat::zeros(1, 1))?;
-        integral_augmentation(&on_q0)?
+        integral_augmentation(&drive_servo_model(sys)?)?
     };
     let spec = LmiSpec {
         lq: Some(LqWeights {
@@ -342,12 +329,13 @@ fn lmi_design(
     Ok((f.gain.iter().copied().collect(), poles, cert))
 }
 
-fn weights(q: &[f64], r: f64) -> std::collections::BTreeMap<String, DesignInput> {
-    [
-        ("q".to_string(), DesignInput::List(q.to_vec())),
-        ("r".to_string(), DesignInput::Number(r)),
-    ]
-    .into()
+/// The gain (4 or 5 entries) and the closed-loop poles of an upright design
+/// (`pendulab_control::spec::design`), with the record's `inputs`.
+fn upright(
+    d: UprightDesign,
+    inputs: BTreeMap<String, DesignInput>,
+) -> (Vec<f64>, Vec<Complex64>, BTreeMap<String, DesignInput>) {
+    (d.gain.iter().copied().collect(), d.poles, inputs)
 }
 
 fn diag(q: &[f64]) -> Mat {
