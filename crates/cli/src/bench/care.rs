@@ -25,6 +25,7 @@ use pendulab_lti::Mat;
 use pendulab_lti::equations::riccati::care_residual;
 use pendulab_lti::equations::{RiccatiMethod, RiccatiOptions, RiccatiSolution, care};
 use pendulab_lti::linalg::eigenvalues;
+use pendulab_lti::random::SplitMix64;
 use serde_json::json;
 
 /// The linearised cart pendulum (`docs/model.md` §1, book table 3.5 parameters).
@@ -42,30 +43,9 @@ fn cart_pendulum() -> (Mat, Mat) {
     (a, b)
 }
 
-/// SplitMix64: a small, fixed, well-mixed generator (Steele, Lea & Flood 2014), so the
-/// workload is identical on every machine without a dependency.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in `[−1, 1)`.
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0
-    }
-    fn matrix(&mut self, r: usize, c: usize) -> Mat {
-        Mat::from_fn(r, c, |_, _| self.uniform())
-    }
-}
-
 /// The `care-n100` data (see the module documentation).
 pub fn random_problem(n: usize, m: usize, seed: u64) -> (Mat, Mat, Mat, Mat) {
-    let mut g = SplitMix64(seed);
+    let mut g = SplitMix64::new(seed);
     let a = g.matrix(n, n) * (3.0 / (n as f64).sqrt());
     let b = g.matrix(n, m);
     let c = g.matrix(n, n);
