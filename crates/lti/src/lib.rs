@@ -6,6 +6,8 @@
 //! |---|---|---|
 //! | [`state_space`] | [`StateSpace<Continuous>`] / [`StateSpace<Discrete>`], time domain in the type ([`domain`]) | `ss` |
 //! | [`transfer_function`], [`polynomial`] | SISO [`TransferFunction`], [`Polynomial`], ss↔tf | `tf`, `zpk`, `ss2tf`, `tf2ss`, `roots`, `poly`, `conv` |
+//! | [`transfer_matrix`] | MIMO [`TransferMatrix`] with `+ − * /` returning `Result`, feedback, minimal ss↔tf, zpk per entry | `tf` (cell arrays), `feedback`, `minreal` |
+//! | [`delay`] | Padé approximant of `e^{−sT}`, Thiran fractional-delay all-pass | `pade`, `thiran` |
 //! | [`interconnect`] | series, parallel, feedback (explicit sign), append | `series`, `parallel`, `feedback`, `append` |
 //! | [`analysis`] | poles, zeros, DC gain, stability, damping, controllability/observability (staircase, PBH), gramians, canonical forms | `pole`, `tzero`, `dcgain`, `isstable`, `damp`, `ctrb`, `obsv`, `ctrbf`, `gram`, `canon` |
 //! | [`frequency_response`] | frequency response, Bode data with unwrapped phase | `freqresp`, `bode`, `logspace` |
@@ -15,7 +17,7 @@
 //! | [`reduction`] | minimal realisation, Hankel singular values, balanced realisation and truncation (truncate, matched DC) | `minreal`, `hsvd`, `balreal`, `balred` |
 //! | [`norms`] | H2 norm (Gramian), H∞ norm with its peak frequency (Hamiltonian bisection), continuous and discrete | `norm`, `hinfnorm` |
 //! | [`matrix_functions`] | matrix exponential, logarithm, square root, block exponentials | `expm`, `logm`, `sqrtm` |
-//! | [`discretization`] | `c2d` (ZOH, FOH, Tustin with prewarp, Euler), `d2c` | `c2d`, `d2c` |
+//! | [`discretization`] | `c2d` (ZOH, FOH, Tustin with prewarp, Euler, matched pole-zero, impulse invariant), `d2c` | `c2d`, `d2c` |
 //! | [`response`] | `lsim` (exact ZOH/FOH), `initial`, `step`, `impulse`, zero-input/zero-state split | `lsim`, `initial`, `step`, `impulse` |
 //! | [`design`] | LQR (continuous, discrete, sampled-data), pole placement, observers, Kalman gain, LQ integral servo, [`StateFeedback`](design::StateFeedback) | `lqr`, `dlqr`, `lqrd`, `place`, `acker`, `lqe`, `reg` |
 //! | [`equations`] | Sylvester, Lyapunov (`lyap`, `dlyap`), Riccati (`care`, `dare`), each with its relative residual | `sylvester`, `lyap`, `dlyap`, `care`, `dare` |
@@ -48,6 +50,7 @@
 #![forbid(unsafe_code)]
 
 pub mod analysis;
+pub mod delay;
 pub mod design;
 pub mod discretization;
 pub mod disk_margin;
@@ -71,6 +74,7 @@ pub mod state_space;
 pub mod stepinfo;
 pub mod trajectory;
 pub mod transfer_function;
+pub mod transfer_matrix;
 
 pub use discretization::Discretization;
 pub use domain::{Continuous, Discrete, TimeDomain};
@@ -82,3 +86,4 @@ pub use response::{InputHold, LsimOptions};
 pub use state_space::StateSpace;
 pub use trajectory::Trajectory;
 pub use transfer_function::TransferFunction;
+pub use transfer_matrix::TransferMatrix;
