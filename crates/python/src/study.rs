@@ -18,6 +18,7 @@
 
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pendulab_control::scenario::simulate;
+use pendulab_lti::random::{GAMMA, SplitMix64};
 use pendulab_plot::{Axes, Figure, region_of_attraction};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -37,23 +38,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-/// The golden-ratio increment of SplitMix64, `⌊2⁶⁴/φ⌋`.
-const GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
-
-/// The SplitMix64 finaliser (Steele, Lea and Flood's mixing function): a bijection of `u64`
-/// whose output bits each depend on every input bit.
-fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 /// The 64 random bits of `(seed, index, stream)`: the finaliser applied to the seed, then
 /// to the index and then to the stream number, each step keyed by the previous result.
 pub fn counter_bits(seed: u64, index: u64, stream: u64) -> u64 {
-    let s = mix(seed.wrapping_add(GAMMA));
-    let i = mix(s ^ index.wrapping_mul(GAMMA).wrapping_add(GAMMA));
-    mix(i ^ stream.wrapping_mul(GAMMA).wrapping_add(GAMMA))
+    let s = SplitMix64::mix(seed.wrapping_add(GAMMA));
+    let i = SplitMix64::mix(s ^ index.wrapping_mul(GAMMA).wrapping_add(GAMMA));
+    SplitMix64::mix(i ^ stream.wrapping_mul(GAMMA).wrapping_add(GAMMA))
 }
 
 /// A uniform draw in `[0, 1)` with 53 random bits from [`counter_bits`].
@@ -411,7 +401,7 @@ mod tests {
     fn splitmix_finaliser_matches_the_reference_sequence() {
         // SplitMix64 seeded with 0 (Vigna's splitmix64.c): next() = mix(k·γ) for k = 1, 2, …;
         // its first output is 0xe220a8397b1dcdaf.
-        assert_eq!(mix(GAMMA), 0xe220_a839_7b1d_cdaf);
+        assert_eq!(SplitMix64::mix(GAMMA), 0xe220_a839_7b1d_cdaf);
     }
 
     #[test]
