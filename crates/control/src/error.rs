@@ -91,6 +91,33 @@ pub enum ControlError {
         /// The solver's status.
         status: String,
     },
+    /// An iterative search (an operating point's Levenberg–Marquardt iteration) stopped
+    /// without meeting its tolerance: no solution near the start, or none at all.
+    #[error(
+        "{what} did not converge: residual {residual:e} after {iterations} iterations (tolerance {tolerance:e}); {reason}"
+    )]
+    NoConvergence {
+        /// Which search.
+        what: String,
+        /// Norm of the residual at the best iterate.
+        residual: f64,
+        /// Iterations performed.
+        iterations: usize,
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// Why it stopped.
+        reason: String,
+    },
+    /// A specification contradicts itself or the system (an index out of range or given
+    /// twice, an output fixed on a system without an output map, everything fixed at a point
+    /// that is not a solution).
+    #[error("inconsistent {what}: {reason}")]
+    InconsistentSpec {
+        /// Which specification.
+        what: String,
+        /// What is inconsistent.
+        reason: String,
+    },
     /// An error of the LTI core (Riccati equations, discretisation, placement).
     #[error(transparent)]
     Lti(#[from] LtiError),

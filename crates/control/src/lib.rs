@@ -19,6 +19,8 @@
 //! | [`spec`] | controller specifications as serde data ([`ControllerSpec`](spec::ControllerSpec): state feedback, LQ integral servo, gain-scheduled `K(ρ)`, swing-up + balance, observer-based output feedback, the PID family with I–PD, the arm's NMPC; each with an optional design record, [`DesignRecord`](spec::DesignRecord); library sign `u = −K y`, the book's `k_book` converted) and the factory [`build`](spec::build) that designs and builds one for a book rig; the rig's controller files and the front ends read these | `cdip_lqr_sim`, `adip_lqr_sim`, `p1c74_ex1_cdip_ob_design`, `p1c224_i_pdcont`, `p2c33_adip_nmpc_swing_up` |
 //! | [`scenario`] | the one simulate path: [`simulate`](scenario::simulate)`(&PlantSpec, &ControllerSpec, &ScenarioSpec)` builds plant, controller and the rig's chains and runs the sampled-data loop; the run as arrays with its summary (settling, overshoot, peak voltage, saturation time, angle window) | — |
 //! | [`estimation`] | the observer-based controller `(A + BK_b + L_b C, −L_b, K_b)` discretised by ZOH/Tustin ([`output_feedback_controller`](estimation::output_feedback_controller)), the steady-state Kalman filter ([`kalman_filter`](estimation::kalman_filter)) and state feedback on its current estimate ([`kalman_controller`](estimation::kalman_controller)) | `p1c74_ex1`, `p1c83_ex2`, `p1c84_ex4` |
+//! | [`kalman`] | the time-varying Kalman filter ([`KalmanFilter`](kalman::KalmanFilter), `A_k, B_k, C_k` per sample), the extended and unscented filters of any `Dynamics` sampled by RK4 ([`ExtendedKalmanFilter`](kalman::ExtendedKalmanFilter), [`UnscentedKalmanFilter`](kalman::UnscentedKalmanFilter) with scaled sigma points), encoder quantisation as measurement noise `q²/12`, NIS and NEES | — |
+//! | [`trim`] | operating points of any `Dynamics` with fixed states, inputs and outputs by Levenberg–Marquardt ([`find_operating_point`](trim::find_operating_point), MATLAB `findop`) | — |
 //!
 //! Conventions: SI units, volts, radians with angles from the **upward** vertical (as
 //! `pendulab-plants`); state feedback `u = −K x` (the book's `u = +K_b x` converts through
@@ -44,11 +46,13 @@ pub mod cgmres;
 pub mod error;
 pub mod estimation;
 pub mod gmres;
+pub mod kalman;
 pub mod nmpc;
 pub mod quantizer;
 pub mod scenario;
 pub mod sliding_mode;
 pub mod spec;
 pub mod swing_up;
+pub mod trim;
 
 pub use error::{ControlError, Result};
