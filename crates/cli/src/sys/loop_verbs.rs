@@ -30,19 +30,14 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             let s = sys.load()?;
             let w = frequencies(&s, freq)?;
             let n = with_sys!(&s, |v| nichols(v, &w))?;
-            if let Some(path) = &fig.out {
-                let f = Nichols::new()
+            let chart = || {
+                Nichols::new()
                     .curve("L", &n.phase_deg, &n.magnitude_db)
                     .title("Nichols chart")
-                    .figure();
-                save_figure(&f, path)?;
-            }
-            if fig.json {
-                println!(
-                    "{}",
-                    json!({ "w": n.w, "phase_deg": n.phase_deg, "gain_db": n.magnitude_db })
-                );
-            } else {
+                    .figure()
+            };
+            let data = || json!({ "w": n.w, "phase_deg": n.phase_deg, "gain_db": n.magnitude_db });
+            emit(fig, chart, data, || {
                 println!(
                     "Nichols: {} frequencies from {:.4e} to {:.4e} rad/s; phase {:.2}° … {:.2}°",
                     w.len(),
@@ -51,9 +46,7 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
                     n.phase_deg.first().copied().unwrap_or(f64::NAN),
                     n.phase_deg.last().copied().unwrap_or(f64::NAN),
                 );
-                print_figure(fig);
-            }
-            Ok(())
+            })
         }
         SysCommand::Rlocus {
             sys,
@@ -100,41 +93,60 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             let s = sys.load()?;
             let w = frequencies(&s, freq)?;
             let sv = with_sys!(&s, |v| sigma(v, &w))?;
-            if let Some(path) = &fig.out {
-                let f = SigmaPlot::new()
+            let chart = || {
+                SigmaPlot::new()
                     .response("G", &sv.w, &sv.values)
                     .title("singular values")
-                    .figure();
-                save_figure(&f, path)?;
-            }
-            if fig.json {
-                println!("{}", json!({ "w": sv.w, "sv": sv.values }));
-            } else {
-                let peak = sv
-                    .values
-                    .iter()
-                    .zip(&sv.w)
-                    .map(|(v, w)| (v.first().copied().unwrap_or(0.0), *w))
-                    .fold((0.0, f64::NAN), |a, b| if b.0 > a.0 { b } else { a });
-                println!(
-                    "sigma: {} frequencies, {} singular value(s); largest σ₁ {:.6} at ω = {:.6} rad/s on the grid",
-                    w.len(),
-                    sv.values.first().map_or(0, Vec::len),
-                    peak.0,
-                    peak.1
-                );
-                print_figure(fig);
-            }
-            Ok(())
+                    .figure()
+            };
+            emit(
+                fig,
+                chart,
+                || json!({ "w": sv.w, "sv": sv.values }),
+                || {
+                    let peak = sv
+                        .values
+                        .iter()
+                        .zip(&sv.w)
+                        .map(|(v, w)| (v.first().copied().unwrap_or(0.0), *w))
+                        .fold((0.0, f64::NAN), |a, b| if b.0 > a.0 { b } else { a });
+                    println!(
+                        "sigma: {} frequencies, {} singular value(s); largest σ₁ {:.6} at ω = {:.6} rad/s on the grid",
+                        w.len(),
+                        sv.values.first().map_or(0, Vec::len),
+                        peak.0,
+                        peak.1
+                    );
+                },
+            )
         }
         _ => Err(anyhow!("not a loop-analysis verb")),
     }
 }
 
-fn print_figure(fig: &FigureArgs) {
+/// A chart verb's output: its `chart` written to `--out` when given, then one JSON object
+/// (`data`, with `--json`) or the verb's `text` followed by the figure's path.
+///
+/// # Errors
+/// A figure that cannot be written (nothing is printed then).
+fn emit(
+    fig: &FigureArgs,
+    chart: impl FnOnce() -> pendulab_plot::Figure,
+    data: impl FnOnce() -> serde_json::Value,
+    text: impl FnOnce(),
+) -> Result<()> {
     if let Some(path) = &fig.out {
-        println!("figure: {}", path.display());
+        save_figure(&chart(), path)?;
     }
+    if fig.json {
+        println!("{}", data());
+    } else {
+        text();
+        if let Some(path) = &fig.out {
+            println!("figure: {}", path.display());
+        }
+    }
+    Ok(())
 }
 
 fn nyquist_verb(s: &Sys, indent_radius: f64, max_magnitude: f64, fig: &FigureArgs) -> Result<()> {
@@ -143,61 +155,56 @@ fn nyquist_verb(s: &Sys, indent_radius: f64, max_magnitude: f64, fig: &FigureArg
         ..NyquistOptions::default()
     };
     let c = with_sys!(s, |v| nyquist(v, &opts))?;
-    if let Some(path) = &fig.out {
-        let f = Nyquist::new()
+    let chart = || {
+        Nyquist::new()
             .curve("L", &c.response)
             .max_magnitude(max_magnitude)
             .title(format!(
                 "Nyquist diagram: N = {}, P = {}, Z = {}",
                 c.encirclements, c.open_loop_unstable, c.closed_loop_unstable
             ))
-            .figure();
-        save_figure(&f, path)?;
-    }
-    if fig.json {
+            .figure()
+    };
+    let data = || {
+        json!({
+            "w": c.w,
+            "re": c.response.iter().map(|z| z.re).collect::<Vec<_>>(),
+            "im": c.response.iter().map(|z| z.im).collect::<Vec<_>>(),
+            "contour": pairs(&c.contour),
+            "encirclements": c.encirclements,
+            "winding": c.winding,
+            "open_loop_unstable": c.open_loop_unstable,
+            "closed_loop_unstable": c.closed_loop_unstable,
+            "criterion_holds": c.criterion_holds(),
+            "indented_poles": pairs(&c.indented_poles),
+            "min_distance_to_critical": c.min_distance_to_critical,
+            "dt": c.sample_time,
+            "convention": "N = clockwise encirclements of −1 by L over the whole contour (ω from −∞ to ∞, the upper half listed); P = open-loop poles with Re > 0 (|z| > 1); Z = closed-loop poles with Re ≥ 0 (|z| ≥ 1); the contour passes imaginary-axis poles on the right (python-control)",
+        })
+    };
+    emit(fig, chart, data, || {
         println!(
-            "{}",
-            json!({
-                "w": c.w,
-                "re": c.response.iter().map(|z| z.re).collect::<Vec<_>>(),
-                "im": c.response.iter().map(|z| z.im).collect::<Vec<_>>(),
-                "contour": pairs(&c.contour),
-                "encirclements": c.encirclements,
-                "winding": c.winding,
-                "open_loop_unstable": c.open_loop_unstable,
-                "closed_loop_unstable": c.closed_loop_unstable,
-                "criterion_holds": c.criterion_holds(),
-                "indented_poles": pairs(&c.indented_poles),
-                "min_distance_to_critical": c.min_distance_to_critical,
-                "dt": c.sample_time,
-                "convention": "N = clockwise encirclements of −1 by L over the whole contour (ω from −∞ to ∞, the upper half listed); P = open-loop poles with Re > 0 (|z| > 1); Z = closed-loop poles with Re ≥ 0 (|z| ≥ 1); the contour passes imaginary-axis poles on the right (python-control)",
-            })
+            "N = {} clockwise encirclement(s) of −1, P = {} open-loop unstable pole(s): Z = N + P = {}",
+            c.encirclements,
+            c.open_loop_unstable,
+            c.encirclements + c.open_loop_unstable as i64
         );
-        return Ok(());
-    }
-    println!(
-        "N = {} clockwise encirclement(s) of −1, P = {} open-loop unstable pole(s): Z = N + P = {}",
-        c.encirclements,
-        c.open_loop_unstable,
-        c.encirclements + c.open_loop_unstable as i64
-    );
-    println!(
-        "closed-loop poles with Re ≥ 0 (|z| ≥ 1): {} — the Nyquist criterion {}",
-        c.closed_loop_unstable,
-        if c.criterion_holds() {
-            "holds"
-        } else {
-            "does NOT hold (the curve passes through −1 or the grid missed a turn)"
-        }
-    );
-    println!(
-        "min |1 + L| on the contour {:.6}; {} contour points; {} indented pole(s)",
-        c.min_distance_to_critical,
-        c.w.len(),
-        c.indented_poles.len()
-    );
-    print_figure(fig);
-    Ok(())
+        println!(
+            "closed-loop poles with Re ≥ 0 (|z| ≥ 1): {} — the Nyquist criterion {}",
+            c.closed_loop_unstable,
+            if c.criterion_holds() {
+                "holds"
+            } else {
+                "does NOT hold (the curve passes through −1 or the grid missed a turn)"
+            }
+        );
+        println!(
+            "min |1 + L| on the contour {:.6}; {} contour points; {} indented pole(s)",
+            c.min_distance_to_critical,
+            c.w.len(),
+            c.indented_poles.len()
+        );
+    })
 }
 
 fn rlocus_verb(s: &Sys, gains: Option<&str>, at: Option<&str>, fig: &FigureArgs) -> Result<()> {
@@ -212,7 +219,7 @@ fn rlocus_verb(s: &Sys, gains: Option<&str>, at: Option<&str>, fig: &FigureArgs)
             Some((s0, with_sys!(s, |v| rlocfind(v, s0))?))
         }
     };
-    if let Some(path) = &fig.out {
+    let chart = || {
         let mut p = RootLocusPlot::new(&rl.roots)
             .poles(&rl.poles)
             .zeros(&rl.zeros)
@@ -225,8 +232,8 @@ fn rlocus_verb(s: &Sys, gains: Option<&str>, at: Option<&str>, fig: &FigureArgs)
         if let Some((s0, f)) = &found {
             p = p.annotate(*s0, f.gain);
         }
-        save_figure(&p.figure(), path)?;
-    }
+        p.figure()
+    };
     let find_json = found.as_ref().map(|(s0, f)| {
         json!({
             "point": [s0.re, s0.im],
@@ -236,55 +243,51 @@ fn rlocus_verb(s: &Sys, gains: Option<&str>, at: Option<&str>, fig: &FigureArgs)
             "distance": f.distance,
         })
     });
-    if fig.json {
+    let data = || {
+        json!({
+            "gains": rl.gains,
+            "roots": rl.roots.iter().map(|r| pairs(r)).collect::<Vec<_>>(),
+            "poles": pairs(&rl.poles),
+            "zeros": pairs(&rl.zeros),
+            "asymptotes": {
+                "centroid": finite_or_null(rl.asymptotes.centroid),
+                "angles_deg": rl.asymptotes.angles.iter().map(|a| a.to_degrees()).collect::<Vec<_>>(),
+            },
+            "break_points": rl.break_points.iter().map(|b| json!({"point": [b.point.re, b.point.im], "gain": b.gain})).collect::<Vec<_>>(),
+            "rlocfind": find_json,
+            "dt": s.dt(),
+        })
+    };
+    emit(fig, chart, data, || {
         println!(
-            "{}",
-            json!({
-                "gains": rl.gains,
-                "roots": rl.roots.iter().map(|r| pairs(r)).collect::<Vec<_>>(),
-                "poles": pairs(&rl.poles),
-                "zeros": pairs(&rl.zeros),
-                "asymptotes": {
-                    "centroid": finite_or_null(rl.asymptotes.centroid),
-                    "angles_deg": rl.asymptotes.angles.iter().map(|a| a.to_degrees()).collect::<Vec<_>>(),
-                },
-                "break_points": rl.break_points.iter().map(|b| json!({"point": [b.point.re, b.point.im], "gain": b.gain})).collect::<Vec<_>>(),
-                "rlocfind": find_json,
-                "dt": s.dt(),
-            })
+            "root locus: {} branch(es) over {} gains from {} to {:.4e}",
+            rl.poles.len(),
+            rl.gains.len(),
+            rl.gains.first().copied().unwrap_or(0.0),
+            rl.gains.last().copied().unwrap_or(0.0)
         );
-        return Ok(());
-    }
-    println!(
-        "root locus: {} branch(es) over {} gains from {} to {:.4e}",
-        rl.poles.len(),
-        rl.gains.len(),
-        rl.gains.first().copied().unwrap_or(0.0),
-        rl.gains.last().copied().unwrap_or(0.0)
-    );
-    if !rl.asymptotes.angles.is_empty() {
-        println!(
-            "asymptotes from σ = {:.6} at {:?}°",
-            rl.asymptotes.centroid,
-            rl.asymptotes
-                .angles
-                .iter()
-                .map(|a| (a.to_degrees() * 1e6).round() / 1e6)
-                .collect::<Vec<_>>()
-        );
-    }
-    for b in &rl.break_points {
-        println!(
-            "break point s = {:.6}{:+.6}j at K = {:.6}",
-            b.point.re, b.point.im, b.gain
-        );
-    }
-    if let Some((s0, f)) = &found {
-        println!(
-            "at s = {}{:+}j: K = {:.6} (−D/N = {:.6}{:+.6}j), nearest closed-loop pole at distance {:.3e}",
-            s0.re, s0.im, f.gain, f.gain_complex.re, f.gain_complex.im, f.distance
-        );
-    }
-    print_figure(fig);
-    Ok(())
+        if !rl.asymptotes.angles.is_empty() {
+            println!(
+                "asymptotes from σ = {:.6} at {:?}°",
+                rl.asymptotes.centroid,
+                rl.asymptotes
+                    .angles
+                    .iter()
+                    .map(|a| (a.to_degrees() * 1e6).round() / 1e6)
+                    .collect::<Vec<_>>()
+            );
+        }
+        for b in &rl.break_points {
+            println!(
+                "break point s = {:.6}{:+.6}j at K = {:.6}",
+                b.point.re, b.point.im, b.gain
+            );
+        }
+        if let Some((s0, f)) = &found {
+            println!(
+                "at s = {}{:+}j: K = {:.6} (−D/N = {:.6}{:+.6}j), nearest closed-loop pole at distance {:.3e}",
+                s0.re, s0.im, f.gain, f.gain_complex.re, f.gain_complex.im, f.distance
+            );
+        }
+    })
 }
