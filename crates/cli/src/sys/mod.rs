@@ -1,6 +1,6 @@
 //! MATLAB's verbs for any linear system: `pendulab ss|eig|ctrb|obsv|step|stepinfo|impulse|
 //! initial|lsim|bode|nyquist|nichols|rlocus|margin|diskmargin|sigma|norm|minreal|hsvd|balred|
-//! c2d|d2c|place|lqe SYSFILE …`.
+//! c2d|d2c|place|lqe SYSFILE …` and `pade`.
 //!
 //! Each verb reads one system ([`input`]: a TOML/JSON system file or the matrices on the command
 //! line), calls the `pendulab-lti` function of the same MATLAB name, prints a summary (or one
@@ -297,12 +297,25 @@ pub enum SysCommand {
         /// Sample time in seconds.
         #[arg(long, allow_hyphen_values = true)]
         ts: f64,
-        /// zoh (default), foh, tustin, euler (forward) or backward.
+        /// zoh (default), foh, tustin, euler (forward), backward, matched (pole-zero
+        /// matching, SISO) or impulse (impulse invariant, D = 0).
         #[arg(long, default_value = "zoh")]
         method: String,
         /// Tustin prewarp frequency in rad/s.
         #[arg(long, allow_hyphen_values = true)]
         prewarp: Option<f64>,
+        #[command(flatten)]
+        out: SystemOut,
+    },
+    /// Padé approximant of the delay e^(−sT) (MATLAB `pade(T, n)`): numerator and
+    /// denominator coefficients in descending powers of s; `--save` writes its realisation.
+    Pade {
+        /// The delay T in seconds.
+        #[arg(long, allow_hyphen_values = true)]
+        delay: f64,
+        /// The order n ≥ 1 (numerator and denominator degree).
+        #[arg(long, default_value_t = 1)]
+        order: usize,
         #[command(flatten)]
         out: SystemOut,
     },

@@ -240,6 +240,24 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             let d = c.c2d(*ts, method_of(method, *prewarp)?)?;
             ss(&Sys::D(d), out)
         }
+        SysCommand::Pade { delay, order, out } => {
+            let g = pendulab_lti::delay::pade(*delay, *order)?;
+            let s = Sys::C(g.to_state_space()?);
+            if out.json {
+                if let Some(path) = out.save.as_deref() {
+                    write_system(&s, path)?;
+                }
+                let mut v = system_json(&s);
+                v["num"] = json!(g.num().coefficients());
+                v["den"] = json!(g.den().coefficients());
+                println!("{v}");
+                return Ok(());
+            }
+            println!("pade(T = {delay} s, n = {order}) = {g}");
+            println!("num = {:?}", g.num().coefficients());
+            println!("den = {:?}", g.den().coefficients());
+            ss(&s, out)
+        }
         SysCommand::D2c {
             sys,
             method,
@@ -421,7 +439,11 @@ fn method_of(name: &str, prewarp: Option<f64>) -> Result<Discretization> {
         "tustin" | "bilinear" => Discretization::Tustin { prewarp },
         "euler" | "forward" => Discretization::ForwardEuler,
         "backward" => Discretization::BackwardEuler,
-        other => bail!("--method {other}: expected zoh, foh, tustin, euler or backward"),
+        "matched" => Discretization::Matched,
+        "impulse" | "imp" => Discretization::Impulse,
+        other => bail!(
+            "--method {other}: expected zoh, foh, tustin, euler, backward, matched or impulse"
+        ),
     })
 }
 
