@@ -312,13 +312,13 @@ fn numbers(flag: &str, text: &str, n: usize) -> Result<Vec<f64>> {
 }
 
 /// The LQ regulator `Q = diag(q)` (four weights ≥ 0), `R = r` (> 0) on `ss`
-/// (`pendulab_control::spec::design`), with the weights and the record's inputs; errors name
-/// the flag or the Riccati equation without a stabilising solution.
+/// (`pendulab_control::spec::design`), with the weights; errors name the flag or the Riccati
+/// equation without a stabilising solution.
 fn lqr_design(
     ss: &StateSpace<pendulab_lti::Continuous>,
     q: &str,
     r: f64,
-) -> Result<(UprightDesign, Vec<f64>, Vec<(String, DesignInput)>)> {
+) -> Result<(UprightDesign, Vec<f64>)> {
     let qv = numbers("--q", q, 4)?;
     if qv.iter().any(|&x| x < 0.0) {
         bail!("--q {q}: the weights must be ≥ 0");
@@ -328,8 +328,7 @@ fn lqr_design(
     }
     let l = lqr_upright(ss, &qv, r)
         .with_context(|| format!("lqr with Q = diag({q}), R = {r}: no stabilising solution"))?;
-    let inputs = weight_inputs(&qv, r).into_iter().collect();
-    Ok((l, qv, inputs))
+    Ok((l, qv))
 }
 
 /// Four finite poles in the open left half-plane, written as [`parse_pole`] reads them;
@@ -729,7 +728,8 @@ pub fn run(args: &DesignArgs) -> Result<()> {
     // the inputs as recorded, extra lines of the header)
     let (table, k, poles, loop_ss, inputs, note, record): Designed = match &args.method {
         DesignMethod::Lqr { q, r, .. } => {
-            let (l, qv, inputs) = lqr_design(&ss, q, *r)?;
+            let (l, qv) = lqr_design(&ss, q, *r)?;
+            let inputs: Vec<(String, DesignInput)> = weight_inputs(&qv, *r).into_iter().collect();
             let k: Vec<f64> = l.gain.row(0).iter().copied().collect();
             let loop_ss = StateSpace::new(
                 a.clone(),
@@ -977,7 +977,9 @@ pub fn run(args: &DesignArgs) -> Result<()> {
             // K: an LQ regulator or a placement, as `lqr` and `place` design it.
             let (k_mat, k_inputs, k_words) = match (q, r, poles) {
                 (Some(q), Some(r), None) => {
-                    let (l, qv, inputs) = lqr_design(&ss, q, *r)?;
+                    let (l, qv) = lqr_design(&ss, q, *r)?;
+                    let inputs: Vec<(String, DesignInput)> =
+                        weight_inputs(&qv, *r).into_iter().collect();
                     let words = format!("K by LQR, Q = diag([{}]), R = {r}", fmt(&qv));
                     (l.gain, inputs, words)
                 }
