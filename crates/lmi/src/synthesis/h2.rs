@@ -14,14 +14,39 @@
 //! (`X` bounds the controllability Gramian, `W` the output covariance `(C₁ − D₁₂K)X(·)ᵀ`).
 //! [`h2_state_feedback_lmi`] minimises `tr W`; the optimum is the Riccati value
 //! `tr(B₁ᵀX₂B₁)` of [`pendulab_lti::design::h2_state_feedback`].
+//!
+//! # Output feedback
+//!
+//! [`h2_output_feedback_lmi`]: the change of variables of Scherer, Gahinet & Chilali
+//! ("Multiobjective output-feedback control via LMI optimization", IEEE TAC 42(7), 1997,
+//! §IV.B with `D_k = 0`, which `D₁₁ = 0` allows and a finite H2 norm needs). A full-order
+//! controller `(A_k, B_k, C_k, 0)` with `‖T_zw‖₂² < tr W` exists iff some symmetric `X`, `Y`,
+//! `W` and `Â`, `B̂`, `Ĉ` satisfy
+//!
+//! ```text
+//! [ He(AX + B₂Ĉ)   (Â + Aᵀ)ᵀ        B₁          ]
+//! [ Â + Aᵀ         He(YA + B̂C₂)     YB₁ + B̂D₂₁  ]  ≺ 0,
+//! [ B₁ᵀ            (YB₁ + B̂D₂₁)ᵀ    −I          ]
+//!
+//! [ X              I      (C₁X + D₁₂Ĉ)ᵀ ]
+//! [ I              Y      C₁ᵀ           ]  ≻ 0
+//! [ C₁X + D₁₂Ĉ     C₁     W             ]
+//! ```
+//!
+//! (the closed-loop Gramian conditions transformed by `[[X, I], [Mᵀ, 0]]`, `X_cl =
+//! [[Y, N], [Nᵀ, ·]]`, `MNᵀ = I − XY`). The problem minimises `tr W`; the controller is
+//! reconstructed with `M = I`, `N = I − YX`: `C_k = Ĉ`, `B_k = N⁻¹B̂`,
+//! `A_k = N⁻¹(Â − B̂C₂X − YB₂Ĉ − YAX)`, and `D₂₂ ≠ 0` by loop shifting
+//! ([`StandardPlant::shift_d22`]). The optimum `√min tr W` is the Riccati value of
+//! [`pendulab_lti::design::h2_syn`] (an independent algorithm).
 
 use super::hinf::HinfLmiOptions;
 use crate::error::{LmiError, Result};
 use crate::expr::Expr;
 use crate::problem::Problem;
 use crate::solution::{Solution, Status};
-use pendulab_lti::Mat;
 use pendulab_lti::design::StandardPlant;
+use pendulab_lti::{Continuous, Mat, StateSpace};
 
 /// Result of [`h2_state_feedback_lmi`].
 #[derive(Debug, Clone)]
@@ -94,5 +119,136 @@ pub fn h2_state_feedback_lmi(
         out.norm = out.solution.objective.map(|t| t.max(0.0).sqrt());
         out.x = Some(xv);
     }
+    Ok(out)
+}
+
+/// An output-feedback H2 controller from [`h2_output_feedback_lmi`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct H2LmiController {
+    /// The controller `K` (`n` states, `nmeas` inputs, `ncon` outputs), `u = K y`.
+    pub controller: StateSpace<Continuous>,
+    /// The closed loop `F_l(P, K)`: `‖T_zw‖₂ ≤` the certified `norm`.
+    pub closed_loop: StateSpace<Continuous>,
+    /// `X` of the solve.
+    pub x: Mat,
+    /// `Y` of the solve.
+    pub y: Mat,
+}
+
+/// Result of [`h2_output_feedback_lmi`].
+#[derive(Debug, Clone)]
+pub struct H2OutputFeedbackLmi {
+    /// Status of the solve.
+    pub status: Status,
+    /// `√(min tr W)`, the certified bound of the closed loop's `‖T_zw‖₂` (None unless solved
+    /// with all rechecks passing).
+    pub norm: Option<f64>,
+    /// The controller (None unless solved).
+    pub design: Option<H2LmiController>,
+    /// The solve.
+    pub solution: Solution,
+}
+
+/// Output-feedback H2 synthesis by LMIs (module documentation, "Output feedback");
+/// `options.relax` is not used.
+///
+/// # Errors
+/// [`LmiError::InvalidArgument`] for `D₁₁ ≠ 0` (infinite H2 norm), a plant without states,
+/// controls or measurements, or a margin that is not positive, and when `I − YX` of the
+/// solution is singular (no reconstruction); modelling and
+/// solver errors; [`LmiError::Lti`] from the loop shift and the closed loop.
+#[doc(alias = "h2syn")]
+pub fn h2_output_feedback_lmi(
+    plant: &StandardPlant,
+    options: &HinfLmiOptions,
+) -> Result<H2OutputFeedbackLmi> {
+    if !(options.margin.is_finite() && options.margin > 0.0) {
+        return Err(LmiError::InvalidArgument {
+            what: "margin".into(),
+            reason: format!("must be finite and > 0, got {}", options.margin),
+        });
+    }
+    let n = plant.nx();
+    if n == 0 || plant.ncon() == 0 || plant.nmeas() == 0 || plant.d11().iter().any(|v| *v != 0.0) {
+        return Err(LmiError::InvalidArgument {
+            what: "plant".into(),
+            reason: "needs n ≥ 1 states, ncon ≥ 1 controls, nmeas ≥ 1 measurements and D11 = 0 \
+                     (else ‖T_zw‖₂ = ∞)"
+                .into(),
+        });
+    }
+    let (a, b1, b2, c1, c2, d12, d21) = (
+        plant.a(),
+        plant.b1(),
+        plant.b2(),
+        plant.c1(),
+        plant.c2(),
+        plant.d12(),
+        plant.d21(),
+    );
+    let mut p = Problem::new();
+    let x = p.symmetric("X", n);
+    let y = p.symmetric("Y", n);
+    let w = p.symmetric("W", plant.nz());
+    let ah = p.matrix("Ahat", n, n);
+    let bh = p.matrix("Bhat", n, plant.nmeas());
+    let ch = p.matrix("Chat", plant.ncon(), n);
+    let e11 = (a * &x + &b2 * &ch).he();
+    let e21 = &ah + Expr::constant(&a.transpose());
+    let e22 = (&y * a + &bh * &c2).he();
+    let e31 = Expr::constant(&b1.transpose());
+    let e32 = (&y * &b1 + &bh * &d21).t();
+    let e33 = Expr::identity(plant.nw()) * -1.0;
+    p.negative_definite(
+        "[He(AX + B₂Ĉ), ·, ·; Â + Aᵀ, He(YA + B̂C₂), ·; B₁ᵀ, (YB₁ + B̂D₂₁)ᵀ, −I] ≺ 0",
+        &Expr::block(&[
+            &[&e11, &e21.t(), &e31.t()],
+            &[&e21, &e22, &e32.t()],
+            &[&e31, &e32, &e33],
+        ]),
+        options.margin,
+    )?;
+    let cz = &c1 * &x + &d12 * &ch;
+    let i = Expr::identity(n);
+    let c1e = Expr::constant(&c1);
+    p.positive_definite(
+        "[X, I, ·; I, Y, ·; C₁X + D₁₂Ĉ, C₁, W] ≻ 0",
+        &Expr::block(&[&[&x, &i, &cz.t()], &[&i, &y, &c1e.t()], &[&cz, &c1e, &w]]),
+        options.margin,
+    )?;
+    p.minimize(&w.trace())?;
+    let solution = p.solve(&options.solve)?;
+    let mut out = H2OutputFeedbackLmi {
+        status: solution.status.clone(),
+        norm: None,
+        design: None,
+        solution,
+    };
+    if !out.solution.all_checks_pass() {
+        return Ok(out);
+    }
+    let sol = &out.solution;
+    let xv = crate::linalg::sym(&sol.value(&x)?);
+    let yv = crate::linalg::sym(&sol.value(&y)?);
+    let (ahv, bhv, chv) = (sol.value(&ah)?, sol.value(&bh)?, sol.value(&ch)?);
+    let nmat = (Mat::identity(n, n) - &yv * &xv).lu();
+    let singular = || LmiError::InvalidArgument {
+        what: "I − YX".into(),
+        reason: "singular at the solution: the controller cannot be reconstructed".into(),
+    };
+    let bk = nmat.solve(&bhv).ok_or_else(singular)?;
+    let ak = nmat
+        .solve(&(&ahv - &bhv * &c2 * &xv - &yv * &b2 * &chv - &yv * a * &xv))
+        .ok_or_else(singular)?;
+    let k0 = StateSpace::continuous(ak, bk, chv, Mat::zeros(plant.ncon(), plant.nmeas()))?;
+    let controller = plant.shift_d22(k0)?;
+    let closed_loop = plant.close_loop(&controller)?;
+    out.norm = out.solution.objective.map(|t| t.max(0.0).sqrt());
+    out.design = Some(H2LmiController {
+        controller,
+        closed_loop,
+        x: xv,
+        y: yv,
+    });
     Ok(out)
 }

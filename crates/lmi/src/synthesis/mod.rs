@@ -27,7 +27,10 @@ mod state_feedback;
 pub use gain_schedule::{
     GainSchedule, GainScheduleSpec, LpvPlant, ScheduledGain, gain_scheduled_lq,
 };
-pub use h2::{H2StateFeedbackLmi, h2_state_feedback_lmi};
+pub use h2::{
+    H2LmiController, H2OutputFeedbackLmi, H2StateFeedbackLmi, h2_output_feedback_lmi,
+    h2_state_feedback_lmi,
+};
 pub use hinf::{
     HinfLmi, HinfLmiController, HinfLmiOptions, HinfStateFeedbackLmi, hinf_lmi, hinf_lmi_at,
     hinf_state_feedback_lmi,
