@@ -21,6 +21,8 @@ const shots = process.env.PENDULAB_REPORT_SHOTS ? resolve(process.env.PENDULAB_R
 const out = join(work, "report");
 // p2c15: the gain grid (two columns of panels) and an arm animation; p2c13: the widest value
 // tables (4×4 matrices beside the book's); p1c322: a figure whose legend had covered data.
+// A lab directory (lab init, design lqr, simulate) gives the lab notebook (report --lab),
+// checked at 390 px.
 const ids = ["p2c15_ex7_adip_oc_gs_servo", "p2c13_ex5_adip_oc_robust_servo", "p1c322_cdip_id_least_square"];
 const widths = [390, 800, 1400];
 // 9 pt in CSS pixels: the smallest text a figure may show.
@@ -89,6 +91,7 @@ for (const width of widths) {
         })),
         players: [...document.querySelectorAll(".player svg")].map((s) => ({
           natural: s.viewBox.baseVal.width, shown: s.getBoundingClientRect().width,
+          font: Math.min(...[...s.querySelectorAll("[font-size]")].map((e) => parseFloat(e.getAttribute("font-size")))),
         })),
         articles: document.querySelectorAll("article.example").length,
       }));
@@ -108,14 +111,28 @@ for (const width of widths) {
       })));
       assert.ok(tables.every((t) => t.inside), "a table sticks out of the page");
       if (width === 390) assert.ok(tables.some((t) => t.scrolls), "no table needed to scroll at 390 px");
-      // On a wide screen every figure is shown at its own size: its text stays ≥ 9 pt.
-      if (width === 1400) {
-        for (const i of m.images.filter((i) => i.src.endsWith(".svg"))) {
-          const px = smallestFont(i.src) * (i.shown / i.natural);
-          assert.ok(px >= MIN_TEXT_PX - 1e-6, `${i.src}: text ${px.toFixed(1)} px (${i.shown}/${i.natural})`);
-        }
-        for (const p of m.players) assert.ok(Math.abs(p.shown - p.natural) < 0.5, `animation shown at ${p.shown} of ${p.natural} px`);
+      // At every width each figure is shown at its own size (scrolling sideways inside its
+      // card when the screen is narrower): its text stays ≥ 9 pt = 12 CSS px, from the SVG's
+      // font sizes times the rendered scale.
+      for (const i of m.images.filter((i) => i.src.endsWith(".svg"))) {
+        const px = smallestFont(i.src) * (i.shown / i.natural);
+        assert.ok(px >= MIN_TEXT_PX - 1e-6, `${i.src}: text ${px.toFixed(1)} px (${i.shown}/${i.natural})`);
       }
+      for (const p of m.players) {
+        assert.ok(Math.abs(p.shown - p.natural) < 0.5, `animation shown at ${p.shown} of ${p.natural} px`);
+        if (Number.isFinite(p.font)) assert.ok(p.font * (p.shown / p.natural) >= MIN_TEXT_PX - 1e-6, `animation text ${p.font} px`);
+      }
+      // A figure wider than the screen scrolls inside its frame, which stays inside the page,
+      // and its caption says so.
+      const frames = await page.evaluate(() => [...document.querySelectorAll(".figscroll")].map((d) => ({
+        inside: d.getBoundingClientRect().right <= document.documentElement.clientWidth + 0.5,
+        scrolls: d.scrollWidth > d.clientWidth + 0.5,
+        hint: getComputedStyle(d.closest("figure").querySelector(".fighint")).display !== "none",
+      })));
+      assert.ok(frames.length >= 4, `${frames.length} figure frames`);
+      assert.ok(frames.every((f) => f.inside), "a figure frame sticks out of the page");
+      if (width < 1076) assert.ok(frames.some((f) => f.scrolls), `no figure scrolls at ${width} px`);
+      for (const f of frames.filter((f) => f.scrolls)) assert.ok(f.hint, "a scrolling figure without its hint");
       await page.screenshot({ path: join(shots, `report-${width}.png`), fullPage: true });
       // The sticky contents link: visible after scrolling to the end, and it leads back.
       await page.evaluate(() => window.scrollTo(0, document.documentElement.scrollHeight));
@@ -136,6 +153,42 @@ for (const width of widths) {
     }
   });
 }
+
+test("the lab notebook at 390 px: the report's responsive layout, no horizontal overflow", async () => {
+  const lab = join(work, "lab");
+  for (const args of [
+    ["lab", "init", lab, "--plant", "cart"],
+    ["design", "lqr", "--lab", lab, "--q", "10 10 0 0", "--r", "1"],
+    ["simulate", "--lab", lab, "--controller", join(lab, "designs", "lqr.toml")],
+    ["report", "--lab", lab],
+  ]) {
+    const r = spawnSync(bin, args, { encoding: "utf8", timeout: 120000 });
+    assert.equal(r.status, 0, `pendulab ${args.join(" ")}: ${r.stderr}`);
+  }
+  const page = await browser.newPage({ viewport: { width: 390, height: 900 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  try {
+    await page.goto(pathToFileURL(join(lab, "report", "index.html")).href);
+    const m = await page.evaluate(() => ({
+      scrollWidth: document.documentElement.scrollWidth,
+      innerWidth: window.innerWidth,
+      viewport: !!document.querySelector('meta[name="viewport"]'),
+      tables: [...document.querySelectorAll("table")].map((t) => !!t.closest(".scroll")),
+      frames: [...document.querySelectorAll(".figscroll")].map((d) => d.getBoundingClientRect().right <= document.documentElement.clientWidth + 0.5),
+      images: [...document.images].map((i) => ({ src: i.getAttribute("src"), natural: i.naturalWidth, shown: i.getBoundingClientRect().width })),
+    }));
+    assert.ok(m.viewport, "no viewport meta");
+    assert.ok(m.scrollWidth <= m.innerWidth, `notebook ${m.scrollWidth} px wide in a ${m.innerWidth} px window`);
+    assert.ok(m.tables.length >= 1 && m.tables.every(Boolean), "a table outside a scrolling card");
+    assert.ok(m.frames.length >= 1 && m.frames.every(Boolean), "a figure frame sticks out of the page");
+    for (const i of m.images) assert.ok(i.natural > 0, `${i.src} did not load`);
+    await page.screenshot({ path: join(shots, "lab-notebook-390.png"), fullPage: true });
+    assert.deepEqual(errors, []);
+  } finally {
+    await page.close();
+  }
+});
 
 test("the animation pauses, plays and follows its time scrubber, by keyboard", async () => {
   const { page, errors } = await open(800);

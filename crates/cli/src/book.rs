@@ -60,6 +60,9 @@ enum BookCommand {
 struct JsonLine<'a> {
     id: &'a str,
     values: BTreeMap<&'a str, &'a pendulab_book::Value>,
+    /// The stated SI unit of each value that has one (`ExampleOutput::units`).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    units: BTreeMap<&'a str, &'a str>,
     figures: Vec<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     needs_data: Option<&'a str>,
@@ -463,6 +466,14 @@ pub(crate) fn json_line(e: &Entry) -> Result<String> {
         id: e.example.id,
         values: o
             .map(|o| o.values.iter().map(|(k, v)| (k.as_str(), v)).collect())
+            .unwrap_or_default(),
+        units: o
+            .map(|o| {
+                o.units
+                    .iter()
+                    .map(|(k, u)| (k.as_str(), u.as_str()))
+                    .collect()
+            })
             .unwrap_or_default(),
         figures: e.files.iter().map(|p| p.display().to_string()).collect(),
         needs_data: match &e.result {

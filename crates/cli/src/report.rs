@@ -226,12 +226,13 @@ pub fn run(args: &ReportArgs) -> Result<()> {
 fn outcome(r: &ReportRun) -> Result<()> {
     let s = &r.summary;
     println!(
-        "wrote {} in {:.1} s: {} examples — {} reproduced, {} run, {} differ from the book, \
-         {} need data, {} failing; {} figures",
+        "wrote {} in {:.1} s: {} examples — {} reproduced, {} agree where compared, {} run, \
+         {} differ from the book, {} need data, {} failing; {} figures",
         r.index.display(),
         r.seconds,
         s.total,
         s.reproduced,
+        s.partly_compared,
         s.runs,
         s.differs,
         s.needs_data,
@@ -293,6 +294,7 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 /// written.
 fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
     use pendulab_book::report::format::{escape, number, number_sig};
+    use pendulab_book::report::{FIGHINT, STYLE, figscroll_open};
     use pendulab_plants::spec::{PlantParameters, Provenance};
     use std::fmt::Write as _;
     let plant = crate::lab::load(lab)?;
@@ -302,12 +304,10 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
     let title = format!("pendulab lab notebook: {}", lab.display());
     let _ = write!(
         s,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{t}</title>\n\
-         <style>body{{font-family:system-ui,sans-serif;max-width:1100px;margin:24px auto;padding:0 16px;color:#1f2328}}\
-         table{{border-collapse:collapse}}td,th{{border:1px solid #d0d7de;padding:4px 10px;text-align:right}}\
-         th{{background:#f6f8fa}}pre{{background:#f6f8fa;padding:10px;overflow-x:auto;font-size:13px}}\
-         .pair{{display:flex;gap:12px;flex-wrap:wrap}}.pair figure{{flex:1 1 480px;margin:0}}img{{width:100%}}\
-         figcaption{{color:#57606a;font-size:13px}}</style>\n</head>\n<body>\n<h1>{t}</h1>\n",
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>{t}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<header>\n<h1>{t}</h1>\n\
+         </header>\n<main>\n",
         t = escape(&title)
     );
     let _ = writeln!(
@@ -323,7 +323,11 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
         _ => Default::default(),
     };
     let book = PlantParameters::book(plant.kind()).entries();
-    s.push_str("<table><tr><th>parameter</th><th>value</th><th>standard error</th><th>book</th><th>value / book</th></tr>\n");
+    s.push_str(
+        "<div class=\"scroll\" tabindex=\"0\" role=\"region\" aria-label=\"parameters\">\
+         <table class=\"values params\"><tr><th>parameter</th><th>value</th>\
+         <th>standard error</th><th>book</th><th>value / book</th></tr>\n",
+    );
     for ((k, v), (_, b)) in plant.parameters().entries().into_iter().zip(book) {
         let se = errors
             .get(&k)
@@ -337,7 +341,7 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
             v / b
         );
     }
-    s.push_str("</table>\n");
+    s.push_str("</table></div>\n");
     if let Provenance::Identified {
         file,
         sha256,
@@ -382,7 +386,7 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
             std::fs::read_to_string(d).with_context(|| format!("cannot read {}", d.display()))?;
         let _ = writeln!(
             s,
-            "<h3 id=\"{0}\">{0}</h3>\n<pre>{1}</pre>\n<div class=\"pair\">",
+            "<h3 id=\"{0}\">{0}</h3>\n<pre class=\"file\">{1}</pre>\n<div class=\"figures\">",
             escape(&stem),
             escape(&text)
         );
@@ -391,7 +395,9 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
             let rel = copy(&sim, format!("{stem}-simulation.svg"))?;
             let _ = writeln!(
                 s,
-                "<figure><img src=\"{rel}\" alt=\"simulation\"><figcaption>simulation (pendulab simulate)</figcaption></figure>"
+                "<figure>{}<img src=\"{rel}\" alt=\"simulation\"></div><figcaption>simulation \
+                 (pendulab simulate){FIGHINT}</figcaption></figure>",
+                figscroll_open("simulation")
             );
         }
         let mut runs: Vec<PathBuf> = match std::fs::read_dir(lab.join("logs")) {
@@ -414,7 +420,9 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
             let rel = copy(r, format!("run-{name}"))?;
             let _ = writeln!(
                 s,
-                "<figure><img src=\"{rel}\" alt=\"run\"><figcaption>rig run {} (pendulab plot)</figcaption></figure>",
+                "<figure>{}<img src=\"{rel}\" alt=\"run\"></div><figcaption>rig run {} (pendulab \
+                 plot){FIGHINT}</figcaption></figure>",
+                figscroll_open("rig run"),
                 escape(&name)
             );
         }
@@ -424,7 +432,7 @@ fn write_lab_notebook(lab: &Path, out: &Path) -> Result<PathBuf> {
         s.push_str("</div>\n");
     }
     crate::report_studies::write_studies(lab, &figs, &mut s)?;
-    s.push_str("</body>\n</html>\n");
+    s.push_str("</main>\n</body>\n</html>\n");
     let index = out.join("index.html");
     crate::lab::write_whole(&index, s.as_bytes())?;
     Ok(index)

@@ -19,6 +19,7 @@
 
 use anyhow::{Context, Result, bail};
 use pendulab_book::report::format::escape;
+use pendulab_book::report::{FIGHINT, figscroll_open};
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -139,7 +140,7 @@ pub(crate) fn write_studies(lab: &Path, figs: &Path, s: &mut String) -> Result<(
     for st in &studies {
         let _ = writeln!(
             s,
-            "<h3 id=\"study-{0}\">{0}</h3>\n<p>{1} study{2}.</p>\n<div class=\"pair\">",
+            "<h3 id=\"study-{0}\">{0}</h3>\n<p>{1} study{2}.</p>\n<div class=\"figures\">",
             escape(&st.name),
             escape(kind_label(&st.kind)),
             st.version
@@ -155,20 +156,27 @@ pub(crate) fn write_studies(lab: &Path, figs: &Path, s: &mut String) -> Result<(
                 .with_context(|| format!("cannot copy {} into the report", f.display()))?;
             let _ = writeln!(
                 s,
-                "<figure><img src=\"figures/{0}\" alt=\"{1}\"><figcaption>{1} (pendulab-plot)</figcaption></figure>",
+                "<figure>{2}<img src=\"figures/{0}\" alt=\"{1}\"></div><figcaption>{1} \
+                 (pendulab-plot){FIGHINT}</figcaption></figure>",
                 escape(&name),
-                escape(kind_label(&st.kind))
+                escape(kind_label(&st.kind)),
+                figscroll_open(&escape(kind_label(&st.kind)))
             );
         }
-        s.push_str("<table><tr><th>statistic</th><th>value</th></tr>\n");
+        let _ = write!(
+            s,
+            "<div class=\"scroll\" tabindex=\"0\" role=\"region\" aria-label=\"statistics of {}\">\
+             <table class=\"values\"><tr><th>statistic</th><th>value</th></tr>\n",
+            escape(&st.name)
+        );
         for (k, v) in &st.stats {
             let _ = writeln!(s, "<tr><td>{}</td><td>{}</td></tr>", escape(k), escape(v));
         }
-        s.push_str("</table>\n</div>\n");
+        s.push_str("</table></div>\n</div>\n");
         if let Some(spec) = &st.spec {
             let _ = writeln!(
                 s,
-                "<details><summary>specification</summary><pre>{}</pre></details>",
+                "<details><summary>specification</summary><pre class=\"file\">{}</pre></details>",
                 escape(spec)
             );
         }

@@ -84,6 +84,29 @@ fn report_has_every_example_and_every_figure_link_resolves() {
         page.matches("<article class=\"example\"").count(),
         ids.len()
     );
+    // An example whose M-file displays a number it does not compare never has the plain
+    // "reproduced" badge: its list of what is not compared is shown, and the badge says it
+    // agrees where compared (or differs).
+    for id in &ids {
+        let start = page
+            .find(&format!("<article class=\"example\" id=\"{id}\">"))
+            .unwrap();
+        let a = &page[start..start + page[start..].find("</article>").unwrap()];
+        let heading = &a[..a.find("</h3>").unwrap()];
+        let uncompared = a.contains("<div class=\"uncompared\">") || a.contains(". Not compared: ");
+        if uncompared {
+            assert!(
+                !heading.contains("st-ok\">reproduced<"),
+                "{id} lists numbers it does not compare but is badged reproduced"
+            );
+        }
+        if heading.contains("st-part\">") {
+            assert!(
+                a.contains("<div class=\"uncompared\">"),
+                "{id}: no list of what is not compared"
+            );
+        }
+    }
     // Every image and link is relative and resolves to a written file in the report
     // directory; every anchor names an element of the page.
     for link in attributes(&page, "src").into_iter().chain(
