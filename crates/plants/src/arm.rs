@@ -190,12 +190,7 @@ impl ArmEquilibrium {
 
     /// The equilibrium state `[θ₁ₑ, θ₂ₑ, 0, 0]`.
     pub fn state(&self) -> ArmPendulumState {
-        ArmPendulumState {
-            theta1: self.theta1,
-            theta2: self.posture.angle(),
-            dtheta1: 0.0,
-            dtheta2: 0.0,
-        }
+        ArmPendulumState::from_array([self.theta1, self.posture.angle(), 0.0, 0.0])
     }
 }
 

@@ -194,12 +194,7 @@ impl CartEquilibrium {
 
     /// The equilibrium state `[z, θ_e, 0, 0]`.
     pub fn state(&self) -> CartPendulumState {
-        CartPendulumState {
-            z: self.z,
-            theta: self.posture.angle(),
-            dz: 0.0,
-            dtheta: 0.0,
-        }
+        CartPendulumState::from_array([self.z, self.posture.angle(), 0.0, 0.0])
     }
 }
 
