@@ -47,6 +47,7 @@ pub mod error;
 pub mod estimation;
 pub mod gmres;
 pub mod kalman;
+pub mod mpc;
 pub mod nmpc;
 pub mod quantizer;
 pub mod scenario;

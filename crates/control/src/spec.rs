@@ -32,6 +32,7 @@
 //! | `observer` | one of `k`, `k_book`, `lqr`, `poles`; one of `l`, `observer_poles`; `discretization` | `u = −K x̂`, full-order observer of `[q₀, q₁]`, Tustin or ZOH ([`observer`]) |
 //! | `pid` | `form` (`p`, `pd`, `p-d`, `pi`, `pid`, `i-pd`), its gains `kp`, `ki`, `kd`, `tf`; `discretization`, `reference`, `step_time` | `pendulab_sim::controllers::Pid` on `q₀`, pendulum hanging ([`pid`]) |
 //! | `nmpc` | `horizon`, `horizon_rate`, `divisions`, `q`, `qf`, `r`, `u_max`, `dummy_weight`, `gmres_iterations`, `zeta` (all optional, the book's) | the arm's C/GMRES swing-up ([`nmpc`]); arm only |
+//! | `mpc` | `horizon` (steps), `step`, `q`, `r`, `u_max`, `travel_limit`, `du_max` (all optional) | constrained linear MPC about upright, one QP per period ([`mod@mpc`]) |
 //! | every kind | `designed_for` (optional) | the design record ([`DesignRecord`]) |
 //!
 //! Every kind also takes an optional `designed_for` table, the design record
@@ -89,11 +90,13 @@ use pendulab_sim::signal::Signal;
 use serde::{Deserialize, Serialize};
 
 pub mod design;
+pub mod mpc;
 pub mod nmpc;
 pub mod observer;
 pub mod pid;
 mod record;
 pub mod scheduled;
+pub use mpc::MpcSpec;
 pub use nmpc::NmpcSpec;
 pub use observer::{ObserverDesign, ObserverSpec, observer_design};
 pub use pid::{PID_TF_DEFAULT, PidSpec};
@@ -166,6 +169,8 @@ pub enum ControllerSpec {
     Pid(PidSpec),
     /// `kind = "nmpc"`: the arm's C/GMRES swing-up ([`nmpc`]).
     Nmpc(NmpcSpec),
+    /// `kind = "mpc"`: constrained linear MPC about upright ([`mod@mpc`]).
+    Mpc(MpcSpec),
 }
 
 impl ControllerSpec {
@@ -177,8 +182,10 @@ impl ControllerSpec {
     pub const PID: &str = "pid";
     /// `kind` of [`ControllerSpec::Nmpc`] as written in a file.
     pub const NMPC: &str = "nmpc";
+    /// `kind` of [`ControllerSpec::Mpc`] as written in a file.
+    pub const MPC: &str = "mpc";
     /// Every `kind`, as written in a file.
-    pub const KINDS: [&str; 7] = [
+    pub const KINDS: [&str; 8] = [
         "state-feedback",
         "lq-servo",
         "gain-scheduled",
@@ -186,11 +193,12 @@ impl ControllerSpec {
         Self::OBSERVER,
         Self::PID,
         Self::NMPC,
+        Self::MPC,
     ];
 
     /// The keys of each `kind` (besides `kind` itself), as the module documentation lists
     /// them: any other key in a kind's table is refused when it is read.
-    pub const KEYS: [(&str, &[&str]); 7] = [
+    pub const KEYS: [(&str, &[&str]); 8] = [
         (
             Self::KINDS[0],
             &["k", "k_book", "lqr", "reference", "designed_for"],
@@ -257,6 +265,19 @@ impl ControllerSpec {
                 "designed_for",
             ],
         ),
+        (
+            Self::KINDS[7],
+            &[
+                "horizon",
+                "step",
+                "q",
+                "r",
+                "u_max",
+                "travel_limit",
+                "du_max",
+                "designed_for",
+            ],
+        ),
     ];
 
     /// The `kind` as written in a file.
@@ -269,6 +290,7 @@ impl ControllerSpec {
             ControllerSpec::Observer(_) => Self::KINDS[4],
             ControllerSpec::Pid(_) => Self::KINDS[5],
             ControllerSpec::Nmpc(_) => Self::KINDS[6],
+            ControllerSpec::Mpc(_) => Self::KINDS[7],
         }
     }
 
@@ -282,6 +304,7 @@ impl ControllerSpec {
             ControllerSpec::Observer(c) => &c.designed_for,
             ControllerSpec::Pid(c) => &c.designed_for,
             ControllerSpec::Nmpc(c) => &c.designed_for,
+            ControllerSpec::Mpc(c) => &c.designed_for,
         }
     }
 
@@ -295,6 +318,7 @@ impl ControllerSpec {
             ControllerSpec::Observer(c) => &mut c.designed_for,
             ControllerSpec::Pid(c) => &mut c.designed_for,
             ControllerSpec::Nmpc(c) => &mut c.designed_for,
+            ControllerSpec::Mpc(c) => &mut c.designed_for,
         }
     }
 
@@ -319,7 +343,8 @@ impl ControllerSpec {
             | ControllerSpec::GainScheduled(_)
             | ControllerSpec::SwingUpBalance(_)
             | ControllerSpec::Observer(_)
-            | ControllerSpec::Nmpc(_) => 0.0,
+            | ControllerSpec::Nmpc(_)
+            | ControllerSpec::Mpc(_) => 0.0,
         }
     }
 }
@@ -627,6 +652,7 @@ pub(crate) fn build_with(
         (ControllerSpec::Observer(c), None) => observer::observer(plant, c, ts)?,
         (ControllerSpec::Pid(c), r) => pid::pid(c, ts, r)?,
         (ControllerSpec::Nmpc(c), None) => nmpc::nmpc(plant, c, ts)?,
+        (ControllerSpec::Mpc(c), None) => mpc::mpc(plant, c, ts)?,
         (_, Some(_)) => {
             return Err(SpecError::Reference {
                 kind: spec.kind(),

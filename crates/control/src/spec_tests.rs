@@ -102,7 +102,7 @@ fn bad_controller_tables_are_typed_errors_naming_the_key() {
 }
 
 /// The keys of each kind, as the module documentation lists them.
-const KEYS: [(&str, &[&str]); 7] = ControllerSpec::KEYS;
+const KEYS: [(&str, &[&str]); 8] = ControllerSpec::KEYS;
 
 /// A file of each kind that loads, for the plant given.
 fn base(kind: &str) -> String {
@@ -115,7 +115,7 @@ fn base(kind: &str) -> String {
             "k = [0.0, 0.0, 0.0, 0.0]\nl = [[0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]]\n"
         }
         "pid" => "form = \"p\"\nkp = 0.0\n",
-        "nmpc" => "",
+        "nmpc" | "mpc" => "",
         _ => unreachable!(),
     };
     format!("plant = \"cart\"\n[controller]\nkind = \"{kind}\"\n{body}")

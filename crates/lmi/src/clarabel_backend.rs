@@ -274,3 +274,114 @@ pub(crate) fn solve(
         dims: data.dims.clone(),
     })
 }
+
+/// Clarabel's answer to a convex QP ([`solve_qp`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct QpAnswer {
+    /// Clarabel's status (its `Debug` name, e.g. `Solved`).
+    pub status: String,
+    /// Whether the status is `Solved`.
+    pub solved: bool,
+    /// The minimiser `x` (length `n`).
+    pub x: Vec<f64>,
+    /// The multipliers `z ≥ 0` of `A x ≤ b` (length `m`).
+    pub z: Vec<f64>,
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// Clarabel's own solve time \[s\] (without the setup, which is timed by the caller).
+    pub solve_seconds: f64,
+}
+
+/// Solves `minimise ½ xᵀPx + qᵀx  s.t.  A x ≤ b` (`P` symmetric positive semidefinite,
+/// dense) with Clarabel's native QP path (the nonnegative cone `s = b − Ax ≥ 0`), tolerances
+/// `tolerance` on the gap and feasibility. A cross-check and comparison for QP methods of
+/// other crates (`pendulab-control`'s MPC), through the one file that knows Clarabel.
+///
+/// # Errors
+/// [`LmiError::Solver`] for inconsistent sizes, Clarabel's refusal of the data or settings,
+/// or a build without the `clarabel` feature. An infeasible QP is a status, not an error.
+pub fn solve_qp(
+    p: &pendulab_lti::Mat,
+    q: &[f64],
+    a: &pendulab_lti::Mat,
+    b: &[f64],
+    tolerance: f64,
+) -> Result<QpAnswer> {
+    let n = p.nrows();
+    let m = a.nrows();
+    if p.ncols() != n || q.len() != n || a.ncols() != n || b.len() != m {
+        return Err(LmiError::Solver(format!(
+            "solve_qp: P {:?}, q {}, A {:?}, b {} are inconsistent",
+            p.shape(),
+            q.len(),
+            a.shape(),
+            b.len()
+        )));
+    }
+    qp_clarabel(p, q, a, b, tolerance)
+}
+
+#[cfg(not(feature = "clarabel"))]
+fn qp_clarabel(
+    _p: &pendulab_lti::Mat,
+    _q: &[f64],
+    _a: &pendulab_lti::Mat,
+    _b: &[f64],
+    _tolerance: f64,
+) -> Result<QpAnswer> {
+    Err(LmiError::Solver(
+        "Clarabel is not built in (pendulab-lmi without its `clarabel` feature)".into(),
+    ))
+}
+
+#[cfg(feature = "clarabel")]
+fn qp_clarabel(
+    p: &pendulab_lti::Mat,
+    q: &[f64],
+    a: &pendulab_lti::Mat,
+    b: &[f64],
+    tolerance: f64,
+) -> Result<QpAnswer> {
+    let n = p.nrows();
+    let m = a.nrows();
+    // P as its upper triangle in CSC (Clarabel reads the upper triangle), A dense in CSC.
+    let csc = |rows: usize, cols: usize, at: &dyn Fn(usize, usize) -> Option<f64>| {
+        let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
+        for c in 0..cols {
+            for r in 0..rows {
+                if let Some(v) = at(r, c)
+                    && v != 0.0
+                {
+                    rowval.push(r);
+                    nzval.push(v);
+                }
+            }
+            colptr.push(rowval.len());
+        }
+        CscMatrix::new(rows, cols, colptr, rowval, nzval)
+    };
+    let pm = csc(n, n, &|r, c| {
+        (r <= c).then(|| 0.5 * (p[(r, c)] + p[(c, r)]))
+    });
+    let am = csc(m, n, &|r, c| Some(a[(r, c)]));
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .tol_gap_abs(tolerance)
+        .tol_gap_rel(tolerance)
+        .tol_feas(tolerance)
+        .build()
+        .map_err(|e| LmiError::Solver(format!("settings: {e}")))?;
+    let cones = [SupportedConeT::NonnegativeConeT(m)];
+    let mut solver = DefaultSolver::new(&pm, q, &am, b, &cones, settings)
+        .map_err(|e| LmiError::Solver(format!("{e:?}")))?;
+    solver.solve();
+    let sol = &solver.solution;
+    Ok(QpAnswer {
+        status: format!("{:?}", sol.status),
+        solved: matches!(sol.status, SolverStatus::Solved),
+        x: sol.x.clone(),
+        z: sol.z.clone(),
+        iterations: sol.iterations,
+        solve_seconds: sol.solve_time,
+    })
+}

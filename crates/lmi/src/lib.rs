@@ -88,7 +88,7 @@ pub mod solution;
 pub mod sos;
 pub mod synthesis;
 
-pub use clarabel_backend::{ConicProblem, capture_conic_problems};
+pub use clarabel_backend::{ConicProblem, QpAnswer, capture_conic_problems, solve_qp};
 pub use error::{LmiError, Result};
 pub use expr::{Expr, Monomial};
 pub use problem::{ConstraintId, Multiplier, Origin, Problem, Relation, Sense, SosId};

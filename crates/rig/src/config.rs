@@ -303,7 +303,8 @@ pub fn check_references(
         }
         ControllerSpec::SwingUpBalance(_)
         | ControllerSpec::Observer(_)
-        | ControllerSpec::Nmpc(_) => Ok(()),
+        | ControllerSpec::Nmpc(_)
+        | ControllerSpec::Mpc(_) => Ok(()),
     }
 }
 
@@ -537,11 +538,11 @@ mod tests {
     }
 
     /// The keys of each kind (`pendulab_control::spec`'s table).
-    const KEYS: [(&str, &[&str]); 7] = ControllerSpec::KEYS;
+    const KEYS: [(&str, &[&str]); 8] = ControllerSpec::KEYS;
 
     /// The smallest `[controller]` table of each kind (zero gains; the NMPC's keys all have
     /// defaults).
-    const BODIES: [(&str, &str); 7] = [
+    const BODIES: [(&str, &str); 8] = [
         ("state-feedback", "k = [0.0, 0.0, 0.0, 0.0]"),
         ("lq-servo", "k1 = [0.0, 0.0, 0.0, 0.0]\nk2 = 0.0"),
         ("gain-scheduled", "coefficients = [[0.0, 0.0, 0.0, 0.0]]"),
@@ -552,6 +553,7 @@ mod tests {
         ),
         ("pid", "form = \"p\"\nkp = 0.0"),
         ("nmpc", ""),
+        ("mpc", ""),
     ];
 
     /// A cart file of `kind` that loads.
@@ -584,6 +586,8 @@ mod tests {
             "kp" | "ki" | "kd" | "tf" | "horizon" | "horizon_rate" | "r" | "u_max"
             | "dummy_weight" | "zeta" => "1.0",
             "divisions" | "gmres_iterations" => "5",
+            "step" => "0.01",
+            "travel_limit" | "du_max" => "1.0",
             "q" | "qf" => "[1.0, 1.0, 0.0, 0.0]",
             _ => unreachable!("{key}"),
         };
@@ -604,11 +608,12 @@ mod tests {
         }
         // Foreign keys per kind, counted by hand from the module's table (a key listed by two
         // other kinds is tried twice; `designed_for` belongs to every kind), the other kinds
-        // in the order of `KINDS`: state-feedback 3 + 6 + 2 + 4 + 7 + 10 = 32, lq-servo
-        // 2 + 5 + 2 + 6 + 6 + 10 = 31, gain-scheduled 2 + 2 + 2 + 6 + 6 + 10 = 28,
-        // swing-up-balance 4 + 5 + 8 + 7 + 8 + 10 = 42, observer 1 + 4 + 7 + 2 + 7 + 10 = 31,
-        // pid 3 + 3 + 6 + 2 + 6 + 10 = 30, nmpc 4 + 5 + 8 + 2 + 7 + 8 = 34.
-        assert_eq!(rejected, 228);
+        // in the order of `KINDS`: state-feedback 3 + 6 + 2 + 4 + 7 + 10 + 7 = 39, lq-servo
+        // 2 + 5 + 2 + 6 + 6 + 10 + 7 = 38, gain-scheduled 2 + 2 + 2 + 6 + 6 + 10 + 7 = 35,
+        // swing-up-balance 4 + 5 + 8 + 7 + 8 + 10 + 7 = 49, observer
+        // 1 + 4 + 7 + 2 + 7 + 10 + 7 = 38, pid 3 + 3 + 6 + 2 + 6 + 10 + 7 = 37, nmpc
+        // 4 + 5 + 8 + 2 + 7 + 8 + 3 = 37, mpc 4 + 5 + 8 + 2 + 7 + 8 + 6 = 40.
+        assert_eq!(rejected, 313);
     }
 
     #[test]
