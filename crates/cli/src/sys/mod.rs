@@ -13,6 +13,7 @@
 
 pub mod input;
 mod loop_verbs;
+mod synth_verbs;
 mod verbs;
 
 pub use input::SysArgs;
@@ -73,6 +74,26 @@ pub struct TimeArgs {
 /// The MATLAB verbs.
 #[derive(Debug, clap::Subcommand)]
 pub enum SysCommand {
+    /// H∞ synthesis for a standard plant (MATLAB `hinfsyn(P, nmeas, ncon)`): the optimal level
+    /// γ by γ-iteration (or the controller at `--gamma`), the controller u = K y and the
+    /// closed-loop poles; `--out` writes the controller as a system file.
+    Hinfsyn {
+        #[command(flatten)]
+        plant: synth_verbs::PlantArgs,
+        /// Design at this level instead of the optimal one.
+        #[arg(long)]
+        gamma: Option<f64>,
+        /// Relative tolerance of the γ-iteration (Riccati method).
+        #[arg(long, default_value_t = 1e-6)]
+        gamma_tol: f64,
+    },
+    /// H2 (LQG) synthesis for a standard plant (MATLAB `h2syn(P, nmeas, ncon)`): the optimal
+    /// ‖T_zw‖₂, the controller u = K y and the closed-loop poles; `--out` writes the
+    /// controller as a system file.
+    H2syn {
+        #[command(flatten)]
+        plant: synth_verbs::PlantArgs,
+    },
     /// Print a linear system's realisation (A, B, C, D, dt) and its poles (MATLAB `ss`);
     /// `--save` writes it as a system file.
     Ss {

@@ -223,6 +223,7 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
         | SysCommand::Rlocus { .. }
         | SysCommand::Diskmargin { .. }
         | SysCommand::Sigma { .. } => super::loop_verbs::run(cmd),
+        SysCommand::Hinfsyn { .. } | SysCommand::H2syn { .. } => super::synth_verbs::run(cmd),
         SysCommand::C2d {
             sys,
             ts,
@@ -414,14 +415,14 @@ pub(super) fn finite_or_null(v: f64) -> serde_json::Value {
     }
 }
 
-fn print_matrix(name: &str, m: &Mat) {
+pub(super) fn print_matrix(name: &str, m: &Mat) {
     println!("{name}:");
     for row in rows_of(m) {
         println!("  {}", fmt_row(&row));
     }
 }
 
-fn print_poles(name: &str, p: &[Complex64]) {
+pub(super) fn print_poles(name: &str, p: &[Complex64]) {
     println!("{name}:");
     for z in p {
         println!("  {:.10} {:+.10}j", z.re, z.im);
@@ -512,7 +513,7 @@ pub(super) fn parse_complex(tok: &str) -> Option<Complex64> {
 }
 
 /// The realisation as JSON (`a`, `b`, `c`, `d`, `dt` when discrete): the system-file format.
-fn system_json(s: &Sys) -> serde_json::Value {
+pub(super) fn system_json(s: &Sys) -> serde_json::Value {
     let (a, b, c, d) = s.matrices();
     let mut v = json!({ "a": rows_of(a), "b": rows_of(b), "c": rows_of(c), "d": rows_of(d) });
     if let Some(dt) = s.dt() {
@@ -560,7 +561,7 @@ fn ss(s: &Sys, out: &SystemOut) -> Result<()> {
 }
 
 /// Writes a system file (TOML, or JSON by the `.json` extension), whole or not at all.
-fn write_system(s: &Sys, path: &Path) -> Result<()> {
+pub(super) fn write_system(s: &Sys, path: &Path) -> Result<()> {
     let v = system_json(s);
     let text = if path
         .extension()
