@@ -9,6 +9,7 @@
 //! | [`design`] | `lqr`, `dlqr`, `lqe`, `dlqe`, `place`, `acker`, `place_observer`, `lqi`, `lqr_sampled_data`, `reg`, `minimal_order_observer` |
 //! | [`response`] | `lsim`, `lsim_split`, `step`, `impulse`, `initial`, `freqresp`, `bode` |
 //! | [`synthesis`] | `hinfsyn`, `h2syn`, `augw` |
+//! | [`transfer`] | `TransferMatrix` (MIMO `tf`), `pade`, `thiran` |
 //! | [`loop_analysis`] | `nyquist`, `nichols`, `rlocus`, `rlocfind`, `disk_margin`, `sigma` |
 //!
 //! Every function converts its arguments ([`crate::convert`]), releases the GIL around the
@@ -24,6 +25,7 @@ pub mod response;
 pub mod results;
 pub mod synthesis;
 pub mod system;
+pub mod transfer;
 
 use pyo3::prelude::*;
 
@@ -55,16 +57,17 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     use response::*;
     use synthesis::*;
     use system::*;
+    use transfer::*;
     add_all!(m;
         [hinfsyn, h2syn, augw,
          ss, tf, c2d, d2c, poles, zeros, dcgain, damp, ctrb_py, obsv_py, gram, lyap, dlyap, care, dare,
          lqr, dlqr, lqe, dlqe, place_py, acker_py, place_observer_py, lqi, lqr_sampled_data, reg,
          minimal_order_observer, lsim, lsim_split, step, impulse, initial, freqresp, bode, nyquist,
-         nichols, rlocus, rlocfind, disk_margin, sigma];
+         nichols, rlocus, rlocfind, disk_margin, sigma, pade, thiran];
         [HinfsynResult, H2synResult,
          StateSpace, TransferFunction, DampResult, MatrixEquationResult, RiccatiResult, LqrResult,
          LqeResult, PlaceResult, LqiResult, SampledDataLqrResult, MinimalObserverResult, LsimResult,
          LsimSplit, TimeResponse, FrequencyResponse, BodeResult, NyquistResult, NicholsResult,
-         RootLocusResult, RlocfindResult, DiskMarginResult, SigmaResult]);
+         RootLocusResult, RlocfindResult, DiskMarginResult, SigmaResult, TransferMatrix]);
     Ok(())
 }

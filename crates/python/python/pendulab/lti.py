@@ -13,7 +13,11 @@ Sign convention: every state-feedback gain is for ``u = -K x`` (closed loop ``A 
 observer gains for ``A - L C``. The book 「倒立振子で学ぶ制御工学」 writes ``u = +K x``;
 its gain is ``K_book = -K``.
 
-Systems are ``StateSpace`` / ``TransferFunction`` objects, python-control ``StateSpace``
+MIMO transfer functions are ``TransferMatrix`` objects (``tf`` with lists of lists of
+coefficient lists, or ``tf`` of a MIMO system): ``G * C``, ``G + H``, ``G - H``, ``G / H``
+and ``(G * C).feedback(K)`` work on them; a shape or sample-time mismatch raises.
+
+Systems are ``StateSpace`` / ``TransferFunction`` / ``TransferMatrix`` objects, python-control ``StateSpace``
 objects (anything with ``.A .B .C .D .dt``) or SISO ``TransferFunction`` objects, or
 ``(A, B, C, D[, dt])`` tuples; ``dt = 0``
 is continuous time, ``dt > 0`` discrete time with that sample time in seconds.
@@ -50,6 +54,7 @@ from ._native import (
     StateSpace,
     TimeResponse,
     TransferFunction,
+    TransferMatrix,
     acker,
     bode,
     c2d,
@@ -78,6 +83,7 @@ from ._native import (
     nichols,
     nyquist,
     obsv,
+    pade,
     place,
     place_observer,
     poles,
@@ -88,6 +94,7 @@ from ._native import (
     ss,
     step,
     tf,
+    thiran,
     zeros,
 )
 
@@ -99,6 +106,9 @@ __all__ = [
     "H2synResult",
     "StateSpace",
     "TransferFunction",
+    "TransferMatrix",
+    "pade",
+    "thiran",
     "ss",
     "tf",
     "c2d",

@@ -66,7 +66,7 @@ pub enum TfSys {
 }
 
 /// Reads a sample time: `None`, `0`, `0.0` and `False` mean continuous time.
-fn sample_time(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
+pub(crate) fn sample_time(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
     let Some(obj) = obj else { return Ok(None) };
     if obj.is_none() {
         return Ok(None);
@@ -125,6 +125,9 @@ pub fn system(obj: &Bound<'_, PyAny>) -> PyResult<Sys> {
     }
     if let Ok(t) = obj.cast::<TransferFunction>() {
         return t.get().to_sys();
+    }
+    if let Ok(t) = obj.cast::<super::transfer::TransferMatrix>() {
+        return t.get().tm.to_sys();
     }
     if let Ok(t) = obj.cast::<PyTuple>() {
         return match t.len() {
@@ -187,6 +190,7 @@ fn siso_tf_like(obj: &Bound<'_, PyAny>) -> PyResult<TransferFunction> {
 pub fn is_system(obj: &Bound<'_, PyAny>) -> bool {
     obj.is_instance_of::<StateSpace>()
         || obj.is_instance_of::<TransferFunction>()
+        || obj.is_instance_of::<super::transfer::TransferMatrix>()
         || obj
             .cast::<PyTuple>()
             .is_ok_and(|t| t.len() == 4 || t.len() == 5)
@@ -464,7 +468,8 @@ pub fn ss(
 }
 
 /// `tf(num, den, dt=0)`: a SISO `pendulab.TransferFunction`; `tf(sys)` of a SISO state-space
-/// system (its transfer function `C (sI − A)⁻¹ B + D` as a polynomial ratio).
+/// system (its transfer function `C (sI − A)⁻¹ B + D` as a polynomial ratio). With `num`,
+/// `den` lists of lists of coefficient lists, or a MIMO `sys`, a `pendulab.TransferMatrix`.
 #[pyfunction]
 #[pyo3(signature = (num, den = None, dt = None))]
 pub fn tf(
@@ -474,9 +479,22 @@ pub fn tf(
     dt: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let t = match den {
-        Some(den) => TransferFunction::py_new(num, den, dt)?,
+        Some(den) => match super::transfer::nested_coefficients(num) {
+            Some(n) => {
+                let d = super::transfer::nested_coefficients(den).ok_or_else(|| {
+                    PyTypeError::new_err(
+                        "tf: num is a list of lists of coefficient lists, den must be one too",
+                    )
+                })?;
+                return super::transfer::wrap_lists(py, &n, &d, sample_time(dt)?);
+            }
+            None => TransferFunction::py_new(num, den, dt)?,
+        },
         None => {
             let sys = system(num)?;
+            if with_sys!(&sys, s => s.nu() != 1 || s.ny() != 1) {
+                return super::transfer::wrap_sys(py, &sys);
+            }
             let tf = match &sys {
                 Sys::Continuous(s) => TfSys::Continuous(Tf::from_state_space(s).map_err(lti)?),
                 Sys::Discrete(s) => TfSys::Discrete(Tf::from_state_space(s).map_err(lti)?),
@@ -495,11 +513,13 @@ fn method(name: &str, prewarp: Option<f64>) -> PyResult<Discretization> {
         "tustin" | "bilinear" | "gbt0.5" => Discretization::Tustin { prewarp },
         "euler" | "forward_diff" | "forward_euler" => Discretization::ForwardEuler,
         "backward_diff" | "backward_euler" => Discretization::BackwardEuler,
+        "matched" => Discretization::Matched,
+        "impulse" | "imp" => Discretization::Impulse,
         other => {
             return Err(crate::errors::new_err(
                 crate::errors::Kind::InvalidArgument,
                 format!(
-                    "unknown discretisation method {other:?}: use 'zoh', 'foh', 'tustin' (or 'bilinear'), 'euler' (or 'forward_diff'), 'backward_diff'"
+                    "unknown discretisation method {other:?}: use 'zoh', 'foh', 'tustin' (or 'bilinear'), 'euler' (or 'forward_diff'), 'backward_diff', 'matched', 'impulse'"
                 ),
                 None,
             ));
@@ -512,7 +532,9 @@ fn method(name: &str, prewarp: Option<f64>) -> PyResult<Discretization> {
 ///
 /// Methods: `'zoh'` (`A_d = e^{A Ts}`, `B_d = ∫₀^{Ts} e^{As} ds B`), `'foh'` (triangle hold),
 /// `'tustin'`/`'bilinear'` (`s = (2/Ts)(z − 1)/(z + 1)`, or prewarped at
-/// `prewarp_frequency` rad/s), `'euler'`/`'forward_diff'`, `'backward_diff'`. A
+/// `prewarp_frequency` rad/s), `'euler'`/`'forward_diff'`, `'backward_diff'`, `'matched'`
+/// (pole-zero matching, SISO, low-frequency gain matched, all but one zero at infinity to
+/// `z = -1` as MATLAB), `'impulse'` (impulse invariant, `h_d[k] = Ts h(k Ts)`, `D = 0`). A
 /// `TransferFunction` gives a `TransferFunction`, any other system a `StateSpace`.
 ///
 /// Raises `pendulab.InvalidArgumentError` for an unknown method, a discrete `sys` or a bad
