@@ -69,6 +69,7 @@ macro_rules! eprintln {
 mod bench;
 mod book;
 mod design;
+mod estimate;
 mod identify;
 mod lab;
 mod lqr;
@@ -186,6 +187,9 @@ enum Command {
     Design(design::DesignArgs),
     /// Plot a rig log or a simulation, and compare two with the fit per signal.
     Plot(plot::PlotArgs),
+    /// Estimate the cart's velocities from a log by a Kalman filter (EKF, UKF or linear),
+    /// beside the rig's pseudo-differentiator.
+    Estimate(estimate::EstimateArgs),
     /// MATLAB's verbs for any linear system (ss, eig, ctrb, obsv, step, impulse, initial, lsim,
     /// bode, c2d, d2c, place, lqe).
     #[command(flatten)]
@@ -206,6 +210,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => simulate::run(&args),
         Command::Design(args) => design::run(&args),
         Command::Plot(args) => plot::run(&args),
+        Command::Estimate(args) => estimate::run(&args),
         Command::Sys(cmd) => sys::run(&cmd),
     };
     let result = result.and_then(|()| match finish_stdout() {
