@@ -60,3 +60,81 @@ fn figures_are_written() {
     assert_eq!(files.len(), 6);
     assert_figures_larger(&files, 2000);
 }
+
+#[test]
+fn p1c74_ex1_two_output_l_is_not_unique_and_its_robustness_is_reported() {
+    use pendulab_plants::{CartEquilibrium, CartPendulum};
+    // SciPy's Tits–Yang robust placement of the same observer poles
+    // (tools/reference/p1c74_knv0_scipy.py, SciPy 1.16.3) in the book's sign (A + L C).
+    let fx: serde_json::Value =
+        serde_json::from_str(include_str!("fixtures/p1c74_knv0_scipy.json")).unwrap();
+    let l_scipy: Vec<Vec<f64>> = serde_json::from_value(fx["L"].clone()).unwrap();
+    let lin = CartPendulum::book()
+        .linearize_measured(CartEquilibrium::upright())
+        .unwrap();
+    let l = pendulab_lti::Mat::from_fn(4, 2, |i, j| l_scipy[i][j]);
+    let eig = pendulab_lti::linalg::eigenvalues(&(lin.a() + &l * lin.c())).unwrap();
+    // It places eig(A + LC) = 4 pc (|λ| ≤ 27, SciPy to ~1e-12).
+    for w in [(-26.0, 6.0), (-26.0, -6.0), (-16.0, 0.0), (-10.0, 0.0)] {
+        let w = Complex64::new(w.0, w.1);
+        assert!(
+            eig.iter().any(|g| (g - w).norm() < 1e-6),
+            "{w} not in {eig:?}"
+        );
+    }
+    let out = run("p1c74_ex1_cdip_ob_design");
+    let Some(Value::Matrix(ours)) = out.get("L") else {
+        panic!()
+    };
+    let max_diff = |a: &[Vec<f64>], b: &[Vec<f64>]| {
+        a.iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    // Pendulab's KNV method 0 and SciPy's Tits–Yang, two robust placements, find the same L.
+    assert!(max_diff(ours, &l_scipy) < 1e-3, "{ours:?} vs {l_scipy:?}");
+    // Octave's place (SLICOT) returns another L that places the same poles: the gain is not
+    // unique, so the M-file's display depends on the place it runs.
+    let text = include_str!("data/octave/p1c74_ex1_cdip_ob_design.txt");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip_while(|l| l.trim() != "L =")
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .take(4)
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let lo = pendulab_lti::Mat::from_fn(4, 2, |i, j| rows[i][j]);
+    let eig = pendulab_lti::linalg::eigenvalues(&(lin.a() + &lo * lin.c())).unwrap();
+    for w in [(-26.0, 6.0), (-26.0, -6.0), (-16.0, 0.0), (-10.0, 0.0)] {
+        let w = Complex64::new(w.0, w.1);
+        assert!(
+            eig.iter().any(|g| (g - w).norm() < 1e-6),
+            "{w} not in {eig:?}"
+        );
+    }
+    assert!(max_diff(ours, &rows) > 1.0, "Octave's L is pendulab's");
+    // Its robustness is reported: κ₂(V) ≥ 1 and Henrici's departure from normality ≥ 0.
+    let kappa = num(&out, "observer_eigenvector_condition");
+    let dep = num(&out, "observer_departure_from_normality");
+    assert!(kappa >= 1.0 && kappa.is_finite(), "{kappa}");
+    assert!(dep > 0.0 && dep.is_finite(), "{dep}");
+    let note = out
+        .notes
+        .iter()
+        .find(|n| n.contains("Not compared: L, and Ac, Bc"))
+        .unwrap();
+    assert!(note.contains("Kautsky–Nichols–Van Dooren (1985)") && note.contains("Tits–Yang"));
+    assert!(
+        out.comparisons()
+            .iter()
+            .any(|c| c.name == "L" && c.reproduced)
+    );
+    assert!(
+        out.uncompared
+            .iter()
+            .any(|u| u.what.contains("L, and Ac, Bc"))
+    );
+}

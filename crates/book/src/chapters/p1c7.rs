@@ -137,14 +137,31 @@ pub(crate) fn ob_summary(traj: &Trajectory, out: &mut ExampleOutput) {
 fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
     let id = "p1c74_ex1_cdip_ob_design";
     let (lin, fb, l) = ob_design(id)?;
-    let obs_poles = sorted(pendulab_lti::linalg::eigenvalues(&(lin.a() - &l * lin.c())).ctx(id)?);
+    let a_obs = lin.a() - &l * lin.c();
+    let obs_poles = sorted(pendulab_lti::linalg::eigenvalues(&a_obs).ctx(id)?);
+    // How far the observer is from normal, the robustness KNV's method 0 improves: the
+    // 2-norm condition number of its eigenvector matrix (from the placement), and Henrici's
+    // departure from normality √(‖A − LC‖_F² − Σ|λ|²).
+    let observer: Vec<Complex64> = complex(&EX1_POLES).iter().map(|p| p * 4.0).collect();
+    let placed = place_observer(lin.a(), lin.c(), &observer).ctx(id)?;
+    let departure = (a_obs.norm_squared() - obs_poles.iter().map(|z| z.norm_sqr()).sum::<f64>())
+        .max(0.0)
+        .sqrt();
     let mut out = ExampleOutput::default();
     out.value(
         "K",
         Value::vector(&fb.book_gain().row(0).iter().copied().collect::<Vec<_>>()),
     )
     .value("L", Value::matrix(&(-&l)))
-    .value("observer_poles", Value::Complex(obs_poles.clone()));
+    .value("observer_poles", Value::Complex(obs_poles.clone()))
+    .value(
+        "observer_eigenvector_condition",
+        Value::Number(placed.eigenvector_condition),
+    )
+    .value(
+        "observer_departure_from_normality",
+        Value::Number(departure),
+    );
     // Printed to 5 decimals: half a unit of the last digit.
     out.reference(
         "K",
@@ -159,6 +176,21 @@ fn ex1_cdip_ob_design(ctx: &RunContext) -> Result<ExampleOutput, BookError> {
         Value::Complex(sorted(want)),
         "book Part 1 §7.4, example 7.1 (4× the state-feedback poles)",
         1e-6,
+    );
+    // SciPy's Tits–Yang robust placement of the same poles (its KNV0 refuses complex poles):
+    // an independent robust-assignment code; both stop at their own iteration tolerances, so
+    // the gains (entries up to 600) are compared to 1e-3, looser than any printed digit.
+    let fx: serde_json::Value =
+        serde_json::from_str(include_str!("../../tests/fixtures/p1c74_knv0_scipy.json"))
+            .map_err(|e| fail(id, format!("p1c74_knv0_scipy.json: {e}")))?;
+    let l_scipy: Vec<Vec<f64>> = serde_json::from_value(fx["L"].clone())
+        .map_err(|e| fail(id, format!("p1c74_knv0_scipy.json L: {e}")))?;
+    out.reference(
+        "L",
+        Value::Matrix(l_scipy),
+        "SciPy 1.16.3 place_poles(method=\"YT\") (tools/reference/p1c74_knv0_scipy.py): an \
+         independent robust placement, not the M-file's display; to 1e-3",
+        1e-3,
     );
     ob_display_references(id, &lin, &fb, &l, &mut out)?;
     // Continuous controller: stood in for by its Tustin discretisation at the 1 ms loop rate.
@@ -268,11 +300,18 @@ fn ob_display_references(
         &[(
             "L, and Ac, Bc built from it (lines 42-45)",
             &format!(
-                "with two outputs the L that places the observer poles is not unique: Octave's \
-                 place (SLICOT's Schur method) returns another L than MATLAB's \
-                 (Kautsky–Nichols–Van Dooren, which pendulab's place follows), e.g. L(3,1) = \
-                 {octave_l31:.2} in Octave, {:.2} here, and no MATLAB run is at hand; L is checked \
-                 by its defining property instead, observer_poles = eig(A + LC) = 4 pc",
+                "with two outputs the L that places the observer poles is not unique, and the \
+                 M-file's display is whatever its place returns: Octave's place (SLICOT's Schur \
+                 method) gives L(3,1) = {octave_l31:.2}; MATLAB's place documents the \
+                 Kautsky–Nichols–Van Dooren (1985) robust assignment, which pendulab's place \
+                 implements (method 0), giving {:.2} here; SciPy's place_poles has no KNV0 for \
+                 complex poles, and its Tits–Yang robust method gives pendulab's L to 4e-4 \
+                 (compared as L, tools/reference/p1c74_knv0_scipy.py). Neither a MATLAB run \
+                 nor a printed L of the book is at hand, so no L here is the M-file's. L is \
+                 checked by its defining property, observer_poles = eig(A + LC) = 4 pc, by \
+                 SciPy's independent robust placement, and its robustness is reported: \
+                 observer_eigenvector_condition and observer_departure_from_normality \
+                 (SciPy's L: 112.5 and 582.4)",
                 lb[(2, 0)]
             ),
         )],
