@@ -1,6 +1,7 @@
-"""Observer gain L of book example 7.1 (p1c74_ex1_cdip_ob_design.m, line 42) by SciPy's own
-Kautsky-Nichols-Van Dooren "method 0" (scipy.signal.place_poles(method="KNV0")), the robust
-assignment MATLAB's `place` documents; an implementation independent of pendulab-lti's knv0.
+"""Observer gain L of book example 7.1 (p1c74_ex1_cdip_ob_design.m, line 42) by SciPy's robust
+pole placement, an implementation independent of pendulab-lti's Kautsky-Nichols-Van Dooren
+method 0 (the robust assignment MATLAB's `place` documents). SciPy's own KNV0 refuses complex
+poles (the script tries it and records the refusal), so its Tits-Yang method is run.
 
 The M-file: the cart pendulum of cdip_para.m (ac = 6.25, bc = 4.36, mp = 0.107, lp = 0.23,
 Jp = 1.59e-3, mup = 2.35e-4, g = 9.81), two outputs C = [I2 0], controller poles
