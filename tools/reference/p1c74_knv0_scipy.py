@@ -6,7 +6,7 @@ poles (the script tries it and records the refusal), so its Tits-Yang method is 
 The M-file: the cart pendulum of cdip_para.m (ac = 6.25, bc = 4.36, mp = 0.107, lp = 0.23,
 Jp = 1.59e-3, mup = 2.35e-4, g = 9.81), two outputs C = [I2 0], controller poles
 pc = [-6.5 +- 1.5j, -4, -2.5], observer poles po = 4 pc, L = -(place(A', C', po))'.
-With two outputs the L that places the poles is not unique; this prints the L of SciPy's KNV0
+With two outputs the L that places the poles is not unique; this prints the L of SciPy's Tits-Yang
 and its properties (eig(A + LC), the 2-norm condition number of the observer's eigenvector
 matrix, the departure from normality sqrt(||A+LC||_F^2 - sum |lambda|^2)), and writes them to
 crates/book/tests/fixtures/p1c74_knv0_scipy.json.
