@@ -116,40 +116,16 @@ fn point<D: TimeDomain>(domain: D, w: f64) -> Complex64 {
 /// if a frequency hits a pole exactly (a zero pivot in the Hessenberg elimination).
 pub fn freqresp<D: TimeDomain>(sys: &StateSpace<D>, w: &[f64]) -> Result<FrequencyResponse> {
     check_frequencies(w)?;
-    let n = sys.nx();
-    let (ny, nu) = (sys.ny(), sys.nu());
-    let dc: CMat = sys.d().map(|v| Complex64::new(v, 0.0));
-    if n == 0 {
-        return Ok(FrequencyResponse {
-            w: w.to_vec(),
-            response: vec![dc; w.len()],
-        });
-    }
-    let (q, h) = sys.a().clone().hessenberg().unpack();
-    let qb: Mat = q.transpose() * sys.b();
-    let cq: CMat = (sys.c() * &q).map(|v| Complex64::new(v, 0.0));
+    let mut ev = HessenbergEvaluator::new(sys.a(), sys.b(), sys.c(), sys.d());
     let mut out = Vec::with_capacity(w.len());
-    let mut m = CMat::zeros(n, n);
-    let mut x = CMat::zeros(n, nu);
     for &wk in w {
         let s = point(sys.domain(), wk);
-        for j in 0..n {
-            for i in 0..n {
-                m[(i, j)] = Complex64::new(-h[(i, j)], 0.0);
-            }
-            m[(j, j)] += s;
-        }
-        for j in 0..nu {
-            for i in 0..n {
-                x[(i, j)] = Complex64::new(qb[(i, j)], 0.0);
-            }
-        }
-        hessenberg_solve(&mut m, &mut x).map_err(|()| LtiError::PoleAtEvaluationPoint {
-            what: format!("frequency response at {wk} rad/s"),
-            pole: s,
-        })?;
-        let g = &cq * &x + &dc;
-        debug_assert_eq!(g.shape(), (ny, nu));
+        let mut g = CMat::zeros(sys.ny(), sys.nu());
+        ev.eval(s, &mut g)
+            .map_err(|()| LtiError::PoleAtEvaluationPoint {
+                what: format!("frequency response at {wk} rad/s"),
+                pole: s,
+            })?;
         out.push(g);
     }
     Ok(FrequencyResponse {
@@ -158,52 +134,150 @@ pub fn freqresp<D: TimeDomain>(sys: &StateSpace<D>, w: &[f64]) -> Result<Frequen
     })
 }
 
+/// `G(s) = C(sI − A)⁻¹B + D` at many points `s` from one reduction of `A` to upper Hessenberg
+/// form `H = QᵀAQ` (see the module documentation): each evaluation solves
+/// `(sI − H) X = QᵀB` by [`hessenberg_solve`] in work buffers kept between calls (no heap
+/// allocation) and forms `(CQ) X + D`. The engine of [`freqresp`], the loop margins and the
+/// H∞ norm.
+pub(crate) struct HessenbergEvaluator {
+    n: usize,
+    h: Mat,
+    qb: Mat,
+    cq: Mat,
+    d: Mat,
+    m: CMat,
+    x: CMat,
+}
+
+impl HessenbergEvaluator {
+    /// Reduces `A` once; `B`, `C`, `D` must have the shapes of a state-space system.
+    pub(crate) fn new(a: &Mat, b: &Mat, c: &Mat, d: &Mat) -> Self {
+        let n = a.nrows();
+        let (h, qb, cq) = if n == 0 {
+            (
+                Mat::zeros(0, 0),
+                Mat::zeros(0, b.ncols()),
+                Mat::zeros(c.nrows(), 0),
+            )
+        } else {
+            let (q, h) = a.clone().hessenberg().unpack();
+            (h, q.transpose() * b, c * &q)
+        };
+        Self {
+            n,
+            h,
+            qb,
+            cq,
+            d: d.clone(),
+            m: CMat::zeros(n, n),
+            x: CMat::zeros(n, b.ncols()),
+        }
+    }
+
+    /// `G(s)` into `out` (`ny × nu`); `Err` when `s` is a pole (an exactly zero pivot).
+    pub(crate) fn eval(&mut self, s: Complex64, out: &mut CMat) -> std::result::Result<(), ()> {
+        let n = self.n;
+        let (ny, nu) = self.d.shape();
+        for j in 0..nu {
+            for i in 0..ny {
+                out[(i, j)] = Complex64::new(self.d[(i, j)], 0.0);
+            }
+        }
+        if n == 0 {
+            return Ok(());
+        }
+        {
+            let (m, h) = (self.m.as_mut_slice(), self.h.as_slice());
+            for j in 0..n {
+                // Below the subdiagonal H (and so sI − H) is zero; those entries are never read.
+                let rows = n.min(j + 2);
+                for (mi, &hi) in m[j * n..j * n + rows]
+                    .iter_mut()
+                    .zip(&h[j * n..j * n + rows])
+                {
+                    *mi = Complex64::new(-hi, 0.0);
+                }
+                m[j + j * n] += s;
+            }
+        }
+        for (xi, &bi) in self.x.as_mut_slice().iter_mut().zip(self.qb.as_slice()) {
+            *xi = Complex64::new(bi, 0.0);
+        }
+        hessenberg_solve(&mut self.m, &mut self.x)?;
+        let (x, cq) = (self.x.as_slice(), self.cq.as_slice());
+        for j in 0..nu {
+            for k in 0..n {
+                let xk = x[k + j * n];
+                for i in 0..ny {
+                    out[(i, j)] += xk * cq[i + k * ny];
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `|z|²` ordering without `hypot`: `|a| > |b|` decided on the squares, with the exact
+/// modulus only where a square over- or underflows.
+fn larger(a: Complex64, b: Complex64) -> bool {
+    let (na, nb) = (a.norm_sqr(), b.norm_sqr());
+    if na.is_finite() && nb.is_finite() && na > f64::MIN_POSITIVE && nb > f64::MIN_POSITIVE {
+        na > nb
+    } else {
+        a.norm() > b.norm()
+    }
+}
+
+fn is_zero(z: Complex64) -> bool {
+    z.re == 0.0 && z.im == 0.0
+}
+
 /// Solves `M X = R` in place for upper-Hessenberg `M` (Gaussian elimination with partial
-/// pivoting between adjacent rows, then back substitution). `Err` on an exactly zero pivot.
+/// pivoting between adjacent rows, then column-oriented back substitution). `Err` on an
+/// exactly zero pivot. Entries of `M` below its subdiagonal are never read.
 fn hessenberg_solve(m: &mut CMat, r: &mut CMat) -> std::result::Result<(), ()> {
     let n = m.nrows();
     let nr = r.ncols();
+    let m = m.as_mut_slice(); // column-major: (i, j) at i + j n
+    let r = r.as_mut_slice();
     for k in 0..n.saturating_sub(1) {
-        if m[(k + 1, k)].norm() > m[(k, k)].norm() {
+        if larger(m[k + 1 + k * n], m[k + k * n]) {
             for j in k..n {
-                let t = m[(k, j)];
-                m[(k, j)] = m[(k + 1, j)];
-                m[(k + 1, j)] = t;
+                m.swap(k + j * n, k + 1 + j * n);
             }
             for j in 0..nr {
-                let t = r[(k, j)];
-                r[(k, j)] = r[(k + 1, j)];
-                r[(k + 1, j)] = t;
+                r.swap(k + j * n, k + 1 + j * n);
             }
         }
-        let piv = m[(k, k)];
-        if piv.norm() == 0.0 {
+        let piv = m[k + k * n];
+        if is_zero(piv) {
             return Err(());
         }
-        let l = m[(k + 1, k)] / piv;
-        if l.norm() != 0.0 {
+        let l = m[k + 1 + k * n] / piv;
+        if !is_zero(l) {
             for j in k + 1..n {
-                let v = m[(k, j)];
-                m[(k + 1, j)] -= l * v;
+                let v = m[k + j * n];
+                m[k + 1 + j * n] -= l * v;
             }
             for j in 0..nr {
-                let v = r[(k, j)];
-                r[(k + 1, j)] -= l * v;
+                let v = r[k + j * n];
+                r[k + 1 + j * n] -= l * v;
             }
         }
-        m[(k + 1, k)] = Complex64::new(0.0, 0.0);
+        m[k + 1 + k * n] = Complex64::new(0.0, 0.0);
     }
-    for j in 0..nr {
-        for i in (0..n).rev() {
-            let mut acc = r[(i, j)];
-            for k in i + 1..n {
-                acc -= m[(i, k)] * r[(k, j)];
-            }
-            let piv = m[(i, i)];
-            if piv.norm() == 0.0 {
+    for rc in r.chunks_exact_mut(n.max(1)).take(nr) {
+        for k in (0..n).rev() {
+            let col = &m[k * n..k * n + k + 1];
+            let piv = col[k];
+            if is_zero(piv) {
                 return Err(());
             }
-            r[(i, j)] = acc / piv;
+            let xk = rc[k] / piv;
+            rc[k] = xk;
+            for (ri, &mi) in rc[..k].iter_mut().zip(&col[..k]) {
+                *ri -= mi * xk;
+            }
         }
     }
     Ok(())

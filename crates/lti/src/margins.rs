@@ -25,12 +25,15 @@
 //!
 //! # Method
 //!
-//! `L` is evaluated by [`freqresp`](crate::frequency_response::freqresp) (Hessenberg method)
-//! on a logarithmic grid that covers two decades beyond the slowest and fastest pole and zero
-//! and is extended further where the asymptotic slope of `|L|` predicts a gain crossing
-//! beyond it; an interval is bisected (in `ln ω`) while the phase turns by more than 15° or
-//! the magnitude changes by more than a factor `e^{0.35}` across it (up to 16 levels), so a
-//! lightly damped resonance is resolved. A crossing is bracketed where `ln |L|` (gain) or
+//! `A` is reduced once to Hessenberg form and `L` evaluated from it (Laub's method, as
+//! [`freqresp`](crate::frequency_response::freqresp), without allocation per point) on a
+//! logarithmic grid of 20 points per decade that covers two decades beyond the slowest and
+//! fastest pole and zero and is extended further where the asymptotic slope of `|L|`
+//! predicts a gain crossing beyond it; an interval is bisected (in `ln ω`) while the phase
+//! turns by more than 15° across it, or the magnitude changes by more than a factor
+//! `e^{0.35}` across it with `|ln |L||` at an end within twice that change of 0 (near
+//! `|L| = 1`, where a pair of gain crossings could hide), up to 16 levels, so a lightly
+//! damped resonance is resolved. A crossing is bracketed where `ln |L|` (gain) or
 //! `sin ∠L` (phase) changes sign between neighbouring grid points and refined by the
 //! Illinois variant of regula falsi on `ln ω` to a bracket width of a few ulp, all brackets
 //! in lock-step (one frequency-response call per step).
@@ -46,11 +49,12 @@
 
 use crate::domain::TimeDomain;
 use crate::error::{LtiError, Result};
-use crate::frequency_response::freqresp;
+use crate::frequency_response::HessenbergEvaluator;
 use crate::interconnect::{FeedbackSign, feedback, series};
-use crate::linalg::{Complex64, Mat};
+use crate::linalg::{CMat, Complex64, Mat};
 use crate::state_space::StateSpace;
 use crate::transfer_function::TransferFunction;
+use std::cell::RefCell;
 
 /// A gain crossing `|L(jω)| = 1` with its phase and delay margins.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -127,7 +131,7 @@ impl StabilityMargins {
 }
 
 /// Grid density before refinement (points per decade).
-const POINTS_PER_DECADE: f64 = 40.0;
+const POINTS_PER_DECADE: f64 = 20.0;
 /// Refinement: split an interval while the phase turns by more than this (radians) …
 const MAX_PHASE_STEP: f64 = 15.0 * std::f64::consts::PI / 180.0;
 /// … or `ln |L|` changes by more than this.
@@ -210,10 +214,29 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
             None => w,
         }
     };
+    // One Hessenberg reduction of A for every evaluation of the search.
+    let evaluator = RefCell::new((
+        HessenbergEvaluator::new(l.a(), l.b(), l.c(), l.d()),
+        CMat::zeros(1, 1),
+    ));
     let eval = |w: &[f64]| -> Result<Vec<Complex64>> {
-        let w: Vec<f64> = w.iter().map(|&x| avoid(x)).collect();
-        let r = freqresp(l, &w)?;
-        Ok(r.response.iter().map(|g| g[(0, 0)]).collect())
+        let mut guard = evaluator.borrow_mut();
+        let (ev, out) = &mut *guard;
+        w.iter()
+            .map(|&x| {
+                let wk = avoid(x);
+                let s = match ts {
+                    None => Complex64::new(0.0, wk),
+                    Some(ts) => Complex64::from_polar(1.0, wk * ts),
+                };
+                ev.eval(s, out)
+                    .map_err(|()| LtiError::PoleAtEvaluationPoint {
+                        what: format!("stability_margins at {wk} rad/s"),
+                        pole: s,
+                    })?;
+                Ok(out[(0, 0)])
+            })
+            .collect()
     };
     let grid_between = |lo: f64, hi: f64| -> Vec<f64> {
         let decades = (hi / lo).log10();
@@ -270,8 +293,12 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
             .filter(|&i| {
                 let (a, b) = (g[i], g[i + 1]);
                 let turn = (b / a).arg().abs();
-                let dm = (b.norm().ln() - a.norm().ln()).abs();
-                !(turn <= MAX_PHASE_STEP && dm <= MAX_LOG_MAG_STEP)
+                let (la, lb) = (log_modulus(a), log_modulus(b));
+                let dm = (lb - la).abs();
+                // A large magnitude step matters only near |L| = 1 (a gain crossing could
+                // hide in it); far from it, a crossing needs the phase to turn.
+                let near_one = la.abs().min(lb.abs()) <= 2.0 * dm || la * lb <= 0.0;
+                !(turn <= MAX_PHASE_STEP && (dm <= MAX_LOG_MAG_STEP || !near_one))
             })
             .map(|i| (i, avoid((w[i] * w[i + 1]).sqrt())))
             .filter(|&(i, m)| m > w[i] && m < w[i + 1])
@@ -282,7 +309,7 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
         let gm = eval(&mids.iter().map(|m| m.1).collect::<Vec<_>>())?;
         (w, g) = insert_midpoints(&w, &g, &mids, &gm);
     }
-    let logmag = |v: Complex64| v.norm().ln();
+    let logmag = log_modulus;
     let sinarg = |v: Complex64| v.im / v.norm();
     // Brackets (grid indices) of sign changes.
     let gain_brackets: Vec<usize> = (0..w.len() - 1)
@@ -369,6 +396,16 @@ pub(crate) fn insert_midpoints<T: Copy>(
         }
     }
     (nw, nv)
+}
+
+/// `ln |z|`, from `|z|²` where that neither over- nor underflows.
+fn log_modulus(z: Complex64) -> f64 {
+    let q = z.norm_sqr();
+    if q.is_finite() && q > f64::MIN_POSITIVE {
+        0.5 * q.ln()
+    } else {
+        z.norm().ln()
+    }
 }
 
 fn changes_sign(a: f64, b: f64) -> bool {

@@ -24,8 +24,13 @@
 //! ```
 //!
 //! (Boyd, Balakrishnan & Kabamba, Math. Control Signals Systems 2, 1989). The iteration of
-//! Bruinsma & Steinbuch (Systems & Control Letters 14, 1990): start from the largest of
-//! `σ_max(D)`, `σ_max(G(0))` and `σ_max(G(jω_p))` at the pole `p` of largest `|Im p/Re p|/|p|`;
+//! Bruinsma & Steinbuch (Systems & Control Letters 14, 1990): `A` is reduced once to
+//! Hessenberg form for every evaluation of `G(jω)` (Laub's method, no allocation per point);
+//! the initial lower bound `γ_lb` is the largest of `σ_max(D)`, `σ_max(G(0))` and
+//! `σ_max(G(j|p|))` over the poles `p` (one of each conjugate pair), the best of these then
+//! maximised locally between its neighbouring candidate frequencies (at most a factor 4
+//! away), so that for a typical system the first Hamiltonian test already confirms it;
+//! the poles are computed once, for the stability test and these candidates;
 //! at `γ = (1 + 2·tol)·γ_lb` collect the imaginary-axis eigenvalues `jωᵢ` of `H(γ)`; if there
 //! are none, `γ` is an upper bound and the iteration stops, otherwise `γ_lb` becomes the
 //! largest `σ_max(G(j√(ωᵢωᵢ₊₁)))` over consecutive pairs. The value returned is the lower bound
@@ -44,9 +49,10 @@
 use crate::analysis::{GramianKind, gramian};
 use crate::domain::TimeDomain;
 use crate::error::{LtiError, Result};
-use crate::frequency_response::freqresp;
-use crate::linalg::{CMat, Mat, eigenvalues};
+use crate::frequency_response::HessenbergEvaluator;
+use crate::linalg::{CMat, Complex64, Mat, eigenvalues};
 use crate::state_space::StateSpace;
+use std::cell::RefCell;
 
 /// The H2 norm (see the module documentation): `‖G‖₂`, infinite for an unstable system and
 /// for a continuous system with a non-zero feedthrough `D`.
@@ -113,7 +119,15 @@ pub fn hinf_norm<D: TimeDomain>(sys: &StateSpace<D>, tol: f64) -> Result<HinfNor
             iterations: 0,
         });
     }
-    if !sys.is_stable()? {
+    // The poles once: the stability test (`StateSpace::is_stable`'s rule, strictly inside by
+    // more than 100 ε max(1, ‖A‖_F)) and the candidate frequencies of the lower bound.
+    let poles = sys.poles()?;
+    let tol_stab = 100.0 * f64::EPSILON * sys.a().norm().max(1.0);
+    let domain = sys.domain();
+    if poles
+        .iter()
+        .any(|&p| domain.stability_distance(p) >= -tol_stab)
+    {
         return Ok(HinfNorm {
             value: f64::INFINITY,
             peak_frequency: f64::NAN,
@@ -121,11 +135,14 @@ pub fn hinf_norm<D: TimeDomain>(sys: &StateSpace<D>, tol: f64) -> Result<HinfNor
             iterations: 0,
         });
     }
-    match sys.domain().sample_time() {
-        None => hinf_continuous(sys.a(), sys.b(), sys.c(), sys.d(), tol),
+    match domain.sample_time() {
+        None => hinf_continuous(sys.a(), sys.b(), sys.c(), sys.d(), &poles, tol),
         Some(ts) => {
             let (a, b, c, d) = bilinear(sys)?;
-            let mut r = hinf_continuous(&a, &b, &c, &d, tol)?;
+            // z = (1 + s)/(1 − s) ⇔ s = (z − 1)/(z + 1); no pole is at z = −1 (stable).
+            let one = crate::linalg::Complex64::new(1.0, 0.0);
+            let pc: Vec<_> = poles.iter().map(|&z| (z - one) / (z + one)).collect();
+            let mut r = hinf_continuous(&a, &b, &c, &d, &pc, tol)?;
             r.peak_frequency = 2.0 * r.peak_frequency.atan() / ts;
             Ok(r)
         }
@@ -162,34 +179,65 @@ fn sigma_max(m: &CMat) -> f64 {
     crate::linalg::svd::svd(m).singular_values.max()
 }
 
-fn hinf_continuous(a: &Mat, b: &Mat, c: &Mat, d: &Mat, tol: f64) -> Result<HinfNorm> {
+fn hinf_continuous(
+    a: &Mat,
+    b: &Mat,
+    c: &Mat,
+    d: &Mat,
+    poles: &[Complex64],
+    tol: f64,
+) -> Result<HinfNorm> {
     let n = a.nrows();
     let (ny, nu) = d.shape();
-    let sys = StateSpace::continuous(a.clone(), b.clone(), c.clone(), d.clone())?;
+    // One Hessenberg reduction of A for every evaluation of σ_max(G(jω)).
+    let evaluator = RefCell::new((HessenbergEvaluator::new(a, b, c, d), CMat::zeros(ny, nu)));
     let sig = |w: &[f64]| -> Result<Vec<f64>> {
-        Ok(freqresp(&sys, w)?.response.iter().map(sigma_max).collect())
-    };
-    // Initial lower bound: D (ω = ∞), ω = 0 and the pole frequency of Bruinsma–Steinbuch.
-    let poles = eigenvalues(a)?;
-    let wp = if poles.iter().all(|p| p.im == 0.0) {
-        poles.iter().map(|p| p.norm()).fold(0.0, f64::max)
-    } else {
-        poles
-            .iter()
-            .filter(|p| p.im != 0.0)
-            .max_by(|x, y| {
-                let r = |p: &&crate::linalg::Complex64| (p.im / p.re).abs() / p.norm();
-                r(x).total_cmp(&r(y))
+        let mut guard = evaluator.borrow_mut();
+        let (ev, out) = &mut *guard;
+        w.iter()
+            .map(|&wk| {
+                let s = Complex64::new(0.0, wk);
+                ev.eval(s, out)
+                    .map_err(|()| LtiError::PoleAtEvaluationPoint {
+                        what: format!("hinf_norm at {wk} rad/s"),
+                        pole: s,
+                    })?;
+                Ok(sigma_max(out))
             })
-            .map_or(0.0, |p| p.norm())
+            .collect()
     };
-    let s0 = sig(&[0.0, wp])?;
+    // Initial lower bound: D (ω = ∞), ω = 0 and every pole's natural frequency |p| (one of
+    // each conjugate pair), the best of them then maximised locally between its neighbours.
+    let mut cand: Vec<f64> = std::iter::once(0.0)
+        .chain(poles.iter().filter(|p| p.im >= 0.0).map(|p| p.norm()))
+        .filter(|w| w.is_finite())
+        .collect();
+    cand.sort_by(f64::total_cmp);
+    cand.dedup_by(|x, y| (*x - *y).abs() <= 1e-12 * y.abs());
+    let s0 = sig(&cand)?;
     let mut lb = sigma_max(&d.map(|v| v.into()));
     let mut peak = f64::INFINITY;
-    for (w, s) in [0.0, wp].into_iter().zip(s0) {
+    let mut best = None;
+    for (k, (&w, &s)) in cand.iter().zip(&s0).enumerate() {
         if s > lb {
             lb = s;
             peak = w;
+            best = Some(k);
+        }
+    }
+    if let Some(k) = best {
+        let lo = if k > 0 {
+            cand[k - 1].max(peak / 4.0)
+        } else {
+            0.0
+        };
+        let hi = match cand.get(k + 1) {
+            Some(&w) if peak > 0.0 => w.min(4.0 * peak),
+            Some(&w) => w,
+            None => 4.0 * peak,
+        };
+        if hi > lo {
+            (peak, lb) = polish(&sig, lo, hi, peak, lb)?;
         }
     }
     if lb == 0.0 {
