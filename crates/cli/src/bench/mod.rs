@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 mod book;
 mod lmi;
+mod mpc;
 mod nmpc;
 mod plants;
 mod plot;
@@ -131,6 +132,11 @@ fn workloads() -> Vec<Workload> {
         name: "nmpc-update",
         description: "one C/GMRES update of the arm pendulum's swing-up NMPC, over a 10 s swing (us/update)",
         run: nmpc::run,
+    });
+    all.push(Workload {
+        name: "mpc-qp",
+        description: "one warm-started QP of the cart's constrained MPC, horizon 20, voltage and track limits, over a 5 s closed loop (us/solve)",
+        run: mpc::run,
     });
     all.push(Workload {
         name: "lsim-1e6",
