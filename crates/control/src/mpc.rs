@@ -790,7 +790,7 @@ impl LinearMpc {
         let h = (&h + h.transpose()) * 0.5;
         let f = &gt_q * &phi;
         // Constraint rows, stage by stage.
-        let mut rows: Vec<(Vec<f64>, f64, Vec<f64>, Vec<f64>)> = Vec::new();
+        let mut rows: Vec<Row> = Vec::new();
         let nv = n_h * nu;
         for s in 0..n_h {
             for i in 0..nu {
@@ -1007,6 +1007,9 @@ impl LinearMpc {
     }
 }
 
+/// One constraint row while the MPC is built: `G_i`, `w₀,i`, `W_x,i`, `W_u,i`.
+type Row = (Vec<f64>, f64, Vec<f64>, Vec<f64>);
+
 /// `g = F x₀`, `w = w₀ + W_x x₀ + W_u u₋₁`.
 #[allow(clippy::too_many_arguments)]
 fn fill(
@@ -1179,7 +1182,7 @@ impl Controller for MpcController {
         }
         let warm = if self.counter == 0 {
             WarmStart::Cold
-        } else if self.counter % self.periods_per_step == 0 {
+        } else if self.counter.is_multiple_of(self.periods_per_step) {
             WarmStart::Shifted
         } else {
             WarmStart::Same

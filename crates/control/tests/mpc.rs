@@ -237,7 +237,7 @@ fn infeasible_limits_give_the_status_with_a_farkas_certificate() {
     assert!(yt_a.amax() < 1e-9 * size, "{:e}", yt_a.amax());
     assert!(yt_w < -1e-3 * size, "{yt_w}");
     // Clarabel agrees that it is infeasible.
-    let ans = pendulab_lmi::solve_qp(mpc.hessian(), &vec![0.0; 20], a, &w, 1e-10).unwrap();
+    let ans = pendulab_lmi::solve_qp(mpc.hessian(), &[0.0; 20], a, &w, 1e-10).unwrap();
     assert_eq!(ans.status, "PrimalInfeasible");
     // Settings that admit no point are refused when the MPC is built, naming the key.
     let mut bad = settings(Some(TRACK));
@@ -299,7 +299,7 @@ impl Controller for Checked {
             .max(r.primal)
             .max(r.dual)
             .max(r.complementarity);
-        if self.count % self.clarabel_every == 0 {
+        if self.count.is_multiple_of(self.clarabel_every) {
             let theirs = clarabel(h, g, a, w, 1e-12);
             self.worst_clarabel = self.worst_clarabel.max(max_abs_diff(mpc.plan(), &theirs));
         }
