@@ -27,11 +27,14 @@ const T_FINAL: f64 = 5.0;
 const TRACK: f64 = 0.08;
 const CLARABEL_EVERY: usize = 10;
 
+/// A kept QP: `g`, `w`, the warm-started plan, the measurement.
+type Kept = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// The MPC timed update by update, keeping every `CLARABEL_EVERY`-th QP's data.
 struct Timed {
     inner: MpcController,
     seconds: Vec<f64>,
-    kept: Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)>,
+    kept: Vec<Kept>,
     keep: bool,
 }
 
@@ -86,7 +89,7 @@ fn build() -> Result<(LinearMpc, MpcController, f64)> {
 
 struct Run {
     seconds: Vec<f64>,
-    kept: Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)>,
+    kept: Vec<Kept>,
     mean_iterations: f64,
     max_iterations: usize,
     fallbacks: u64,
