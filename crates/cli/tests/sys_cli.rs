@@ -385,3 +385,52 @@ fn margins_norms_reduction_and_stepinfo_closed_forms() {
         &["single-input single-output"],
     );
 }
+
+#[test]
+fn pade_of_order_three_is_the_closed_form() {
+    // e^{−sT} ≈ Σ (−1)^k c_k (sT)^k / Σ c_k (sT)^k with c_k = (2n−k)! n! / ((2n)! k! (n−k)!):
+    // n = 3, T = 1: numerator −s³ + 12 s² − 60 s + 120 (monic-scaled by 120), denominator
+    // s³ + 12 s² + 60 s + 120.
+    let v = json(&["pade", "--delay", "1", "--order", "3", "--json"]);
+    let (num, den) = (floats(&v["num"]), floats(&v["den"]));
+    for (got, want) in num.iter().zip([-1.0, 12.0, -60.0, 120.0]) {
+        close(*got / den[0], want, 1e-12, "num");
+    }
+    for (got, want) in den.iter().zip([1.0, 12.0, 60.0, 120.0]) {
+        close(*got / den[0], want, 1e-12, "den");
+    }
+    // A negative delay is refused with the flag named.
+    let out = pendulab(&["pade", "--delay", "-1", "--order", "3"]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("delay"), "{}", stderr(&out));
+}
+
+#[test]
+fn matched_c2d_of_an_integrating_plant_is_the_closed_form() {
+    // G(s) = 11/(s(s + 1)), ts = 0.1, matched (MATLAB's rule): poles 0 → 1, −1 → e^{−0.1}; of
+    // the two zeros at infinity one goes to z = −1; the gain matches the integrator's
+    // low-frequency gain, lim s G(s) = 11 = lim (z − 1)/ts · G(z) at z = 1:
+    // G(z) = k (z + 1)/((z − 1)(z − e^{−0.1})), k = 11 · 0.1 · (1 − e^{−0.1})/2.
+    let v = json(&[
+        "c2d", "--num", "11", "--den", "1 1 0", "--ts", "0.1", "--method", "matched", "--json",
+    ]);
+    let k = 11.0 * 0.1 * (1.0 - (-0.1f64).exp()) / 2.0;
+    let mut poles: Vec<f64> = v["poles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| floats(p)[0])
+        .collect();
+    poles.sort_by(f64::total_cmp);
+    close(poles[0], (-0.1f64).exp(), 1e-12, "pole e^-0.1");
+    close(poles[1], 1.0, 1e-12, "pole 1");
+    // Companion form: G(z) = (c₁ z + c₀)/(z² + …), so c = [k, k] is k (z + 1).
+    let c = floats(&v["c"][0]);
+    close(c[0], k, 1e-12, "c0");
+    close(c[1], k, 1e-12, "c1");
+    // impulse-invariant: ts · h(k ts) needs D = 0; a biproper system is refused.
+    let out = pendulab(&[
+        "c2d", "--num", "1 2", "--den", "1 1", "--ts", "0.1", "--method", "impulse",
+    ]);
+    assert!(!out.status.success());
+}
