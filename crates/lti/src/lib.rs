@@ -62,6 +62,7 @@ pub mod interconnect;
 pub mod linalg;
 pub mod margins;
 pub mod matrix_functions;
+pub mod mu;
 pub mod norms;
 pub mod nyquist;
 pub mod polynomial;
