@@ -163,10 +163,10 @@ pub(crate) fn write_studies(lab: &Path, figs: &Path, s: &mut String) -> Result<(
                 figscroll_open(&escape(kind_label(&st.kind)))
             );
         }
-        let _ = write!(
+        let _ = writeln!(
             s,
             "<div class=\"scroll\" tabindex=\"0\" role=\"region\" aria-label=\"statistics of {}\">\
-             <table class=\"values\"><tr><th>statistic</th><th>value</th></tr>\n",
+             <table class=\"values\"><tr><th>statistic</th><th>value</th></tr>",
             escape(&st.name)
         );
         for (k, v) in &st.stats {
