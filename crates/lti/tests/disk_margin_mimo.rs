@@ -8,7 +8,7 @@ use pendulab_lti::interconnect::append;
 use pendulab_lti::linalg::from_rows;
 use pendulab_lti::mu::{disk_margin_mimo, mu_diag_complex};
 use pendulab_lti::random::SplitMix64;
-use pendulab_lti::{CMat, Complex64, LtiError, Mat, StateSpace};
+use pendulab_lti::{CMat, Complex64, Discretization, LtiError, Mat, StateSpace};
 
 type C = Complex64;
 
@@ -91,6 +91,25 @@ fn one_by_one_loop_equals_siso_disk_margin() {
         assert!((hi - siso.alpha).abs() <= 1e-6 * siso.alpha);
         assert!((m.peak_frequency - siso.frequency).abs() <= 1e-3 * siso.frequency);
         assert_eq!(m.mu_peak.lower, m.mu_peak.upper);
+    }
+}
+
+#[test]
+fn discrete_one_by_one_loop_equals_siso_disk_margin() {
+    let l = second_order(2.0, 1.0, 0.0)
+        .c2d(0.1, Discretization::Zoh)
+        .unwrap();
+    for skew in [0.0, 0.5] {
+        let siso = disk_margin(&l, skew).unwrap();
+        let m = disk_margin_mimo(&l, skew).unwrap();
+        assert!((m.loop_at_a_time[0].alpha - siso.alpha).abs() <= 1e-9 * siso.alpha);
+        let (lo, hi) = m.multi_loop_alpha_bounds;
+        assert!(
+            (lo - siso.alpha).abs() <= 1e-6 * siso.alpha,
+            "{skew}: {lo} vs {}",
+            siso.alpha
+        );
+        assert!((hi - siso.alpha).abs() <= 1e-6 * siso.alpha);
     }
 }
 
