@@ -7,34 +7,13 @@
 
 use pendulab_lmi::synthesis::{HinfLmiOptions, h2_output_feedback_lmi};
 use pendulab_lmi::{Backend, SolveOptions};
-use pendulab_lti::StateSpace;
-use pendulab_lti::design::{StandardPlant, h2_syn};
+
+use pendulab_lti::design::h2_syn;
 use pendulab_lti::norms::h2_norm;
-use pendulab_testkit::json::matrix;
-use serde_json::Value;
 
-fn fixture() -> Value {
-    pendulab_testkit::json::read(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../lti/tests/data/hinf_reference.json"),
-    )
-}
-
-fn plant_of(case: &Value) -> StandardPlant {
-    let sys = StateSpace::continuous(
-        matrix(&case["a"]),
-        matrix(&case["b"]),
-        matrix(&case["c"]),
-        matrix(&case["d"]),
-    )
-    .unwrap();
-    StandardPlant::new(
-        sys,
-        case["nmeas"].as_u64().unwrap() as usize,
-        case["ncon"].as_u64().unwrap() as usize,
-    )
-    .unwrap()
-}
+#[path = "../../lti/tests/hinf_support/mod.rs"]
+mod hinf_support;
+use hinf_support::{fixture, plant_of};
 
 fn options(backend: Backend) -> HinfLmiOptions {
     HinfLmiOptions {

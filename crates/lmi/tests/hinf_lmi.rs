@@ -8,36 +8,15 @@ use pendulab_lmi::synthesis::{
     HinfLmiOptions, h2_state_feedback_lmi, hinf_lmi, hinf_lmi_at, hinf_state_feedback_lmi,
 };
 use pendulab_lmi::{Backend, SolveOptions, Status};
+use pendulab_lti::StateSpace;
 use pendulab_lti::design::{
-    GammaIteration, StandardPlant, h2_state_feedback, hinf_state_feedback_optimal, hinf_syn_optimal,
+    GammaIteration, h2_state_feedback, hinf_state_feedback_optimal, hinf_syn_optimal,
 };
 use pendulab_lti::norms::hinf_norm;
-use pendulab_lti::{Mat, StateSpace};
-use pendulab_testkit::json::matrix;
-use serde_json::Value;
 
-fn fixture() -> Value {
-    pendulab_testkit::json::read(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../lti/tests/data/hinf_reference.json"),
-    )
-}
-
-fn plant_of(case: &Value) -> StandardPlant {
-    let sys = StateSpace::continuous(
-        matrix(&case["a"]),
-        matrix(&case["b"]),
-        matrix(&case["c"]),
-        matrix(&case["d"]),
-    )
-    .unwrap();
-    StandardPlant::new(
-        sys,
-        case["nmeas"].as_u64().unwrap() as usize,
-        case["ncon"].as_u64().unwrap() as usize,
-    )
-    .unwrap()
-}
+#[path = "../../lti/tests/hinf_support/mod.rs"]
+mod hinf_support;
+use hinf_support::{fixture, plant_of, scalar_full_information};
 
 fn options(backend: Backend) -> HinfLmiOptions {
     HinfLmiOptions {
@@ -182,22 +161,6 @@ fn infeasible_level_is_a_status() {
         let d = above.design.expect("feasible above the optimum");
         assert!(hinf_norm(&d.closed_loop, 1e-10).unwrap().value < 2.2);
     }
-}
-
-fn scalar_full_information(a: f64) -> StandardPlant {
-    let m = Mat::from_row_slice;
-    StandardPlant::from_blocks(
-        &m(1, 1, &[a]),
-        &m(1, 1, &[1.0]),
-        &m(1, 1, &[1.0]),
-        &m(2, 1, &[1.0, 0.0]),
-        &Mat::zeros(0, 1),
-        &Mat::zeros(2, 1),
-        &m(2, 1, &[0.0, 1.0]),
-        &Mat::zeros(0, 1),
-        &Mat::zeros(0, 1),
-    )
-    .unwrap()
 }
 
 /// State feedback: the scalar full-information problem (`γ_opt = 1/√(1 + a²)` at `K = −1/a`

@@ -11,30 +11,9 @@ use pendulab_lti::design::{
 };
 use pendulab_lti::norms::{h2_norm, hinf_norm};
 use pendulab_lti::{Complex64, Continuous, LtiError, Mat, StateSpace};
-use pendulab_testkit::json::matrix;
-use serde_json::Value;
 
-fn fixture() -> Value {
-    pendulab_testkit::json::read(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/hinf_reference.json"),
-    )
-}
-
-fn plant_of(case: &Value) -> StandardPlant {
-    let sys = StateSpace::continuous(
-        matrix(&case["a"]),
-        matrix(&case["b"]),
-        matrix(&case["c"]),
-        matrix(&case["d"]),
-    )
-    .unwrap();
-    StandardPlant::new(
-        sys,
-        case["nmeas"].as_u64().unwrap() as usize,
-        case["ncon"].as_u64().unwrap() as usize,
-    )
-    .unwrap()
-}
+mod hinf_support;
+use hinf_support::{fixture, plant_of, scalar_full_information};
 
 fn m(rows: usize, cols: usize, v: &[f64]) -> Mat {
     Mat::from_row_slice(rows, cols, v)
@@ -55,24 +34,6 @@ fn stable_norm(t: &StateSpace<Continuous>) -> f64 {
         t.poles()
     );
     hinf_norm(t, 1e-10).unwrap().value
-}
-
-/// ẋ = a x + w + u, z = [x; u]: the full-information optimum is `1/√(1 + a²)` at the static
-/// gain `u = x/a` (a < 0), and `1` (not attained) for a > 0: `‖T_zw‖∞² = (1 + k²)/(k − a)²`
-/// at ω = 0 for `u = −k x`, minimised over `k > a`.
-fn scalar_full_information(a: f64) -> StandardPlant {
-    StandardPlant::from_blocks(
-        &m(1, 1, &[a]),
-        &m(1, 1, &[1.0]),
-        &m(1, 1, &[1.0]),
-        &m(2, 1, &[1.0, 0.0]),
-        &Mat::zeros(0, 1),
-        &Mat::zeros(2, 1),
-        &m(2, 1, &[0.0, 1.0]),
-        &Mat::zeros(0, 1),
-        &Mat::zeros(0, 1),
-    )
-    .unwrap()
 }
 
 #[test]
