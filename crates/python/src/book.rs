@@ -107,7 +107,8 @@ fn run_one(
 /// printed values: `name`, `value`, `source`, `tolerance`, `reproduced`), `notes`, `figures`
 /// (the paths, `pathlib.Path`, of the SVG/PNG/GIF files written into the directory `out`;
 /// none without it) and `status`
-/// (`"reproduced"`, `"runs"`, `"differs"`). `data` is the text of a measured-data CSV for an
+/// (`"reproduced"`, `"agrees where compared"`, `"runs"`, `"differs from book"`: the report's
+/// status labels). `data` is the text of a measured-data CSV for an
 /// example that takes one. Raises `pendulab.InvalidArgumentError` for an unknown id or a
 /// missing recording, `pendulab.Error` when the example fails.
 #[pyfunction]
@@ -150,8 +151,8 @@ fn book_run<'py>(
 /// `book_report(out, only=None)`: runs the examples (`only`: these ids; default all) in
 /// parallel, writes `out/index.html` (the lab notebook page), the figures under
 /// `out/figures/<id>/` and `out/status.md` (the README table), and returns a dict: `index`
-/// (the page's path), the counts per status (`total`, `reproduced`, `runs`, `differs`,
-/// `needs_data`, `failing`, `figures`) and `failing` (the ids that failed). Raises for an
+/// (the page's path), the counts per status (`total`, `reproduced`, `partly_compared` (agrees
+/// where compared), `runs`, `differs`, `needs_data`, `failing`, `figures`) and `failing` (the ids that failed). Raises for an
 /// unknown id or an output directory that cannot be written; a failing example is reported,
 /// not raised.
 #[pyfunction]
@@ -210,6 +211,7 @@ fn book_report<'py>(
     d.set_item("index", index)?;
     d.set_item("total", summary.total)?;
     d.set_item("reproduced", summary.reproduced)?;
+    d.set_item("partly_compared", summary.partly_compared)?;
     d.set_item("runs", summary.runs)?;
     d.set_item("differs", summary.differs)?;
     d.set_item("needs_data", summary.needs_data)?;

@@ -69,7 +69,7 @@ def test_references_are_compared():
     # Book Part 2 example 1.3 prints the optimum 2.929.
     assert refs["optimum"]["value"] == 2.929
     assert refs["optimum"]["reproduced"] == (abs(res["values"]["optimum"] - 2.929) <= refs["optimum"]["tolerance"])
-    assert res["status"] in ("reproduced", "differs")
+    assert res["status"] in ("reproduced", "agrees where compared", "differs from book")
 
 
 def test_report_writes_the_page(tmp_path):
@@ -77,6 +77,8 @@ def test_report_writes_the_page(tmp_path):
     r = book.report(tmp_path, only=ids)
     assert pathlib.Path(r["index"]).exists()
     assert r["total"] == 2 and r["failing"] == 0 and r["failing_ids"] == []
+    counts = ("reproduced", "partly_compared", "runs", "differs", "needs_data", "failing")
+    assert sum(r[k] for k in counts) == r["total"]
     table = (tmp_path / "status.md").read_text()
     assert all(i in table for i in ids)
     assert any((tmp_path / "figures" / "p1c43_stability1").iterdir())
