@@ -66,6 +66,10 @@ pub enum Method {
     PendFree,
     /// Arm-type pendulum from a free oscillation (columns t, theta2).
     ArmPendFree,
+    /// Black-box ARX model by least squares (columns t, --input, --output).
+    Arx,
+    /// Black-box state-space model by PO-MOESP (columns t, --input, --output).
+    Moesp,
 }
 
 impl Method {
@@ -78,6 +82,8 @@ impl Method {
             Method::ArmLs | Method::ArmPendLs | Method::ArmStep | Method::ArmPendFree => {
                 PlantKind::Arm
             }
+            // Not a plant's: `run` hands the black-box methods to `identify_blackbox` first.
+            Method::Arx | Method::Moesp => PlantKind::Cart,
         }
     }
 
@@ -88,6 +94,7 @@ impl Method {
             Method::PendLs | Method::PendFree => [("Jp", "J_p"), ("mup", "mu_p")],
             Method::ArmLs | Method::ArmStep => [("a1", "a1"), ("b1", "b1")],
             Method::ArmPendLs | Method::ArmPendFree => [("J2", "J2"), ("mu2", "mu2")],
+            Method::Arx | Method::Moesp => [("", ""); 2],
         }
     }
 
@@ -101,6 +108,8 @@ impl Method {
             Method::ArmStep => "arm-step",
             Method::PendFree => "pend-free",
             Method::ArmPendFree => "arm-pend-free",
+            Method::Arx => "arx",
+            Method::Moesp => "moesp",
         }
     }
 }
@@ -203,12 +212,51 @@ pub struct IdentifyArgs {
     /// Write the estimated plant parameters into DIR/lab.toml (`docs/lab.md`), with their
     /// provenance: the data file, its SHA-256, the window and the standard errors. The known
     /// constants (m_p, l_p, g or L1, m2, l2, g) are then the lab's unless given. Refused for a
-    /// method of the other plant, and with --force when a check failed.
+    /// method of the other plant, and with --force when a check failed. With arx and moesp:
+    /// the discrete model as a system file (SYS.toml or .json, `docs/sys.md`).
     #[arg(long, value_name = "DIR")]
     pub save: Option<PathBuf>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Input column of arx/moesp (default: v).
+    #[arg(long, value_name = "COLUMN")]
+    pub input: Option<String>,
+    /// Output column of arx/moesp (default: z).
+    #[arg(long, value_name = "COLUMN")]
+    pub output: Option<String>,
+    /// ARX: number of A coefficients a1…a_na (default 2).
+    #[arg(long)]
+    pub na: Option<usize>,
+    /// ARX: number of B coefficients b0…b_(nb−1) (default 2).
+    #[arg(long)]
+    pub nb: Option<usize>,
+    /// ARX: input delay in samples (default 1).
+    #[arg(long)]
+    pub nk: Option<usize>,
+    /// ARX: try na, nb = 1…N and keep the least AIC; MOESP: the order at the largest gap of
+    /// the singular values among 1…N.
+    #[arg(long, value_name = "N")]
+    pub max_order: Option<usize>,
+    /// MOESP: the model order (default: from the singular values).
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// MOESP: block rows of the Hankel matrices (default 10).
+    #[arg(long)]
+    pub horizon: Option<usize>,
+    /// arx/moesp: validation window T0:T1 in seconds (default: the estimation window).
+    #[arg(long, value_name = "T0:T1")]
+    pub validate: Option<String>,
+    /// arx/moesp: keep every Q-th sample for the black-box models (default 1).
+    #[arg(long, value_name = "Q")]
+    pub decimate: Option<usize>,
+}
+
+impl IdentifyArgs {
+    /// The method's name as typed (`cart-ls`, …, `arx`, `moesp`).
+    pub fn method_name(&self) -> &'static str {
+        self.method.name()
+    }
 }
 
 /// One output of the identification.
@@ -362,7 +410,7 @@ fn fit_json(gate: &mut Gate, v: &Validation, m: &FitMeaning<'_>) -> Result<Value
     }))
 }
 
-fn parse_window(s: &str) -> Result<(Option<f64>, Option<f64>)> {
+pub(crate) fn parse_window(s: &str) -> Result<(Option<f64>, Option<f64>)> {
     let Some((a, b)) = s.split_once(':') else {
         bail!("--window must be T0:T1 (seconds), got '{s}'");
     };
@@ -382,7 +430,7 @@ fn parse_window(s: &str) -> Result<(Option<f64>, Option<f64>)> {
     Ok((parse(a, "start")?, parse(b, "end")?))
 }
 
-fn ls_options(args: &IdentifyArgs) -> LsOptions {
+pub(crate) fn ls_options(args: &IdentifyArgs) -> LsOptions {
     let hold = if args.foh {
         FilterHold::Foh
     } else {
@@ -434,6 +482,27 @@ fn options_json(o: &LsOptions) -> Value {
 /// data, too few samples, a rank-deficient regressor, absent features and implausible
 /// estimates — each naming the file, column or row.
 pub fn run(args: &IdentifyArgs) -> Result<()> {
+    if matches!(args.method, Method::Arx | Method::Moesp) {
+        return crate::identify_blackbox::run(args);
+    }
+    let blackbox_flags = [
+        ("--input", args.input.is_some()),
+        ("--output", args.output.is_some()),
+        ("--na", args.na.is_some()),
+        ("--nb", args.nb.is_some()),
+        ("--nk", args.nk.is_some()),
+        ("--max-order", args.max_order.is_some()),
+        ("--order", args.order.is_some()),
+        ("--horizon", args.horizon.is_some()),
+        ("--validate", args.validate.is_some()),
+        ("--decimate", args.decimate.is_some()),
+    ];
+    if let Some((flag, _)) = blackbox_flags.iter().find(|(_, given)| *given) {
+        bail!(
+            "identify {}: {flag} applies to arx and moesp only",
+            args.method.name()
+        );
+    }
     if let Some(dir) = &args.save {
         // Refused before any work: a lab of the other plant.
         let lab = crate::lab::load(dir)?;
@@ -671,6 +740,9 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
         Method::ArmPendLs => vec!["phi1".into(), "phi2".into()],
         Method::CartStep | Method::ArmStep => vec![signal("z", "theta1")],
         Method::PendFree | Method::ArmPendFree => vec![signal("theta", "theta2")],
+        Method::Arx | Method::Moesp => {
+            bail!("identify: arx and moesp are run by identify_blackbox")
+        }
     };
     for c in &needed {
         data.column(c)?;
@@ -954,6 +1026,8 @@ fn identify(args: &IdentifyArgs) -> Result<Report> {
                 ("zeta", "-"),
             ];
         }
+        // Bailed out above (the columns' match).
+        Method::Arx | Method::Moesp => {}
     }
     report.estimates = est;
     report.std_errors = se;

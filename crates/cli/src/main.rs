@@ -71,6 +71,7 @@ mod book;
 mod design;
 mod estimate;
 mod identify;
+mod identify_blackbox;
 mod lab;
 mod lqr;
 mod model;

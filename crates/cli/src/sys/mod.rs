@@ -18,6 +18,7 @@ mod verbs;
 
 pub use input::SysArgs;
 pub use verbs::run;
+pub(crate) use verbs::write_system;
 
 use std::path::PathBuf;
 

@@ -561,7 +561,7 @@ fn ss(s: &Sys, out: &SystemOut) -> Result<()> {
 }
 
 /// Writes a system file (TOML, or JSON by the `.json` extension), whole or not at all.
-pub(super) fn write_system(s: &Sys, path: &Path) -> Result<()> {
+pub(crate) fn write_system(s: &Sys, path: &Path) -> Result<()> {
     let v = system_json(s);
     let text = if path
         .extension()
