@@ -28,16 +28,38 @@
 //! `G(0)` (`G(1)`) and the same error bound; the states with a zero Hankel singular value
 //! (non-minimal ones) are dropped first.
 //!
-//! # Unstable systems (documented status)
+//! # Unstable systems: stable/unstable decomposition (MATLAB `stabsep`, `hsvd`, `balreal`,
+//! `balred`)
 //!
-//! The Gramians of an unstable system do not exist; [`hsvd`], [`balreal`] and [`balred`]
-//! return the Gramian's [`LtiError::InvalidArgument`] for it. Reduce the stable part after a
-//! stable/unstable split.
+//! [`stabsep`] splits `G = G_s + G_u` additively: the real Schur form `A = Z T Zᵀ` is reordered
+//! so that the stable eigenvalues (`Re λ < 0` in continuous time, `|λ| < 1` in discrete time)
+//! come first, `T = [[T₁₁, T₁₂], [0, T₂₂]]`, and the Sylvester equation
+//! `T₁₁ X − X T₂₂ + T₁₂ = 0` (unique, the spectra of `T₁₁` and `T₂₂` are disjoint) gives
+//! `W = [[I, X], [0, I]]` with `W⁻¹ T W = diag(T₁₁, T₂₂)`. With `Zᵀ B = [B₁; B₂]` and
+//! `C Z = [C₁, C₂]`: `G_s = (T₁₁, B₁ − X B₂, C₁, D)` and `G_u = (T₂₂, B₂, C₁ X + C₂, 0)`; the
+//! feedthrough goes to the stable part and `G_u` is strictly proper (MATLAB's convention). An
+//! eigenvalue on the stability boundary (`|Re λ|`, `||λ| − 1|` at most `100·ε·max(1, ‖A‖_F)`,
+//! the rule of [`StateSpace::is_stable`]) belongs to neither part: [`LtiError::InvalidArgument`]
+//! naming it.
+//!
+//! For a system with unstable poles, as MATLAB does:
+//! - [`hsvd`] returns the Hankel singular values of `G_s`, preceded by one `f64::INFINITY` per
+//!   unstable state (the unstable modes are never discarded);
+//! - [`balreal`] balances `G_s` and adds `G_u` back: the state is `[x_u; x_b]`, the unstable
+//!   states first, and the Gramians of the stable block are `diag(σ)`;
+//! - [`balred`] to `order` states keeps every unstable mode (`G_u` unchanged) and reduces `G_s`
+//!   to `order − n_u` states (truncation or matched DC), so that `G − G_r = G_s − G_{s,r}` and
+//!   the bound `‖G − G_r‖∞ ≤ 2 Σ_{i>order−n_u} σᵢ(G_s)` holds; `order < n_u` is an
+//!   [`LtiError::InvalidArgument`].
+//!
+//! The Gramians of an unstable system itself still do not exist
+//! ([`gramian`](crate::analysis::gramian) refuses it).
 
 use crate::analysis::{GramianKind, controllability_staircase, gramian};
 use crate::domain::TimeDomain;
 use crate::error::{LtiError, Result};
-use crate::linalg::Mat;
+use crate::linalg::schur::real_schur;
+use crate::linalg::{Complex64, Mat};
 use crate::state_space::StateSpace;
 
 /// A minimal realisation and what was removed.
@@ -86,6 +108,85 @@ pub fn minreal<D: TimeDomain>(
     })
 }
 
+/// The additive stable/unstable decomposition with its state transformation:
+/// `x = V [x_s; x_u]`, `[x_s; x_u] = V⁻¹ x`.
+struct Split<D: TimeDomain> {
+    stable: StateSpace<D>,
+    unstable: StateSpace<D>,
+    v: Mat,
+    v_inv: Mat,
+}
+
+fn split<D: TimeDomain>(sys: &StateSpace<D>) -> Result<Split<D>> {
+    let n = sys.nx();
+    let domain = sys.domain();
+    let mut schur = real_schur(sys.a())?;
+    let tol = 100.0 * f64::EPSILON * sys.a().norm().max(1.0);
+    let boundary: Vec<Complex64> = schur
+        .eigenvalues()
+        .into_iter()
+        .filter(|&l| domain.stability_distance(l).abs() <= tol)
+        .collect();
+    if !boundary.is_empty() {
+        let list: Vec<String> = boundary
+            .iter()
+            .map(|l| format!("{:e}{:+e}j", l.re, l.im))
+            .collect();
+        let rule = match domain.sample_time() {
+            None => "|Re λ|",
+            Some(_) => "||λ| − 1|",
+        };
+        return Err(LtiError::InvalidArgument(format!(
+            "stabsep: eigenvalue(s) of A on the stability boundary ({rule} ≤ {tol:e}) belong to neither part: {}",
+            list.join(", ")
+        )));
+    }
+    let ns = schur.reorder(|l| domain.stability_distance(l) < 0.0)?;
+    let nu = n - ns;
+    let (t, z) = schur.into_parts();
+    let t11 = t.view((0, 0), (ns, ns)).clone_owned();
+    let t12 = t.view((0, ns), (ns, nu)).clone_owned();
+    let t22 = t.view((ns, ns), (nu, nu)).clone_owned();
+    // T₁₁ X + X (−T₂₂) = −T₁₂.
+    let x = crate::equations::sylvester(&t11, &(-&t22), &(-t12))?.x;
+    let zb = z.transpose() * sys.b();
+    let cz = sys.c() * &z;
+    let (b1, b2) = (zb.rows(0, ns), zb.rows(ns, nu));
+    let (c1, c2) = (cz.columns(0, ns), cz.columns(ns, nu));
+    let stable = StateSpace::new(t11, b1 - &x * b2, c1.clone_owned(), sys.d().clone(), domain)?;
+    let unstable = StateSpace::new(
+        t22,
+        b2.clone_owned(),
+        c1 * &x + c2,
+        Mat::zeros(sys.ny(), sys.nu()),
+        domain,
+    )?;
+    // V = Z W, V⁻¹ = W⁻¹ Zᵀ with W = [[I, X], [0, I]], W⁻¹ = [[I, −X], [0, I]].
+    let mut w = Mat::identity(n, n);
+    w.view_mut((0, ns), (ns, nu)).copy_from(&x);
+    let mut w_inv = Mat::identity(n, n);
+    w_inv.view_mut((0, ns), (ns, nu)).copy_from(&(-&x));
+    Ok(Split {
+        stable,
+        unstable,
+        v: &z * w,
+        v_inv: w_inv * z.transpose(),
+    })
+}
+
+/// Additive stable/unstable decomposition `G = G_s + G_u` (MATLAB `stabsep`; module
+/// documentation): `G_s` has the poles with `Re λ < 0` (`|λ| < 1` in discrete time) and the
+/// feedthrough `D`, `G_u` the others and a zero feedthrough. Either part may have no states.
+///
+/// # Errors
+/// [`LtiError::InvalidArgument`] naming the eigenvalues of `A` on the stability boundary
+/// (within `100·ε·max(1, ‖A‖_F)`); [`LtiError::Inaccurate`] if the Schur reordering rejects a
+/// swap; [`LtiError::NoConvergence`] from the Schur form; the Sylvester solver's errors.
+pub fn stabsep<D: TimeDomain>(sys: &StateSpace<D>) -> Result<(StateSpace<D>, StateSpace<D>)> {
+    let s = split(sys)?;
+    Ok((s.stable, s.unstable))
+}
+
 /// Square-root factors `R` (`W_c = R Rᵀ`) and `L` (`W_o = L Lᵀ`) and the SVD of `Lᵀ R`.
 struct SquareRoot {
     r: Mat,
@@ -119,16 +220,26 @@ fn square_root<D: TimeDomain>(sys: &StateSpace<D>) -> Result<SquareRoot> {
     })
 }
 
-/// Hankel singular values `σ₁ ≥ … ≥ σₙ` of a stable system (module documentation).
+/// Hankel singular values `σ₁ ≥ … ≥ σₙ` (module documentation). For a system with unstable
+/// poles, those of the stable part of [`stabsep`] preceded by `f64::INFINITY` for each unstable
+/// state (MATLAB's convention), `n` entries in all.
 ///
 /// # Errors
-/// [`LtiError::InvalidArgument`] for a system that is not asymptotically stable; the
-/// Lyapunov solver's errors.
+/// [`LtiError::InvalidArgument`] for an eigenvalue on the stability boundary; the errors of
+/// [`stabsep`] and of the Lyapunov solver.
 pub fn hsvd<D: TimeDomain>(sys: &StateSpace<D>) -> Result<Vec<f64>> {
     if sys.nx() == 0 {
         return Ok(Vec::new());
     }
-    Ok(square_root(sys)?.sigma)
+    if sys.is_stable()? {
+        return Ok(square_root(sys)?.sigma);
+    }
+    let s = split(sys)?;
+    let mut hsv = vec![f64::INFINITY; s.unstable.nx()];
+    if s.stable.nx() > 0 {
+        hsv.extend(square_root(&s.stable)?.sigma);
+    }
+    Ok(hsv)
 }
 
 /// A balanced realisation: `x = T x_b`, both Gramians of `system` equal `diag(hsv)`.
@@ -172,14 +283,26 @@ fn transform<D: TimeDomain>(sys: &StateSpace<D>, t: &Mat, ti: &Mat) -> Result<St
     )
 }
 
-/// The balanced realisation of a stable, minimal system (square-root method, module
-/// documentation).
+/// The balanced realisation of a minimal system (square-root method, module documentation).
+/// With unstable poles (MATLAB's behaviour): the stable part of [`stabsep`] balanced and the
+/// unstable part added back, state `[x_u; x_b]`, `hsv` starting with one `f64::INFINITY` per
+/// unstable state.
 ///
 /// # Errors
-/// [`LtiError::InvalidArgument`] for an unstable system; [`LtiError::Singular`] if a Hankel
-/// singular value is zero to working precision (a non-minimal realisation: call [`minreal`]
-/// or [`balred`]).
+/// [`LtiError::InvalidArgument`] for an eigenvalue on the stability boundary;
+/// [`LtiError::Singular`] if a Hankel singular value (of the stable part) is zero to working
+/// precision (a non-minimal realisation: call [`minreal`] or [`balred`]); the errors of
+/// [`stabsep`].
 pub fn balreal<D: TimeDomain>(sys: &StateSpace<D>) -> Result<Balanced<D>> {
+    if sys.nx() > 0 && !sys.is_stable()? {
+        let s = split(sys)?;
+        let bal = if s.stable.nx() > 0 {
+            balreal(&s.stable)?
+        } else {
+            identity_balanced(&s.stable)
+        };
+        return add_unstable(&s, bal);
+    }
     let sr = square_root(sys)?;
     let thr = zero_hsv_threshold(&sr.sigma);
     if let Some(&smin) = sr.sigma.last()
@@ -210,12 +333,17 @@ pub enum BalredMethod {
     MatchDc,
 }
 
-/// Balanced reduction of a stable system to `order` states (module documentation).
+/// Balanced reduction to `order` states (module documentation). With unstable poles
+/// (MATLAB's behaviour): every unstable mode is kept, the stable part of [`stabsep`] is
+/// reduced to `order − n_u` states and the unstable part added back (state `[x_u; x_r]`,
+/// `hsv` starting with one `f64::INFINITY` per unstable state, `error_bound` from the stable
+/// part's discarded values).
 ///
 /// # Errors
-/// [`LtiError::InvalidArgument`] if `order > nx` or the system is unstable;
-/// [`LtiError::Singular`] if `σ_order` is zero to working precision (ask for fewer states) or,
-/// for [`BalredMethod::MatchDc`], if `A₂₂` (`A₂₂ − I`) is singular.
+/// [`LtiError::InvalidArgument`] if `order > nx`, if `order` is below the number of unstable
+/// states, or for an eigenvalue on the stability boundary; [`LtiError::Singular`] if
+/// `σ_order` is zero to working precision (ask for fewer states) or, for
+/// [`BalredMethod::MatchDc`], if `A₂₂` (`A₂₂ − I`) is singular; the errors of [`stabsep`].
 pub fn balred<D: TimeDomain>(
     sys: &StateSpace<D>,
     order: usize,
@@ -226,6 +354,21 @@ pub fn balred<D: TimeDomain>(
         return Err(LtiError::InvalidArgument(format!(
             "balred: order {order} exceeds the system's {n} states"
         )));
+    }
+    if n > 0 && !sys.is_stable()? {
+        let s = split(sys)?;
+        let nu = s.unstable.nx();
+        if order < nu {
+            return Err(LtiError::InvalidArgument(format!(
+                "balred: order {order} is below the system's {nu} unstable states (they are all kept)"
+            )));
+        }
+        let bal = if s.stable.nx() > 0 {
+            balred(&s.stable, order - nu, method)?
+        } else {
+            identity_balanced(&s.stable)
+        };
+        return add_unstable(&s, bal);
     }
     let sr = square_root(sys)?;
     let thr = zero_hsv_threshold(&sr.sigma);
@@ -255,6 +398,58 @@ pub fn balred<D: TimeDomain>(
         t: t.columns(0, order).clone_owned(),
         t_inv: ti.rows(0, order).clone_owned(),
         error_bound,
+    })
+}
+
+/// The balanced data of a system without states (its only realisation).
+fn identity_balanced<D: TimeDomain>(stable: &StateSpace<D>) -> Balanced<D> {
+    Balanced {
+        system: stable.clone(),
+        hsv: Vec::new(),
+        t: Mat::zeros(0, 0),
+        t_inv: Mat::zeros(0, 0),
+        error_bound: 0.0,
+    }
+}
+
+/// Puts the unstable part of `s` back in front of the balanced (or reduced) stable part `bal`:
+/// state `[x_u; x_b]`, `T = [V_u, V_s T_b]`, `T⁻¹ = [V⁻¹_u; T_b⁻¹ V⁻¹_s]`, `hsv` with one
+/// infinity per unstable state first.
+fn add_unstable<D: TimeDomain>(s: &Split<D>, bal: Balanced<D>) -> Result<Balanced<D>> {
+    let (nu, ns) = (s.unstable.nx(), s.stable.nx());
+    let r = bal.system.nx();
+    let k = nu + r;
+    let u = &s.unstable;
+    let g = &bal.system;
+    let mut a = Mat::zeros(k, k);
+    a.view_mut((0, 0), (nu, nu)).copy_from(u.a());
+    a.view_mut((nu, nu), (r, r)).copy_from(g.a());
+    let mut b = Mat::zeros(k, u.nu());
+    b.rows_mut(0, nu).copy_from(u.b());
+    b.rows_mut(nu, r).copy_from(g.b());
+    let mut c = Mat::zeros(u.ny(), k);
+    c.columns_mut(0, nu).copy_from(u.c());
+    c.columns_mut(nu, r).copy_from(g.c());
+    let n = s.v.nrows();
+    let mut t = Mat::zeros(n, k);
+    t.columns_mut(0, nu).copy_from(&s.v.columns(ns, nu));
+    let mut t_inv = Mat::zeros(k, n);
+    t_inv.rows_mut(0, nu).copy_from(&s.v_inv.rows(ns, nu));
+    if r > 0 {
+        t.columns_mut(nu, r)
+            .copy_from(&(s.v.columns(0, ns) * &bal.t));
+        t_inv
+            .rows_mut(nu, r)
+            .copy_from(&(&bal.t_inv * s.v_inv.rows(0, ns)));
+    }
+    let mut hsv = vec![f64::INFINITY; nu];
+    hsv.extend(bal.hsv);
+    Ok(Balanced {
+        system: StateSpace::new(a, b, c, g.d().clone(), g.domain())?,
+        hsv,
+        t,
+        t_inv,
+        error_bound: bal.error_bound,
     })
 }
 

@@ -189,16 +189,24 @@ fn discrete_balanced_reduction() {
     }
 }
 
-/// Unstable systems, non-minimal ones and impossible orders give typed errors.
+/// A pole on the stability boundary, non-minimal systems and impossible orders give typed
+/// errors (unstable systems are reduced around their unstable part: `reduction_unstable.rs`).
 #[test]
 fn reduction_errors() {
     let unstable = TransferFunction::continuous(&[1.0], &[1.0, 0.0, -1.0])
         .unwrap()
         .to_state_space()
         .unwrap();
-    assert!(matches!(hsvd(&unstable), Err(LtiError::InvalidArgument(_))));
     assert!(matches!(
-        balred(&unstable, 1, BalredMethod::Truncate),
+        balred(&unstable, 0, BalredMethod::Truncate),
+        Err(LtiError::InvalidArgument(_))
+    ));
+    let integrator = TransferFunction::continuous(&[1.0], &[1.0, 1.0, 0.0])
+        .unwrap()
+        .to_state_space()
+        .unwrap();
+    assert!(matches!(
+        hsvd(&integrator),
         Err(LtiError::InvalidArgument(_))
     ));
     let g1 = TransferFunction::continuous(&[1.0, 1.0], &[1.0, 2.0])
