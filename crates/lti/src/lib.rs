@@ -14,7 +14,7 @@
 //! | [`margins`] | every gain/phase crossing of a SISO loop with gain, phase and delay margins; the gang of four | `allmargin`, `margin`, `loopsens` |
 //! | [`nyquist`], [`rlocus`], [`disk_margin`], [`sigma`] | Nyquist curve with the encirclement count and the Nyquist criterion, Nichols curve, root locus (branches, asymptotes, break points, gain at a point), disk margins, singular values over frequency | `nyquist`, `nichols`, `rlocus`, `rlocfind`, `diskmargin`, `sigma` |
 //! | [`stepinfo`] | step-response characteristics (rise, settling, overshoot, undershoot, peak) | `stepinfo` |
-//! | [`reduction`] | minimal realisation, Hankel singular values, balanced realisation and truncation (truncate, matched DC) | `minreal`, `hsvd`, `balreal`, `balred` |
+//! | [`reduction`] | minimal realisation, Hankel singular values, balanced realisation and truncation (truncate, matched DC), stable/unstable decomposition (unstable systems keep their unstable part) | `minreal`, `hsvd`, `balreal`, `balred`, `stabsep` |
 //! | [`norms`] | H2 norm (Gramian), H∞ norm with its peak frequency (Hamiltonian bisection), continuous and discrete | `norm`, `hinfnorm` |
 //! | [`matrix_functions`] | matrix exponential, logarithm, square root, block exponentials | `expm`, `logm`, `sqrtm` |
 //! | [`discretization`] | `c2d` (ZOH, FOH, Tustin with prewarp, Euler, matched pole-zero, impulse invariant), `d2c` | `c2d`, `d2c` |
