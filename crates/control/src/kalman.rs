@@ -432,16 +432,24 @@ impl<S: Dynamics> ExtendedKalmanFilter<S> {
     }
 }
 
+/// The [`NonlinearFilter`] getters of a filter on a [`SampledModel`] (fields `x`, `p`,
+/// `model`): the estimate, its covariance and the model's sample time.
+macro_rules! model_filter_getters {
+    () => {
+        fn state(&self) -> &[f64] {
+            self.x.as_slice()
+        }
+        fn covariance(&self) -> &Mat {
+            &self.p
+        }
+        fn ts(&self) -> f64 {
+            self.model.ts
+        }
+    };
+}
+
 impl<S: Dynamics> NonlinearFilter for ExtendedKalmanFilter<S> {
-    fn state(&self) -> &[f64] {
-        self.x.as_slice()
-    }
-    fn covariance(&self) -> &Mat {
-        &self.p
-    }
-    fn ts(&self) -> f64 {
-        self.model.ts
-    }
+    model_filter_getters!();
 
     fn predict(&mut self, t: f64, u: &[f64]) -> Result<()> {
         self.model.check_input(u)?;
@@ -600,15 +608,7 @@ impl<S: Dynamics> UnscentedKalmanFilter<S> {
 }
 
 impl<S: Dynamics> NonlinearFilter for UnscentedKalmanFilter<S> {
-    fn state(&self) -> &[f64] {
-        self.x.as_slice()
-    }
-    fn covariance(&self) -> &Mat {
-        &self.p
-    }
-    fn ts(&self) -> f64 {
-        self.model.ts
-    }
+    model_filter_getters!();
 
     fn predict(&mut self, t: f64, u: &[f64]) -> Result<()> {
         self.model.check_input(u)?;
