@@ -434,3 +434,44 @@ fn matched_c2d_of_an_integrating_plant_is_the_closed_form() {
     ]);
     assert!(!out.status.success());
 }
+
+#[test]
+fn balred_and_hsvd_accept_an_unstable_system() {
+    // diag(1, −2, −30) with unit B and C: G = 1/(s − 1) + 1/(s + 2) + 1/(s + 30). The unstable
+    // mode is kept (its Hankel singular value is reported as infinite: JSON null), the stable
+    // part 1/(s + 2) + 1/(s + 30) is reduced to one state.
+    let sys = [
+        "--a",
+        "1 0 0; 0 -2 0; 0 0 -30",
+        "--b",
+        "1; 1; 1",
+        "--c",
+        "1 1 1",
+    ];
+    let mut args = vec!["hsvd"];
+    args.extend(sys);
+    args.push("--json");
+    let v = json(&args);
+    let hsv = v["hsv"].as_array().unwrap();
+    assert_eq!(hsv.len(), 3, "{v}");
+    assert!(hsv[0].is_null(), "{v}");
+    assert!(hsv[1].as_f64().unwrap() > hsv[2].as_f64().unwrap(), "{v}");
+    let mut args = vec!["balred"];
+    args.extend(sys);
+    args.extend(["--order", "2", "--json"]);
+    let v = json(&args);
+    let poles: Vec<f64> = v["poles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| floats(p)[0])
+        .collect();
+    assert_eq!(poles.len(), 2, "{v}");
+    assert!(poles.iter().any(|p| (p - 1.0).abs() <= 1e-10), "{v}");
+    assert!(poles.iter().any(|&p| p < 0.0), "{v}");
+    // Below the number of unstable states: refused.
+    let mut args = vec!["balred"];
+    args.extend(sys);
+    args.extend(["--order", "0"]);
+    fails_with(&pendulab(&args), &["unstable states"]);
+}
