@@ -194,6 +194,18 @@ fn discrete_cases() -> Vec<Case<Discrete>> {
     ]
 }
 
+/// Runs `check(case, index)` on every continuous case (indices 0…) and discrete case (10…).
+macro_rules! each_case {
+    ($check:ident) => {
+        for (k, c) in continuous_cases().iter().enumerate() {
+            $check(c, k);
+        }
+        for (k, c) in discrete_cases().iter().enumerate() {
+            $check(c, 10 + k);
+        }
+    };
+}
+
 fn check_stabsep<D: TimeDomain>(c: &Case<D>, k: usize) {
     let (gs, gu) = stabsep(&c.g).unwrap();
     same_poles(&gs.poles().unwrap(), &c.stable, 1e-10, "stable part");
@@ -219,12 +231,7 @@ fn check_stabsep<D: TimeDomain>(c: &Case<D>, k: usize) {
 
 #[test]
 fn stabsep_reproduces_the_response_and_splits_the_poles() {
-    for (k, c) in continuous_cases().iter().enumerate() {
-        check_stabsep(c, k);
-    }
-    for (k, c) in discrete_cases().iter().enumerate() {
-        check_stabsep(c, 10 + k);
-    }
+    each_case!(check_stabsep);
 }
 
 #[test]
@@ -281,12 +288,7 @@ fn check_hsvd<D: TimeDomain>(c: &Case<D>, k: usize) {
 
 #[test]
 fn hsvd_of_an_unstable_system_is_the_stable_parts_with_infinities() {
-    for (k, c) in continuous_cases().iter().enumerate() {
-        check_hsvd(c, k);
-    }
-    for (k, c) in discrete_cases().iter().enumerate() {
-        check_hsvd(c, 10 + k);
-    }
+    each_case!(check_hsvd);
 }
 
 fn check_balred<D: TimeDomain>(c: &Case<D>, k: usize) {
@@ -345,12 +347,7 @@ fn check_balred<D: TimeDomain>(c: &Case<D>, k: usize) {
 
 #[test]
 fn balred_keeps_the_unstable_poles_and_the_error_bound() {
-    for (k, c) in continuous_cases().iter().enumerate() {
-        check_balred(c, k);
-    }
-    for (k, c) in discrete_cases().iter().enumerate() {
-        check_balred(c, 10 + k);
-    }
+    each_case!(check_balred);
 }
 
 /// `balreal`: unstable states first with infinite `hsv`, the stable block's Gramians equal
@@ -418,12 +415,7 @@ fn check_balreal<D: TimeDomain>(c: &Case<D>, k: usize) {
 
 #[test]
 fn balreal_of_an_unstable_system_balances_the_stable_part() {
-    for (k, c) in continuous_cases().iter().enumerate() {
-        check_balreal(c, k);
-    }
-    for (k, c) in discrete_cases().iter().enumerate() {
-        check_balreal(c, 10 + k);
-    }
+    each_case!(check_balreal);
 }
 
 fn is_invalid(r: Result<impl std::fmt::Debug, LtiError>, needle: &str) {
