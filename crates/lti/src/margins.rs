@@ -49,9 +49,9 @@
 
 use crate::domain::TimeDomain;
 use crate::error::{LtiError, Result};
-use crate::frequency_response::HessenbergEvaluator;
+use crate::frequency_response::SisoHessenbergEvaluator;
 use crate::interconnect::{FeedbackSign, feedback, series};
-use crate::linalg::{CMat, Complex64, Mat};
+use crate::linalg::{Complex64, Mat};
 use crate::state_space::StateSpace;
 use crate::transfer_function::TransferFunction;
 use std::cell::RefCell;
@@ -214,14 +214,10 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
             None => w,
         }
     };
-    // One Hessenberg reduction of A for every evaluation of the search.
-    let evaluator = RefCell::new((
-        HessenbergEvaluator::new(l.a(), l.b(), l.c(), l.d()),
-        CMat::zeros(1, 1),
-    ));
+    // One controller-Hessenberg reduction for every evaluation of the search.
+    let evaluator = RefCell::new(SisoHessenbergEvaluator::new(l.a(), l.b(), l.c(), l.d()));
     let eval = |w: &[f64]| -> Result<Vec<Complex64>> {
-        let mut guard = evaluator.borrow_mut();
-        let (ev, out) = &mut *guard;
+        let mut ev = evaluator.borrow_mut();
         w.iter()
             .map(|&x| {
                 let wk = avoid(x);
@@ -229,12 +225,10 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
                     None => Complex64::new(0.0, wk),
                     Some(ts) => Complex64::from_polar(1.0, wk * ts),
                 };
-                ev.eval(s, out)
-                    .map_err(|()| LtiError::PoleAtEvaluationPoint {
-                        what: format!("stability_margins at {wk} rad/s"),
-                        pole: s,
-                    })?;
-                Ok(out[(0, 0)])
+                ev.eval(s).map_err(|()| LtiError::PoleAtEvaluationPoint {
+                    what: format!("stability_margins at {wk} rad/s"),
+                    pole: s,
+                })
             })
             .collect()
     };
@@ -341,15 +335,20 @@ pub fn stability_margins<D: TimeDomain>(l: &StateSpace<D>) -> Result<StabilityMa
         })
         .collect();
     // ω = 0: a finite negative DC gain is a phase crossing.
+    // The DC gain from the same reduction, refused (as `dc_gain` does) when `s₀I − A` is
+    // singular to working precision: a pole within `n ε (‖A‖_F + 1)` of `s₀`.
+    let s0 = Complex64::new(if ts.is_some() { 1.0 } else { 0.0 }, 0.0);
+    let near_s0 = (l.nx().max(1) as f64) * f64::EPSILON * (l.a().norm() + 1.0);
     if boundary.first().is_none_or(|&p| p > 0.0)
-        && let Ok(dc) = l.dc_gain()
-        && dc[(0, 0)] < 0.0
+        && poles.iter().all(|&p| (p - s0).norm() > near_s0)
+        && let Ok(dc) = evaluator.borrow_mut().eval(s0)
+        && dc.re < 0.0
     {
         phase_crossings.insert(
             0,
             PhaseCrossing {
                 frequency: 0.0,
-                gain_margin: 1.0 / dc[(0, 0)].abs(),
+                gain_margin: 1.0 / dc.re.abs(),
             },
         );
     }
