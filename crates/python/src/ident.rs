@@ -9,6 +9,8 @@
 //! | `ident_cart_pendulum_ls(ts, z, phi, …)` | `cart_pendulum_ls` (+ `validate_cart_pendulum`) | `J_p`, `μ_p` |
 //! | `ident_arm_pendulum_ls(ts, phi1, phi2, …)` | `arm_pendulum_ls` (+ `validate_arm_pendulum`) | `α₂`, `J₂`, `μ₂` |
 //! | `ident_p_step(t, y, …)` | `p_step` (+ `validate_p_step`) | `a`, `b`, `T_p`, overshoot |
+//! | `ident_arx(u, y, ts, na, nb, nk, max_order, u_val, y_val)` | `blackbox::arx`, `arx_order_selection` (+ `Arx::fit_percent`) | `A`, `B` polynomials, AIC table |
+//! | `ident_moesp(u, y, ts, order, horizon, u_val, y_val)` | `blackbox::moesp` (+ `Moesp::fit_percent`) | `A`, `B`, `C`, `D`, singular values |
 //! | `ident_free_oscillation(t, y, m, l, g, …)` | `free_oscillation`, `pendulum_from_oscillation` (+ `validate_free_pendulum`, `validate_oscillation`) | `J`, `μ`, period, decay ratio |
 //!
 //! Each returns a dict: the estimates, the least-squares diagnostics (`std_error`,
@@ -30,8 +32,13 @@ use pendulab_ident::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{slice_to_numpy, vector};
+use crate::convert::{matrix_to_numpy, slice_to_numpy, vector};
 use crate::errors::{Kind, from_error, new_err};
+use crate::lti::system::{StateSpace, Sys};
+use pendulab_ident::{
+    ArxOrders, Experiment, IoRecord, MoespOptions, arx, arx_order_selection, moesp,
+};
+use pyo3::types::PyList;
 
 /// Adds this facet's functions and classes to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -42,6 +49,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ident_arm_pendulum_ls, m)?)?;
     m.add_function(wrap_pyfunction!(ident_p_step, m)?)?;
     m.add_function(wrap_pyfunction!(ident_free_oscillation, m)?)?;
+    m.add_function(wrap_pyfunction!(ident_arx, m)?)?;
+    m.add_function(wrap_pyfunction!(ident_moesp, m)?)?;
     Ok(())
 }
 
@@ -509,5 +518,172 @@ fn ident_free_oscillation<'py>(
         "fit_linear",
         validate_oscillation(ts, &y, start, p.omega_n, p.zeta),
     )?;
+    Ok(d)
+}
+
+/// An order argument that must be at least 1.
+fn at_least_one(name: &str, v: Option<usize>) -> PyResult<()> {
+    if v == Some(0) {
+        return Err(new_err(
+            Kind::InvalidArgument,
+            format!("{name} must be at least 1"),
+            None,
+        ));
+    }
+    Ok(())
+}
+
+/// The validation record: `(u_val, y_val)` when given, else the estimation record.
+fn validation_record(
+    u: &[f64],
+    y: &[f64],
+    u_val: Option<&Bound<'_, PyAny>>,
+    y_val: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Vec<f64>, Vec<f64>)> {
+    match (u_val, y_val) {
+        (Some(uv), Some(yv)) => Ok((column(uv, "u_val")?, column(yv, "y_val")?)),
+        (None, None) => Ok((u.to_vec(), y.to_vec())),
+        _ => Err(new_err(
+            Kind::InvalidArgument,
+            "give both u_val and y_val, or neither".into(),
+            None,
+        )),
+    }
+}
+
+/// `ident_arx(u, y, ts, na=None, nb=None, nk=1, max_order=None, u_val=None, y_val=None)`: the
+/// ARX model `A(q⁻¹) y(k) = B(q⁻¹) u(k − n_k) + e(k)` by least squares (`pendulab_ident::arx`;
+/// `na`, `nb` default 2), or with `max_order` every `n_a, n_b ∈ 1…max_order` ranked by
+/// `AIC = N ln V + 2d` (`arx_order_selection`). Returns a dict: `a` (`[1, a₁…]`), `b`, `na`,
+/// `nb`, `nk`, `std_error`, `noise_variance`, `ts`, `model` (the discrete `StateSpace`),
+/// `aic` (list of `{na, nb, nk, loss, aic}` or `None`) and `fit` (MATLAB `compare` percent on
+/// `(u_val, y_val)`, default the estimation record).
+#[pyfunction]
+#[pyo3(signature = (u, y, ts, na = None, nb = None, nk = 1, max_order = None, u_val = None,
+                    y_val = None))]
+#[allow(clippy::too_many_arguments)]
+fn ident_arx<'py>(
+    py: Python<'py>,
+    u: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
+    ts: f64,
+    na: Option<usize>,
+    nb: Option<usize>,
+    nk: usize,
+    max_order: Option<usize>,
+    u_val: Option<&Bound<'py, PyAny>>,
+    y_val: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    at_least_one("na", na)?;
+    at_least_one("nb", nb)?;
+    at_least_one("max_order", max_order)?;
+    if max_order.is_some() && (na.is_some() || nb.is_some()) {
+        return Err(new_err(
+            Kind::InvalidArgument,
+            "give either na/nb or max_order, not both".into(),
+            None,
+        ));
+    }
+    let (u, y) = (column(u, "u")?, column(y, "y")?);
+    let (uv, yv) = validation_record(&u, &y, u_val, y_val)?;
+    let (r, fit) = solve_then_validate(
+        py,
+        || {
+            let ex = [Experiment::new(&u, &y)];
+            match max_order {
+                Some(n) => arx_order_selection(&ex, ts, 1..=n, 1..=n, nk..=nk)
+                    .map(|s| (s.model, Some(s.candidates))),
+                None => arx(
+                    &ex,
+                    ts,
+                    ArxOrders::new(na.unwrap_or(2), nb.unwrap_or(2), nk),
+                )
+                .map(|m| (m, None)),
+            }
+        },
+        |(m, _)| m.fit_percent(&uv, &yv),
+    );
+    let (m, table) = ie(r)?;
+    let fit =
+        ie(fit.ok_or_else(|| new_err(Kind::InvalidArgument, "validation not run".into(), None))?)?;
+    let d = PyDict::new(py);
+    d.set_item("a", slice_to_numpy(py, &m.a))?;
+    d.set_item("b", slice_to_numpy(py, &m.b))?;
+    d.set_item("na", m.orders.na)?;
+    d.set_item("nb", m.orders.nb)?;
+    d.set_item("nk", m.orders.nk)?;
+    d.set_item("std_error", slice_to_numpy(py, &m.std_error))?;
+    d.set_item("noise_variance", m.noise_variance)?;
+    d.set_item("ts", m.ts)?;
+    let ss = ie(m.state_space())?;
+    d.set_item("model", StateSpace::wrap(py, Sys::Discrete(ss))?)?;
+    let aic = match table {
+        Some(t) => {
+            let rows = PyList::empty(py);
+            for c in t {
+                let r = PyDict::new(py);
+                r.set_item("na", c.orders.na)?;
+                r.set_item("nb", c.orders.nb)?;
+                r.set_item("nk", c.orders.nk)?;
+                r.set_item("loss", c.loss)?;
+                r.set_item("aic", c.aic)?;
+                rows.append(r)?;
+            }
+            rows.into_any()
+        }
+        None => py.None().into_bound(py),
+    };
+    d.set_item("aic", aic)?;
+    d.set_item("fit", fit)?;
+    Ok(d)
+}
+
+/// `ident_moesp(u, y, ts, order=None, horizon=10, u_val=None, y_val=None)`: a discrete
+/// state-space model by PO-MOESP (`pendulab_ident::moesp`; the order from the largest gap of
+/// the singular values when `None`). Returns a dict: `model` (the discrete `StateSpace`),
+/// `A`, `B`, `C`, `D`, `order`, `horizon`, `singular_values`, `ts` and `fit` (MATLAB
+/// `compare` percent, simulated from the zero state on `(u_val, y_val)`, default the
+/// estimation record).
+#[pyfunction]
+#[pyo3(signature = (u, y, ts, order = None, horizon = 10, u_val = None, y_val = None))]
+#[allow(clippy::too_many_arguments)]
+fn ident_moesp<'py>(
+    py: Python<'py>,
+    u: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
+    ts: f64,
+    order: Option<usize>,
+    horizon: usize,
+    u_val: Option<&Bound<'py, PyAny>>,
+    y_val: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    at_least_one("order", order)?;
+    let (u, y) = (column(u, "u")?, column(y, "y")?);
+    let (uv, yv) = validation_record(&u, &y, u_val, y_val)?;
+    let (r, fit) = solve_then_validate(
+        py,
+        || {
+            moesp(
+                &[IoRecord::siso(&u, &y)],
+                ts,
+                MoespOptions { horizon, order },
+            )
+        },
+        |s| s.fit_percent(&IoRecord::siso(&uv, &yv)),
+    );
+    let s = ie(r)?;
+    let fit =
+        ie(fit.ok_or_else(|| new_err(Kind::InvalidArgument, "validation not run".into(), None))?)?;
+    let d = PyDict::new(py);
+    d.set_item("A", matrix_to_numpy(py, s.model.a()))?;
+    d.set_item("B", matrix_to_numpy(py, s.model.b()))?;
+    d.set_item("C", matrix_to_numpy(py, s.model.c()))?;
+    d.set_item("D", matrix_to_numpy(py, s.model.d()))?;
+    d.set_item("order", s.order)?;
+    d.set_item("horizon", horizon)?;
+    d.set_item("singular_values", slice_to_numpy(py, &s.singular_values))?;
+    d.set_item("ts", ts)?;
+    d.set_item("fit", fit.first().copied().unwrap_or(f64::NAN))?;
+    d.set_item("model", StateSpace::wrap(py, Sys::Discrete(s.model))?)?;
     Ok(d)
 }

@@ -28,7 +28,8 @@ returned anyway with every failed check under ``"warnings"``.
 """
 
 import os
-from typing import Any, Dict, Optional, Union
+from dataclasses import dataclass
+from typing import Any, Dict, List, Optional, Union
 
 from . import _native
 from ._native import Dataset
@@ -47,6 +48,10 @@ __all__ = [
     "arm_pendulum_ls",
     "p_step",
     "free_oscillation",
+    "arx",
+    "moesp",
+    "ArxResult",
+    "MoespResult",
     "METHODS",
 ]
 
@@ -217,3 +222,70 @@ def identify(
         out["condition"] = r["condition"]
         out["residual_rms"] = r["residual_rms"]
     return out
+
+
+@dataclass(frozen=True)
+class ArxResult:
+    """An ARX model ``A(q⁻¹) y(k) = B(q⁻¹) u(k − nk) + e(k)`` (MATLAB's ``[na nb nk]``)."""
+
+    #: ``[1, a₁, …, a_na]``.
+    a: Any
+    #: ``[b₀, …, b_(nb−1)]`` acting on ``u(k − nk − i)``.
+    b: Any
+    na: int
+    nb: int
+    nk: int
+    #: Standard errors of ``a₁…a_na`` then ``b₀…``.
+    std_error: Any
+    #: Residual variance ``‖e‖²/(N − d)``.
+    noise_variance: float
+    #: Sample time, s.
+    ts: float
+    #: The discrete :class:`pendulab.StateSpace` of ``z^(−nk) B/A``.
+    model: Any
+    #: MATLAB ``compare`` fit (percent) on the validation record.
+    fit: float
+    #: With ``max_order``: every candidate ``{na, nb, nk, loss, aic}`` (``AIC = N ln V + 2d``).
+    aic: Optional[List[Dict[str, float]]]
+
+
+@dataclass(frozen=True)
+class MoespResult:
+    """A PO-MOESP model ``x(k+1) = A x + B u``, ``y = C x + D u``."""
+
+    A: Any
+    B: Any
+    C: Any
+    D: Any
+    order: int
+    horizon: int
+    #: Singular values of ``L₃₂`` (the order is the number of dominant ones).
+    singular_values: Any
+    ts: float
+    #: The discrete :class:`pendulab.StateSpace`.
+    model: Any
+    #: MATLAB ``compare`` fit (percent), simulated from the zero state on the validation record.
+    fit: float
+
+
+def arx(u, y, ts: float, na: Optional[int] = None, nb: Optional[int] = None, nk: int = 1,
+        max_order: Optional[int] = None, validate: Optional[tuple] = None) -> ArxResult:
+    """ARX by least squares (``pendulab identify arx``): orders ``na``, ``nb`` (default 2) and
+    delay ``nk``, or with ``max_order`` every ``na, nb ∈ 1…max_order`` ranked by AIC.
+    ``validate=(u_val, y_val)`` is the validation record (default ``(u, y)``). Raises
+    ``InvalidArgumentError`` (orders < 1, an unexcited regressor), ``ShapeError`` (lengths,
+    too few samples for the orders), ``NotFiniteError``."""
+    uv, yv = validate if validate is not None else (None, None)
+    r = _native.ident_arx(u, y, ts, na=na, nb=nb, nk=nk, max_order=max_order, u_val=uv, y_val=yv)
+    return ArxResult(**r)
+
+
+def moesp(u, y, ts: float, order: Optional[int] = None, horizon: int = 10,
+          validate: Optional[tuple] = None) -> MoespResult:
+    """PO-MOESP subspace identification (``pendulab identify moesp``): ``horizon`` block rows,
+    ``order`` (default: the largest gap of the singular values). ``validate=(u_val, y_val)``
+    as in :func:`arx`. Raises as :func:`arx` (an order above ``horizon − 1``, a horizon too
+    long for the record)."""
+    uv, yv = validate if validate is not None else (None, None)
+    r = _native.ident_moesp(u, y, ts, order=order, horizon=horizon, u_val=uv, y_val=yv)
+    return MoespResult(**r)

@@ -1,5 +1,5 @@
 import os
-from typing import Any, Dict, Optional, Tuple, Union
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -29,3 +29,34 @@ def p_step(t: npt.ArrayLike, y: npt.ArrayLike, step_time: float, target: float, 
 def free_oscillation(t: npt.ArrayLike, y: npt.ArrayLike, m: float, l: float, g: float = ...,
                      hysteresis: Optional[float] = ..., amplitude_correction: bool = ...,
                      ts: Optional[float] = ..., L1: Optional[float] = ...) -> Dict[str, Any]: ...
+
+class ArxResult:
+    a: np.ndarray
+    b: np.ndarray
+    na: int
+    nb: int
+    nk: int
+    std_error: np.ndarray
+    noise_variance: float
+    ts: float
+    model: Any
+    fit: float
+    aic: Optional[List[Dict[str, float]]]
+
+class MoespResult:
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    order: int
+    horizon: int
+    singular_values: np.ndarray
+    ts: float
+    model: Any
+    fit: float
+
+def arx(u: npt.ArrayLike, y: npt.ArrayLike, ts: float, na: Optional[int] = ..., nb: Optional[int] = ...,
+        nk: int = ..., max_order: Optional[int] = ...,
+        validate: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = ...) -> ArxResult: ...
+def moesp(u: npt.ArrayLike, y: npt.ArrayLike, ts: float, order: Optional[int] = ..., horizon: int = ...,
+          validate: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = ...) -> MoespResult: ...
