@@ -25,8 +25,11 @@
 //!
 //! # Method
 //!
-//! `A` is reduced once to Hessenberg form and `L` evaluated from it (Laub's method, as
-//! [`freqresp`](crate::frequency_response::freqresp), without allocation per point) on a
+//! `(A, b)` is reduced once, orthogonally, to controller-Hessenberg form (`QᵀAQ` upper
+//! Hessenberg, `Qᵀb = βe₁`) and `L` evaluated from it by Hyman's method (a real-times-complex
+//! recurrence of `O(n²)` per point without pivoting or allocation, componentwise backward
+//! stable; the DC gain comes from the same form, refused when a pole lies within
+//! `n ε (‖A‖_F + 1)` of `s = 0` (`z = 1`), as [`StateSpace::dc_gain`] refuses it) on a
 //! logarithmic grid of 20 points per decade that covers two decades beyond the slowest and
 //! fastest pole and zero and is extended further where the asymptotic slope of `|L|`
 //! predicts a gain crossing beyond it; an interval is bisected (in `ln ω`) while the phase
