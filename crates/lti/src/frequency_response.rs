@@ -493,6 +493,50 @@ mod tests {
     use super::*;
     use crate::Continuous;
 
+    /// The SISO Hyman evaluator against the pivoted Hessenberg solve (two independent
+    /// algorithms): a dense 7-state system with an uncontrollable block appended (a zero
+    /// coupling into it), over frequencies from 10⁻³ to 10²² rad/s,
+    /// and an exact pole refused.
+    #[test]
+    fn siso_hyman_evaluator_agrees_with_pivoted_solve() {
+        let n = 9;
+        let mut a = Mat::from_fn(n, n, |i, j| {
+            ((3 * i + 5 * j) % 7) as f64 - 3.0 + 0.1 * i as f64
+        });
+        for i in 7..n {
+            for j in 0..7 {
+                a[(i, j)] = 0.0; // states 7, 8 are not reached from b
+            }
+        }
+        let b = Mat::from_fn(n, 1, |i, _| if i < 7 { 1.0 + 0.5 * i as f64 } else { 0.0 });
+        let c = Mat::from_fn(1, n, |_, j| (j as f64 - 4.0) * 0.3 + 0.05);
+        let d = Mat::from_element(1, 1, 0.25);
+        let mut siso = SisoHessenbergEvaluator::new(&a, &b, &c, &d);
+        assert_eq!(siso.k, 7);
+        let mut general = HessenbergEvaluator::new(&a, &b, &c, &d);
+        let mut out = CMat::zeros(1, 1);
+        for e in -6..=44 {
+            let s = Complex64::new(0.0, 10f64.powf(e as f64 / 2.0));
+            let g = siso.eval(s).unwrap();
+            general.eval(s, &mut out).unwrap();
+            let r = out[(0, 0)];
+            assert!(
+                (g - r).norm() <= 1e-12 * r.norm().max(1e-300),
+                "{s}: {g} vs {r}"
+            );
+        }
+        // 1/(s + 2): the pole s = −2 is hit exactly.
+        let one = Mat::from_element(1, 1, 1.0);
+        let mut p = SisoHessenbergEvaluator::new(
+            &Mat::from_element(1, 1, -2.0),
+            &one,
+            &one,
+            &Mat::zeros(1, 1),
+        );
+        assert!(p.eval(Complex64::new(-2.0, 0.0)).is_err());
+        assert!((p.eval(Complex64::new(0.0, 0.0)).unwrap() - 0.5).norm() <= 1e-16);
+    }
+
     #[test]
     fn first_order_lag_closed_form() {
         // 1/(s + 1): |G| = 1/√(1 + ω²), ∠G = −atan ω.
