@@ -64,11 +64,29 @@ def test_below_the_optimum_is_infeasible_error():
     assert e.value.variant == "HinfInfeasible"
 
 
-def test_violated_assumption_is_named():
+def test_d11_nonzero_matches_slycot():
+    # Glover–Doyle formulas for D11 ≠ 0 (the mixed-sensitivity plant with a feedthrough):
+    # SB10AD's optimum, and the controller at 1.01 γ keeps the closed loop below it.
     P, nmeas, ncon = plant("mixsyn_d11")
+    ref = CASES["mixsyn_d11"]["gamma_slycot"]
+    res = pl.hinfsyn(P, nmeas, ncon, tol=1e-9)
+    assert abs(res.gam - ref) <= 1e-6 * ref
+    above = pl.hinfsyn(P, nmeas, ncon, gamma=1.01 * res.gam)
+    assert np.all(np.real(pl.poles(above.CL)) < 0)
+    assert hinf(above.CL) < 1.01 * res.gam
+
+
+def test_violated_assumption_is_named():
+    # The cart's LQ plant with D12 = 0: no control reaches z directly, so the synthesis
+    # assumption "D12 of full column rank" fails and is named.
+    c = CASES["cart_lq"]
+    d = np.array(c["d"])
+    nz, nw = d.shape[0] - c["nmeas"], d.shape[1] - c["ncon"]
+    d[:nz, nw:] = 0.0
+    P = pl.ss(c["a"], c["b"], c["c"], d)
     with pytest.raises(pl.InvalidArgumentError) as e:
-        pl.hinfsyn(P, nmeas, ncon, gamma=10.0)
-    assert e.value.variant == "SynthesisAssumption" and "D11 = 0" in str(e.value)
+        pl.hinfsyn(P, c["nmeas"], c["ncon"], gamma=10.0)
+    assert e.value.variant == "SynthesisAssumption" and "D12 of full column rank" in str(e.value)
 
 
 def test_augw_matches_python_control():
