@@ -17,6 +17,7 @@
 //! | `arm-step` | `t, theta1` | `a1`, `b1`, `Tp`, `overshoot` |
 //! | `pend-free` | `t, theta` | `Jp`, `mup`, `period`, `decay_ratio` |
 //! | `arm-pend-free` | `t, theta2` | `J2`, `mu2`, `period`, `decay_ratio` |
+//! | `arx`, `moesp` | `t`, `--input`, `--output` | a black-box discrete model (`identify_blackbox`, `docs/identify.md`) |
 //!
 //! Every identification is validated by simulating the identified model on the measured
 //! input (`fit`, MATLAB's `compare` percentage); the output says which model was simulated on
