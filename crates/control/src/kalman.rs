@@ -607,24 +607,47 @@ impl<S: Dynamics> UnscentedKalmanFilter<S> {
     }
 }
 
+/// The unscented transform of an estimate through a map: the sigma points, their images,
+/// and the images' weighted mean and covariance.
+struct Unscented {
+    points: Vec<DVector<f64>>,
+    images: Vec<DVector<f64>>,
+    mean: DVector<f64>,
+    covariance: Mat,
+}
+
+impl<S: Dynamics> UnscentedKalmanFilter<S> {
+    /// The current estimate's sigma points through `f`; a non-finite image is an error
+    /// naming `what`.
+    fn transform(&self, what: &str, f: impl Fn(&[f64]) -> Vec<f64>) -> Result<Unscented> {
+        let (_, w0m, w0c, wi) = self.sigma.weights(self.x.len());
+        let points = self.sigma.points(&self.x, &self.p)?;
+        let images: Vec<DVector<f64>> = points
+            .iter()
+            .map(|p| DVector::from_vec(f(p.as_slice())))
+            .collect();
+        for m in &images {
+            non_finite(what, m.as_slice())?;
+        }
+        let mean = weighted_mean(&images, w0m, wi);
+        let covariance = weighted_cross(&images, &mean, &images, &mean, w0c, wi);
+        Ok(Unscented {
+            points,
+            images,
+            mean,
+            covariance,
+        })
+    }
+}
+
 impl<S: Dynamics> NonlinearFilter for UnscentedKalmanFilter<S> {
     model_filter_getters!();
 
     fn predict(&mut self, t: f64, u: &[f64]) -> Result<()> {
         self.model.check_input(u)?;
-        let n = self.x.len();
-        let (_, w0m, w0c, wi) = self.sigma.weights(n);
-        let pts = self.sigma.points(&self.x, &self.p)?;
-        let moved: Vec<DVector<f64>> = pts
-            .iter()
-            .map(|p| DVector::from_vec(self.model.propagate(t, p.as_slice(), u)))
-            .collect();
-        for m in &moved {
-            non_finite("propagated sigma point", m.as_slice())?;
-        }
-        let mean = weighted_mean(&moved, w0m, wi);
-        let p = weighted_cross(&moved, &mean, &moved, &mean, w0c, wi) + &self.model.q;
-        self.x = mean;
+        let moved = self.transform("propagated sigma point", |p| self.model.propagate(t, p, u))?;
+        let p = moved.covariance + &self.model.q;
+        self.x = moved.mean;
         self.p = (&p + p.transpose()) * 0.5;
         Ok(())
     }
@@ -632,20 +655,11 @@ impl<S: Dynamics> NonlinearFilter for UnscentedKalmanFilter<S> {
     fn update(&mut self, t: f64, u: &[f64], y: &[f64]) -> Result<Innovation> {
         self.model.check_input(u)?;
         let yv = check_measurement(y, &self.model.r)?;
-        let n = self.x.len();
-        let (_, w0m, w0c, wi) = self.sigma.weights(n);
-        let pts = self.sigma.points(&self.x, &self.p)?;
-        let ys: Vec<DVector<f64>> = pts
-            .iter()
-            .map(|p| DVector::from_vec(self.model.measure(t, p.as_slice(), u)))
-            .collect();
-        for m in &ys {
-            non_finite("measured sigma point", m.as_slice())?;
-        }
-        let y_hat = weighted_mean(&ys, w0m, wi);
-        let s = weighted_cross(&ys, &y_hat, &ys, &y_hat, w0c, wi) + &self.model.r;
-        let pxy = weighted_cross(&pts, &self.x, &ys, &y_hat, w0c, wi);
-        apply_update(&mut self.x, &mut self.p, &pxy, s, yv - y_hat)
+        let ys = self.transform("measured sigma point", |p| self.model.measure(t, p, u))?;
+        let s = ys.covariance + &self.model.r;
+        let (_, _, w0c, wi) = self.sigma.weights(self.x.len());
+        let pxy = weighted_cross(&ys.points, &self.x, &ys.images, &ys.mean, w0c, wi);
+        apply_update(&mut self.x, &mut self.p, &pxy, s, yv - ys.mean)
     }
 }
 
