@@ -7,21 +7,13 @@ use pendulab_lti::matrix_functions::expm;
 use pendulab_lti::{
     Complex64, Discretization, LtiError, Mat, Polynomial, StateSpace, TransferFunction,
 };
-use pendulab_testkit::json::matrix;
+use pendulab_testkit::json::{matrix, vector};
 use std::path::Path;
 
 fn fixture() -> serde_json::Value {
     pendulab_testkit::json::read(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tf_reference.json"),
     )
-}
-
-fn floats(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array()
-        .expect("a list")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
 }
 
 fn close(a: &Mat, b: &Mat, tol: f64) -> bool {
@@ -55,14 +47,14 @@ fn matched_agrees_with_python_control() {
     let f = fixture();
     for case in f["matched"].as_array().unwrap() {
         let (num, den, ts) = (
-            floats(&case["num"]),
-            floats(&case["den"]),
+            vector(&case["num"]),
+            vector(&case["den"]),
             case["ts"].as_f64().unwrap(),
         );
         let g = TransferFunction::continuous(&num, &den).unwrap();
         let ours = g.c2d(ts, Discretization::Matched).unwrap();
         let theirs =
-            TransferFunction::discrete(&floats(&case["numd"]), &floats(&case["dend"]), ts).unwrap();
+            TransferFunction::discrete(&vector(&case["numd"]), &vector(&case["dend"]), ts).unwrap();
         // python-control leaves the zeros at infinity there; MATLAB's rule (ours) puts all but
         // one at z = −1: multiply theirs by ((z + 1)/2)^{r − 1}, which keeps G(1).
         let r = g.relative_degree().max(1) as usize - 1;

@@ -3,20 +3,13 @@
 
 use pendulab_lti::delay::{pade, thiran, thiran_with_order};
 use pendulab_lti::{Complex64, LtiError, TransferFunction};
+use pendulab_testkit::json::vector;
 use std::path::Path;
 
 fn fixture() -> serde_json::Value {
     pendulab_testkit::json::read(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/tf_reference.json"),
     )
-}
-
-fn floats(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array()
-        .expect("a list")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
 }
 
 #[test]
@@ -40,7 +33,7 @@ fn pade_matches_python_control() {
         let n = case["n"].as_u64().unwrap() as usize;
         let g = pade(t, n).unwrap();
         for (ours, key) in [(g.num(), "num"), (g.den(), "den")] {
-            let want = floats(&case[key]);
+            let want = vector(&case[key]);
             assert_eq!(ours.coefficients().len(), want.len(), "T = {t}, n = {n}");
             for (x, y) in ours.coefficients().iter().zip(&want) {
                 assert!(

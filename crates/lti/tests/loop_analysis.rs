@@ -14,20 +14,13 @@ use pendulab_lti::nyquist::{NyquistOptions, nichols, nyquist, nyquist_tf};
 use pendulab_lti::rlocus::{rlocfind_tf, rlocus, rlocus_tf};
 use pendulab_lti::sigma::sigma;
 use pendulab_lti::{Discrete, LtiError, Mat, StateSpace, TransferFunction};
+use pendulab_testkit::json::vector;
 use serde_json::Value;
 
 fn fixture() -> Value {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/loop_analysis_reference.json");
     serde_json::from_str(&std::fs::read_to_string(path).expect("fixture")).expect("json")
-}
-
-fn floats(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
 }
 
 /// Every loop of the fixture (python-control's `nyquist_response` count, with
@@ -167,8 +160,8 @@ fn nichols_is_bode_shifted_by_turns() {
 fn rlocus_matches_python_control() {
     let f = fixture();
     for (k, case) in f["rlocus"].as_array().unwrap().iter().enumerate() {
-        let (num, den) = (floats(&case["num"]), floats(&case["den"]));
-        let gains = floats(&case["gains"]);
+        let (num, den) = (vector(&case["num"]), vector(&case["den"]));
+        let gains = vector(&case["gains"]);
         let want: Vec<Vec<Complex64>> = case["loci"]
             .as_array()
             .unwrap()
@@ -334,13 +327,13 @@ fn rlocus_degenerate_inputs() {
 #[test]
 fn disk_margins_match_python_control() {
     let f = fixture();
-    let w = floats(&f["disk_omega"]);
+    let w = vector(&f["disk_omega"]);
     let cases = f["disk"].as_array().unwrap();
     assert!(cases.len() >= 16);
     for (k, case) in cases.iter().enumerate() {
         let sys = toolbox_support::system(case);
         let skew = case["skew"].as_f64().unwrap();
-        let dm = floats(&case["dm"]);
+        let dm = vector(&case["dm"]);
         let ours = on_sys!(&sys, |s| disk_margin_response(s, skew, &w).unwrap());
         for (a, b) in ours.iter().zip(&dm) {
             assert!((a - b).abs() <= 1e-9 * b, "case {k}: {a} vs {b}");
@@ -476,10 +469,10 @@ fn sigma_matches_python_control() {
     let f = fixture();
     for (k, case) in f["sigma"].as_array().unwrap().iter().enumerate() {
         let sys = toolbox_support::system(case);
-        let w = floats(&case["omega"]);
+        let w = vector(&case["omega"]);
         let sv = on_sys!(&sys, |s| sigma(s, &w).unwrap());
         for (i, row) in case["sv"].as_array().unwrap().iter().enumerate() {
-            let want = floats(row);
+            let want = vector(row);
             assert_eq!(sv.values[i].len(), want.len());
             for (a, b) in sv.values[i].iter().zip(&want) {
                 assert!(

@@ -39,3 +39,15 @@ pub fn matrix(v: &Value) -> Mat {
     }
     m
 }
+
+/// The numbers of a flat list (`[a, b, c]`).
+///
+/// # Panics
+/// When `v` is not a list of numbers.
+pub fn vector(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .expect("a vector is a list")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect()
+}
