@@ -11,6 +11,9 @@
 //! | `control_odq(A, B, C, dt, step, method, …)` | `quantizer::odq_analytic`, `odq_lp` | Part 2 §2.3.4 |
 //! | `control_kalman(A, B, C, dt, G, Qn, Rn)` | `estimation::kalman_filter` | — |
 //! | `control_build(spec, plant, ts)` | `spec::build_for` (the spec → controller factory) | `docs/model.md` §6 |
+//! | `control_find_operating_point(sys, x0, …)` ([`trim`]) | `trim::find_operating_point` | — |
+//! | `KalmanFilter`, `NonlinearFilter`, `control_filter_log`, … ([`kalman`]) | `kalman` | — |
+//! | `control_linear_mpc`, `control_solve_qp`, `control_kkt_residuals` ([`mpc`]) | `mpc` | — |
 //!
 //! Run-time controllers come back as one class, `Controller`: `update(t, y)` returns the
 //! command `u` for the measurement `y` at time `t` (s), as the sampled-data loop calls it.
@@ -36,6 +39,10 @@ use crate::convert::{OneD, complex_to_numpy, matrix, matrix_to_numpy, slice_to_n
 use crate::errors::{Kind, from_error, new_err};
 use crate::plants::{arm_params, cart_params, plant_error};
 
+pub mod kalman;
+pub mod mpc;
+pub mod trim;
+
 /// Adds this facet's functions and classes to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Controller>()?;
@@ -47,20 +54,45 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(control_odq, m)?)?;
     m.add_function(wrap_pyfunction!(control_kalman, m)?)?;
     m.add_function(wrap_pyfunction!(control_build, m)?)?;
+    m.add_function(wrap_pyfunction!(trim::control_find_operating_point, m)?)?;
+    m.add_class::<kalman::NativeKalmanFilter>()?;
+    m.add_class::<kalman::NativeNonlinearFilter>()?;
+    m.add_function(wrap_pyfunction!(kalman::control_filter_log, m)?)?;
+    m.add_function(wrap_pyfunction!(kalman::control_quantization_variance, m)?)?;
+    m.add_function(wrap_pyfunction!(kalman::control_encoder_covariance, m)?)?;
+    m.add_function(wrap_pyfunction!(kalman::control_nees, m)?)?;
+    m.add_class::<mpc::NativeLinearMpc>()?;
+    m.add_function(wrap_pyfunction!(mpc::control_linear_mpc, m)?)?;
+    m.add_function(wrap_pyfunction!(mpc::control_solve_qp, m)?)?;
+    m.add_function(wrap_pyfunction!(mpc::control_kkt_residuals, m)?)?;
     Ok(())
 }
 
-/// A [`ControlError`] as the `pendulab` exception of its kind.
+/// A [`ControlError`] as the `pendulab` exception of its kind: sizes → `ShapeError`, NaN/±Inf
+/// → `NotFiniteError`, a singular matrix or a search that does not converge → `LinAlgError`
+/// (attribute `variant`: `"Singular"`, `"NoConvergence"`), the LTI core's errors as
+/// [`crate::errors::to_py`], the simulation layer's as [`crate::plants::sim_error`], anything
+/// else `InvalidArgumentError`.
 pub fn control_error(e: &ControlError) -> PyErr {
-    let kind = match e {
-        ControlError::DimensionMismatch { .. } => Kind::Shape,
+    let (kind, variant) = match e {
+        ControlError::DimensionMismatch { .. } | ControlError::ShapeMismatch { .. } => {
+            (Kind::Shape, None)
+        }
+        ControlError::NonFinite { .. } => (Kind::NotFinite, Some("NonFinite")),
+        ControlError::Singular { .. } => (Kind::LinAlg, Some("Singular")),
+        ControlError::NoConvergence { .. } => (Kind::LinAlg, Some("NoConvergence")),
         ControlError::Lti(l) => return crate::errors::to_py(l),
-        _ => Kind::InvalidArgument,
+        ControlError::Sim(s) => return crate::plants::sim_error(s),
+        _ => (Kind::InvalidArgument, None),
     };
-    from_error(kind, e)
+    new_err(kind, crate::errors::message_with_sources(e), variant)
 }
 
-fn ce<T>(r: pendulab_control::Result<T>) -> PyResult<T> {
+/// A `pendulab-control` result with its error as [`control_error`] gives it.
+///
+/// # Errors
+/// The converted error.
+pub fn ce<T>(r: pendulab_control::Result<T>) -> PyResult<T> {
     r.map_err(|e| control_error(&e))
 }
 

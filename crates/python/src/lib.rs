@@ -19,11 +19,13 @@
 //! | [`book`] | `pendulab.book` | the book's examples and the lab report |
 //! | [`batch`] | `pendulab.plants` | batch runs on all cores that honour Ctrl-C |
 //! | [`render`] | `pendulab.gym` | the rigs drawn for `render_mode="rgb_array"` |
+//! | [`callable`] | `pendulab.control` | a user's model as Python callables `f(x, u)`, `h(x, u)` |
 
 #![warn(missing_docs)]
 
 pub mod batch;
 pub mod book;
+pub mod callable;
 pub mod control;
 pub mod convert;
 pub mod errors;
