@@ -174,27 +174,30 @@ pub fn rk4_fixed<P: FixedDynamics<N> + ?Sized, const N: usize>(
 /// [`StaticStateFeedback`] (on arrays: the gain's `N` products summed in order) and
 /// [`LqIntegralServo`] (its own `update`).
 pub trait FixedController<const N: usize>: Controller {
+    /// Whether [`FixedController::command`] returns a non-finite command for every state
+    /// with a non-finite entry. [`FixedLoop`] then checks the state only where the command is
+    /// not finite (same error, same time as the general loop's check after each step), not
+    /// after every step. Default `false`.
+    const NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND: bool = false;
     /// The command `u_k` for the state `x(t_k)` at `t_k` (s).
     fn command(&mut self, t: f64, x: &[f64; N]) -> f64;
 }
 
 impl<const N: usize> FixedController<N> for StaticStateFeedback {
+    /// `u = −Σ K_i (x_i − x_ref,i)` with finite `K` and `x_ref`: a non-finite `x_i` makes its
+    /// term NaN or ±∞ (`0·∞` is NaN), and a sum with such a term is NaN or ±∞.
+    const NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND: bool = true;
     #[inline(always)]
     fn command(&mut self, _t: f64, x: &[f64; N]) -> f64 {
-        let (k, r, zero_ref) = self.parts();
-        // One length check each, then no more: `u = −(0 + Σ K_i (x_i − x_ref,i))` in the
-        // order of `Controller::update` (`x − 0` is `x` bit for bit, so a zero reference is
-        // skipped).
+        let (k, r, _) = self.parts();
+        // One length check each, then no more: `u = −(0 + Σ K_i (x_i − x_ref,i))`, the
+        // operations of `Controller::update` in its order. The subtraction stays for a zero
+        // reference too (`x − (+0)` is `x` bit for bit): two packed subtractions cost fewer
+        // instructions per sample than a branch on the reference.
         let (k, r) = (&k[..N], &r[..N]);
         let mut acc = 0.0;
-        if zero_ref {
-            for i in 0..N {
-                acc += k[i] * x[i];
-            }
-        } else {
-            for i in 0..N {
-                acc += k[i] * (x[i] - r[i]);
-            }
+        for i in 0..N {
+            acc += k[i] * (x[i] - r[i]);
         }
         -acc
     }
@@ -466,7 +469,6 @@ fn run_loop<
     let ycols: [&mut [f64]; N] = split_columns(&mut ry, cap);
     let mut saturated = 0usize;
     let mut status = RunStatus::Completed;
-    let mut last_t = t0;
     let mut samples_run = 0usize;
     let mut next_record = if record_every.is_some() {
         0
@@ -479,17 +481,26 @@ fn run_loop<
     // computes at each, one conversion and product per sample fewer). At most 10¹² + 1
     // samples (`validate_options`), so the exclusive range cannot overflow.
     let mut tk = t0;
-    // A state whose sum is not finite leaves the sample loop for the entry-by-entry check,
-    // which returns the error or, if every entry is finite (the sum overflowed), resumes the
-    // loop after that sample: no call inside the loop keeps its state in memory.
+    // The state's check after each step, as the general loop's: for a controller whose
+    // command is not finite whenever the state is not
+    // (`FixedController::NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND`), the check of the next
+    // command stands for it (the state checked first where the command fails: the same error
+    // at the same time, since no step comes between). Otherwise a state whose sum is not finite
+    // leaves the sample loop for the entry-by-entry check, which returns the error or, if
+    // every entry is finite (the sum overflowed), resumes the loop after that sample. No call
+    // inside the loop takes the state by reference, so it can stay in registers.
     let mut start = 0usize;
     loop {
         let mut unchecked = None;
-        for k in start..n_samples + 1 {
-            last_t = tk;
+        // `start ≤ n_samples`; the loop ends at `k == n_samples` (or a stop or an error).
+        let mut k = start;
+        loop {
             samples_run += 1;
             let ucmd = controller.command(tk, &x);
-            if !ucmd.is_finite() {
+            if !finite(ucmd) {
+                if C::NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND {
+                    check_state_copy(tk, x)?;
+                }
                 return Err(SimError::NonFiniteCommand {
                     t: tk,
                     index: 0,
@@ -540,11 +551,12 @@ fn run_loop<
                     stepper.step::<F>(&mut x, p, h);
                 }
             }
-            if !x.iter().sum::<f64>().is_finite() {
+            if !C::NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND && !x.iter().sum::<f64>().is_finite() {
                 unchecked = Some((k, tk1));
                 break;
             }
             tk = tk1;
+            k += 1;
         }
         match unchecked {
             None => break,
@@ -577,7 +589,8 @@ fn run_loop<
             },
             saturated_samples: saturated,
             switch_times: controller.switch_times().to_vec(),
-            final_time: last_t,
+            // Every exit of the sample loop is at the last sample run, `tk`.
+            final_time: tk,
             final_state: x.to_vec(),
         },
     })
@@ -635,6 +648,14 @@ fn unsupported(what: &str) -> SimError {
     SimError::InvalidArgument(format!(
         "the fixed-size closed-loop kernel does not cover {what}; use SampledLoop::run"
     ))
+}
+
+/// `v.is_finite()` as `|v| ≤ f64::MAX` (false for NaN): a mask, a comparison and a branch
+/// where the loop tests it, rather than moving the bits to an integer register and comparing
+/// them there (one instruction fewer per sample, measured under callgrind).
+#[inline(always)]
+fn finite(v: f64) -> bool {
+    v.abs() <= f64::MAX
 }
 
 /// [`check_state`] on a copy of the state: the loop's state is then never borrowed by a call,
@@ -704,56 +725,93 @@ mod tests {
         }
     }
 
-    fn loops(
+    /// `u = 0` whatever the state, without
+    /// [`FixedController::NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND`]: the loop checks the
+    /// state after each step itself.
+    #[derive(Clone)]
+    struct Zero;
+
+    impl Controller for Zero {
+        fn ny(&self) -> usize {
+            2
+        }
+        fn nu(&self) -> usize {
+            1
+        }
+        fn reset(&mut self) {}
+        fn update(&mut self, _t: f64, _y: &[f64], u: &mut [f64]) {
+            u[0] = 0.0;
+        }
+    }
+
+    impl FixedController<2> for Zero {
+        fn command(&mut self, _t: f64, _x: &[f64; 2]) -> f64 {
+            0.0
+        }
+    }
+
+    fn loops<C: Controller + FixedController<2> + Clone>(
         c: f64,
-    ) -> (
-        SampledLoop<Escape, StaticStateFeedback>,
-        FixedLoop<Escape, StaticStateFeedback, 2>,
-    ) {
-        let k = StaticStateFeedback::new(Mat::zeros(1, 2)).expect("finite gain");
+        controller: C,
+    ) -> (SampledLoop<Escape, C>, FixedLoop<Escape, C, 2>) {
         let opts = SampledOptions {
             ts: 0.01,
             t_final: 0.5,
             ..Default::default()
         };
-        let general = SampledLoop::new(Escape(c), k, opts).expect("valid loop");
+        let general = SampledLoop::new(Escape(c), controller, opts).expect("valid loop");
         let fixed = general.fixed::<2>().expect("covered by the kernel");
         (general, fixed)
     }
 
-    /// Entries finite but their sum not (2·10³⁰⁸ overflows): every sample leaves the sample
-    /// loop for the entry-by-entry check, which lets the run go on; the run is the general
-    /// loop's, bit for bit, on either multiply–add path.
+    /// The zero gain: its command is NaN for a non-finite state (`0·∞`), so the loop checks
+    /// the state through the command.
+    fn zero_gain() -> StaticStateFeedback {
+        StaticStateFeedback::new(Mat::zeros(1, 2)).expect("finite gain")
+    }
+
+    /// Entries finite but their sum not (2·10³⁰⁸ overflows): the run goes on (with `Zero`,
+    /// every sample leaves the sample loop for the entry-by-entry check, which lets it); the
+    /// run is the general loop's, bit for bit, on either multiply–add path.
     #[test]
     fn an_overflowing_sum_of_finite_entries_resumes_the_run() {
-        let (mut general, fixed) = loops(0.0);
-        let x0 = [1e308, 1e308];
-        let expected = general.run(&x0).expect("finite entries");
-        assert_eq!(expected.diagnostics.samples, 51);
-        for path in [MulAddPath::Fused, MulAddPath::Separate] {
-            let mut fixed = fixed.clone().with_multiply_add(path);
-            assert_eq!(
-                fixed.run(&x0).expect("finite entries"),
-                expected,
-                "{path:?}"
-            );
+        fn check<C: Controller + FixedController<2> + Clone>(controller: C) {
+            let (mut general, fixed) = loops(0.0, controller);
+            let x0 = [1e308, 1e308];
+            let expected = general.run(&x0).expect("finite entries");
+            assert_eq!(expected.diagnostics.samples, 51);
+            for path in [MulAddPath::Fused, MulAddPath::Separate] {
+                let mut fixed = fixed.clone().with_multiply_add(path);
+                assert_eq!(
+                    fixed.run(&x0).expect("finite entries"),
+                    expected,
+                    "{path:?}"
+                );
+            }
         }
+        check(zero_gain());
+        check(Zero);
     }
 
     /// A state escaping to infinity ends the run with the general loop's error (same time,
-    /// entry and value).
+    /// entry and value), whether the loop checks it through the command (the zero gain) or
+    /// after each step (`Zero`).
     #[test]
     fn a_non_finite_state_ends_the_run_with_the_general_loops_error() {
-        let (mut general, fixed) = loops(1.0);
-        let x0 = [1e100, 0.0];
-        let expected = general.run(&x0).expect_err("escapes");
-        assert!(
-            matches!(expected, SimError::NonFiniteState { index: 0, .. }),
-            "{expected:?}"
-        );
-        for path in [MulAddPath::Fused, MulAddPath::Separate] {
-            let mut fixed = fixed.clone().with_multiply_add(path);
-            assert_eq!(fixed.run(&x0).expect_err("escapes"), expected, "{path:?}");
+        fn check<C: Controller + FixedController<2> + Clone>(controller: C) {
+            let (mut general, fixed) = loops(1.0, controller);
+            let x0 = [1e100, 0.0];
+            let expected = general.run(&x0).expect_err("escapes");
+            assert!(
+                matches!(expected, SimError::NonFiniteState { index: 0, .. }),
+                "{expected:?}"
+            );
+            for path in [MulAddPath::Fused, MulAddPath::Separate] {
+                let mut fixed = fixed.clone().with_multiply_add(path);
+                assert_eq!(fixed.run(&x0).expect_err("escapes"), expected, "{path:?}");
+            }
         }
+        check(zero_gain());
+        check(Zero);
     }
 }
