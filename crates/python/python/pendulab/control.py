@@ -185,7 +185,23 @@ class Innovation:
     nis: float
 
 
-class KalmanFilter:
+class _Estimator:
+    """The estimate ``x`` and its error covariance ``P`` of a filter held in ``_f``."""
+
+    _f: Any
+
+    @property
+    def x(self) -> np.ndarray:
+        """The current estimate ``x̂``."""
+        return self._f.x
+
+    @property
+    def P(self) -> np.ndarray:
+        """The current error covariance ``P``."""
+        return self._f.P
+
+
+class KalmanFilter(_Estimator):
     """The time-varying linear Kalman filter (``pendulab_control::kalman::KalmanFilter``) of
     ``x_{k+1} = A_k x_k + B_k u_k + w_k``, ``y_k = C_k x_k + D_k u_k + v_k``, ``w ~ N(0, Q_k)``,
     ``v ~ N(0, R_k)`` (per-sample covariances), started from ``x0`` with the covariance
@@ -212,19 +228,11 @@ class KalmanFilter:
         self.innovation = Innovation(**self._f.update(C, y, R, D, u))
         return self.innovation
 
-    @property
-    def x(self) -> np.ndarray:
-        return self._f.x
-
-    @property
-    def P(self) -> np.ndarray:
-        return self._f.P
-
     def __repr__(self) -> str:
         return f"KalmanFilter(nx={len(self.x)})"
 
 
-class _NonlinearFilter:
+class _NonlinearFilter(_Estimator):
     """The filters of a model sampled at ``ts`` (s): the state one sample later is RK4 over
     ``ts`` in ``substeps`` steps with the input held; the measurement is the states listed in
     ``measured`` (default for the plants: the encoders ``[0, 1]``) or ``h(x, u)``.
@@ -260,14 +268,6 @@ class _NonlinearFilter:
     def update(self, y: Any, u: Any = None, t: float = 0.0) -> Innovation:
         self.innovation = Innovation(**self._f.update(float(t), self._u(u), y))
         return self.innovation
-
-    @property
-    def x(self) -> np.ndarray:
-        return self._f.x
-
-    @property
-    def P(self) -> np.ndarray:
-        return self._f.P
 
     @property
     def ts(self) -> float:
