@@ -20,46 +20,42 @@
 use crate::buffer::Buf;
 use crate::dynamics::Dynamics;
 
-// Nodes and coefficients of RK5(4)7M.
-const C2: f64 = 1.0 / 5.0;
-const C3: f64 = 3.0 / 10.0;
-const C4: f64 = 4.0 / 5.0;
-const C5: f64 = 8.0 / 9.0;
-const A21: f64 = 1.0 / 5.0;
-const A31: f64 = 3.0 / 40.0;
-const A32: f64 = 9.0 / 40.0;
-const A41: f64 = 44.0 / 45.0;
-const A42: f64 = -56.0 / 15.0;
-const A43: f64 = 32.0 / 9.0;
-const A51: f64 = 19372.0 / 6561.0;
-const A52: f64 = -25360.0 / 2187.0;
-const A53: f64 = 64448.0 / 6561.0;
-const A54: f64 = -212.0 / 729.0;
-const A61: f64 = 9017.0 / 3168.0;
-const A62: f64 = -355.0 / 33.0;
-const A63: f64 = 46732.0 / 5247.0;
-const A64: f64 = 49.0 / 176.0;
-const A65: f64 = -5103.0 / 18656.0;
-// 5th-order weights (= the last row of A: first same as last).
-const B1: f64 = 35.0 / 384.0;
-const B3: f64 = 500.0 / 1113.0;
-const B4: f64 = 125.0 / 192.0;
-const B5: f64 = -2187.0 / 6784.0;
-const B6: f64 = 11.0 / 84.0;
-// Error weights b − b̂ (b̂ the embedded 4th-order weights).
-const E1: f64 = 71.0 / 57600.0;
-const E3: f64 = -71.0 / 16695.0;
-const E4: f64 = 71.0 / 1920.0;
-const E5: f64 = -17253.0 / 339200.0;
-const E6: f64 = 22.0 / 525.0;
-const E7: f64 = -1.0 / 40.0;
-// Continuous extension (Hairer–Nørsett–Wanner §II.6, Shampine's 4th-order interpolant).
-const D1: f64 = -12715105075.0 / 11282082432.0;
-const D3: f64 = 87487479700.0 / 32700410799.0;
-const D4: f64 = -10690763975.0 / 1880347072.0;
-const D5: f64 = 701980252875.0 / 199316789632.0;
-const D6: f64 = -1453857185.0 / 822651844.0;
-const D7: f64 = 69997945.0 / 29380423.0;
+// The Butcher tableau of RK5(4)7M, one row a line (Dormand–Prince 1980): the nodes `c₂…c₅`
+// (`c₆ = c₇ = 1`); the rows `a₂…a₆` of `A` (`a₇ = b`: first same as last); the 5th-order
+// weights `b` (`W`: `b₁, b₃…b₆`, as `b₂ = b₇ = 0`); the error weights `e = b − b̂` (`b̂` the
+// embedded 4th-order weights; `e₁, e₃…e₇`, as `e₂ = 0`); the continuous extension's `d`
+// (Hairer–Nørsett–Wanner §II.6, Shampine's 4th-order interpolant; `d₁, d₃…d₇`, as `d₂ = 0`).
+#[rustfmt::skip]
+mod tableau {
+    pub(super) const C: [f64; 4] = [1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0];
+    pub(super) const A2: [f64; 1] = [1.0 / 5.0];
+    pub(super) const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
+    pub(super) const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
+    pub(super) const A5: [f64; 4] = [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0];
+    pub(super) const A6: [f64; 5] = [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0];
+    pub(super) const W: [f64; 5] = [35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0];
+    pub(super) const E: [f64; 6] = [71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
+    pub(super) const D: [f64; 6] = [-12715105075.0 / 11282082432.0, 87487479700.0 / 32700410799.0, -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0];
+}
+use tableau::{A2, A3, A4, A5, A6, C, D, E, W};
+
+/// `Σⱼ wⱼ vⱼ`, summed left to right (the order of a tableau row).
+#[inline(always)]
+fn dot<const N: usize>(w: &[f64; N], v: [f64; N]) -> f64 {
+    let mut s = w[0] * v[0];
+    for j in 1..N {
+        s += w[j] * v[j];
+    }
+    s
+}
+
+/// `out = y + h·Σⱼ wⱼ kⱼ` componentwise: a stage's argument or the 5th-order solution.
+#[inline(always)]
+fn combine<const N: usize>(out: &mut [f64], y: &[f64], h: f64, w: &[f64; N], k: [&[f64]; N]) {
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = y[i] + h * dot(w, k.map(|k| k[i]));
+    }
+}
 
 /// PI controller constants.
 const SAFETY: f64 = 0.9;
@@ -138,6 +134,12 @@ impl<B: Buf> Dopri<B> {
         (s / n).sqrt()
     }
 
+    /// The stages the error estimate and the dense output weigh: `k₁, k₃…k₇` (`e₂ = d₂ = 0`).
+    fn weighted_stages(&self) -> [&[f64]; 6] {
+        let (k1, k3, k4, k5, k6, k7) = (&self.k1, &self.k3, &self.k4, &self.k5, &self.k6, &self.k7);
+        [k1.s(), k3.s(), k4.s(), k5.s(), k6.s(), k7.s()]
+    }
+
     /// Initial step size (Hairer–Nørsett–Wanner §II.4, "starting step size"), needs `k1`
     /// valid. Bounded by `h_max` and `span`.
     pub(crate) fn initial_step<S: Dynamics + ?Sized>(
@@ -187,73 +189,36 @@ impl<B: Buf> Dopri<B> {
         h: f64,
     ) -> Attempt {
         let ys = y.s();
-        for (i, yt) in self.yt.m().iter_mut().enumerate() {
-            *yt = ys[i] + h * (A21 * self.k1.s()[i]);
-        }
-        sys.derivative(t + C2 * h, self.yt.s(), u, self.k2.m());
-        {
-            let (k1, k2) = (self.k1.s(), self.k2.s());
-            for (i, yt) in self.yt.m().iter_mut().enumerate() {
-                *yt = ys[i] + h * (A31 * k1[i] + A32 * k2[i]);
-            }
-        }
-        sys.derivative(t + C3 * h, self.yt.s(), u, self.k3.m());
-        {
-            let (k1, k2, k3) = (self.k1.s(), self.k2.s(), self.k3.s());
-            for (i, yt) in self.yt.m().iter_mut().enumerate() {
-                *yt = ys[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
-            }
-        }
-        sys.derivative(t + C4 * h, self.yt.s(), u, self.k4.m());
-        {
-            let (k1, k2, k3, k4) = (self.k1.s(), self.k2.s(), self.k3.s(), self.k4.s());
-            for (i, yt) in self.yt.m().iter_mut().enumerate() {
-                *yt = ys[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
-            }
-        }
-        sys.derivative(t + C5 * h, self.yt.s(), u, self.k5.m());
-        {
-            let (k1, k2, k3, k4, k5) = (
-                self.k1.s(),
-                self.k2.s(),
-                self.k3.s(),
-                self.k4.s(),
-                self.k5.s(),
-            );
-            for (i, yt) in self.yt.m().iter_mut().enumerate() {
-                *yt = ys[i]
-                    + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
-            }
-        }
-        sys.derivative(t + h, self.yt.s(), u, self.k6.m());
-        {
-            let (k1, k3, k4, k5, k6) = (
-                self.k1.s(),
-                self.k3.s(),
-                self.k4.s(),
-                self.k5.s(),
-                self.k6.s(),
-            );
-            for (i, y1) in self.y1.m().iter_mut().enumerate() {
-                *y1 = ys[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
-            }
-        }
-        sys.derivative(t + h, self.y1.s(), u, self.k7.m());
+        let Self {
+            k1,
+            k2,
+            k3,
+            k4,
+            k5,
+            k6,
+            k7,
+            y1,
+            yt,
+            ..
+        } = self;
+        combine(yt.m(), ys, h, &A2, [k1.s()]);
+        sys.derivative(t + C[0] * h, yt.s(), u, k2.m());
+        combine(yt.m(), ys, h, &A3, [k1.s(), k2.s()]);
+        sys.derivative(t + C[1] * h, yt.s(), u, k3.m());
+        combine(yt.m(), ys, h, &A4, [k1.s(), k2.s(), k3.s()]);
+        sys.derivative(t + C[2] * h, yt.s(), u, k4.m());
+        combine(yt.m(), ys, h, &A5, [k1.s(), k2.s(), k3.s(), k4.s()]);
+        sys.derivative(t + C[3] * h, yt.s(), u, k5.m());
+        combine(yt.m(), ys, h, &A6, [k1.s(), k2.s(), k3.s(), k4.s(), k5.s()]);
+        sys.derivative(t + h, yt.s(), u, k6.m());
+        combine(y1.m(), ys, h, &W, [k1.s(), k3.s(), k4.s(), k5.s(), k6.s()]);
+        sys.derivative(t + h, y1.s(), u, k7.m());
         self.evaluations += 6;
         // Error estimate, scaled componentwise by atol + rtol·max(|y|, |y1|).
-        let (k1, k3, k4, k5, k6, k7, y1) = (
-            self.k1.s(),
-            self.k3.s(),
-            self.k4.s(),
-            self.k5.s(),
-            self.k6.s(),
-            self.k7.s(),
-            self.y1.s(),
-        );
+        let (k, y1) = (self.weighted_stages(), self.y1.s());
         let mut sum = 0.0;
         for i in 0..ys.len() {
-            let e =
-                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+            let e = h * dot(&E, k.map(|k| k[i]));
             let sc = self.params.atol + self.params.rtol * ys[i].abs().max(y1[i].abs());
             sum += (e / sc) * (e / sc);
         }
@@ -300,21 +265,12 @@ impl<B: Buf> Dopri<B> {
     /// (valid after an accepted attempt, before `k`s are overwritten).
     pub(crate) fn dense(&self, y: &[f64], h: f64, theta: f64, out: &mut [f64]) {
         let th1 = 1.0 - theta;
-        let (k1, k3, k4, k5, k6, k7, y1) = (
-            self.k1.s(),
-            self.k3.s(),
-            self.k4.s(),
-            self.k5.s(),
-            self.k6.s(),
-            self.k7.s(),
-            self.y1.s(),
-        );
+        let (k, y1) = (self.weighted_stages(), self.y1.s());
         for i in 0..y.len() {
             let dy = y1[i] - y[i];
-            let b = h * k1[i] - dy;
-            let r4 = dy - h * k7[i] - b;
-            let r5 =
-                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+            let b = h * k[0][i] - dy;
+            let r4 = dy - h * k[5][i] - b;
+            let r5 = h * dot(&D, k.map(|k| k[i]));
             out[i] = y[i] + theta * (dy + th1 * (b + theta * (r4 + th1 * r5)));
         }
     }
