@@ -129,19 +129,6 @@ fn ss_json(s: &StateSpace<Discrete>) -> Result<Value> {
     }))
 }
 
-/// The order with the largest ratio of consecutive singular values `σ_n/σ_{n+1}`, `n ≤ max`
-/// (the rule `moesp` applies when no order is given).
-fn gap_order(sv: &[f64], max: usize) -> usize {
-    let floor = sv.first().copied().unwrap_or(0.0) * f64::EPSILON;
-    (1..=max.min(sv.len().saturating_sub(1)))
-        .max_by(|&a, &b| {
-            let ra = sv[a - 1] / sv[a].max(floor);
-            let rb = sv[b - 1] / sv[b].max(floor);
-            ra.total_cmp(&rb)
-        })
-        .unwrap_or(1)
-}
-
 /// Runs `pendulab identify arx|moesp`.
 ///
 /// # Errors
@@ -246,24 +233,19 @@ fn identify(args: &IdentifyArgs) -> Result<(Value, StateSpace<Discrete>)> {
     } else {
         let horizon = args.horizon.unwrap_or(10);
         let rec = [IoRecord::siso(&est.u, &est.y)];
-        let mut opts = MoespOptions {
+        let opts = MoespOptions {
             horizon,
             order: args.order,
+            max_order: args.max_order,
         };
-        let mut s = moesp(&rec, dt, opts)?;
-        if let Some(n) = args.max_order {
-            let chosen = gap_order(&s.singular_values, n.min((horizon - 1).max(1)));
-            if chosen != s.order {
-                opts.order = Some(chosen);
-                s = moesp(&rec, dt, opts)?;
-            }
-        }
+        let s = moesp(&rec, dt, opts)?;
         let fit = s
             .fit_percent(&IoRecord::siso(&val.u, &val.y))
             .context("validation of the MOESP model")?[0];
         let mut m = ss_json(&s.model)?;
         m["order"] = json!(s.order);
         m["horizon"] = json!(horizon);
+        m["max_order"] = json!(args.max_order);
         m["singular_values"] = json!(s.singular_values);
         out["model"] = m;
         let what = format!(

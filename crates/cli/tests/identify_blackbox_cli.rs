@@ -164,6 +164,7 @@ fn moesp_on_the_cart_record_equals_the_library_and_saves_a_system() {
         MoespOptions {
             horizon: 20,
             order: Some(2),
+            max_order: None,
         },
     )
     .unwrap();

@@ -395,16 +395,22 @@ pub struct MoespOptions {
     /// can be at most `(k − 1) n_y`.
     pub horizon: usize,
     /// The model order; `None` reads it off the singular values (the largest ratio of
-    /// consecutive singular values `σ_n/σ_{n+1}`).
+    /// consecutive singular values `σ_n/σ_{n+1}`, `n` in `1..=max_order`).
     pub order: Option<usize>,
+    /// The largest order the selection from the singular values may choose (used only when
+    /// `order` is `None`): it searches `n ∈ 1..=min(max_order, (k − 1) n_y)`. `None` is
+    /// `(k − 1) n_y`, every order the horizon allows. Giving both `order` and `max_order`, or
+    /// `max_order = 0`, is an [`IdentError::InvalidParameter`].
+    pub max_order: Option<usize>,
 }
 
 impl Default for MoespOptions {
-    /// Horizon 10, order from the singular values.
+    /// Horizon 10, order from the singular values among all the horizon allows.
     fn default() -> Self {
         Self {
             horizon: 10,
             order: None,
+            max_order: None,
         }
     }
 }
@@ -493,8 +499,8 @@ fn simulate(sys: &StateSpace<Discrete>, r: &IoRecord<'_>, x0: Option<&[f64]>) ->
 /// `A`, `C`.
 ///
 /// # Errors
-/// [`IdentError::InvalidParameter`] for no record, a horizon below 2, a bad sample time, or
-/// an order of 0 or above `(k − 1) n_y`; [`IdentError::LengthMismatch`] /
+/// [`IdentError::InvalidParameter`] for no record, a horizon below 2, a bad sample time, an
+/// order of 0 or above `(k − 1) n_y`, a `max_order` of 0 or given with the order; [`IdentError::LengthMismatch`] /
 /// [`IdentError::NonFinite`] naming the record and column; [`IdentError::TooFewSamples`] if
 /// the records give fewer Hankel columns than rows; the least-squares errors of [`arx`] for
 /// `B`, `D`; [`IdentError::Lti`] if the identified matrices are rejected.
@@ -521,6 +527,23 @@ pub fn moesp(records: &[IoRecord<'_>], ts: f64, opts: MoespOptions) -> Result<Mo
             value: k as f64,
             reason: "at least 2 block rows are needed for the shift invariance".into(),
         });
+    }
+    match (opts.order, opts.max_order) {
+        (Some(n), Some(c)) => {
+            return Err(IdentError::InvalidParameter {
+                name: "MOESP max_order".into(),
+                value: c as f64,
+                reason: format!("give either the order ({n}) or max_order, not both"),
+            });
+        }
+        (None, Some(0)) => {
+            return Err(IdentError::InvalidParameter {
+                name: "MOESP max_order".into(),
+                value: 0.0,
+                reason: "must be at least 1".into(),
+            });
+        }
+        _ => {}
     }
     for (e, r) in records.iter().enumerate() {
         check_io(e, r, m, l)?;
@@ -576,16 +599,7 @@ pub fn moesp(records: &[IoRecord<'_>], ts: f64, opts: MoespOptions) -> Result<Mo
     let max_order = (k - 1) * l;
     let n = match opts.order {
         Some(n) => n,
-        None => {
-            let floor = sv[0] * f64::EPSILON;
-            (1..=max_order.min(sv.len() - 1))
-                .max_by(|&a, &b| {
-                    let ra = sv[a - 1] / sv[a].max(floor);
-                    let rb = sv[b - 1] / sv[b].max(floor);
-                    ra.total_cmp(&rb)
-                })
-                .unwrap_or(1)
-        }
+        None => gap_order(&sv, opts.max_order.unwrap_or(max_order).min(max_order)),
     };
     if n == 0 || n > max_order {
         return Err(IdentError::InvalidParameter {
@@ -615,6 +629,19 @@ pub fn moesp(records: &[IoRecord<'_>], ts: f64, opts: MoespOptions) -> Result<Mo
         initial_states,
         lsq,
     })
+}
+
+/// The order `n ∈ 1..=max` with the largest ratio `σ_n/σ_{n+1}` of consecutive singular
+/// values (`σ` descending; a zero `σ_{n+1}` read as `ε σ₁`), 1 when there is no ratio to take.
+fn gap_order(sv: &[f64], max: usize) -> usize {
+    let floor = sv.first().copied().unwrap_or(0.0) * f64::EPSILON;
+    (1..=max.min(sv.len().saturating_sub(1)))
+        .max_by(|&a, &b| {
+            let ra = sv[a - 1] / sv[a].max(floor);
+            let rb = sv[b - 1] / sv[b].max(floor);
+            ra.total_cmp(&rb)
+        })
+        .unwrap_or(1)
 }
 
 /// `B`, `D` and the records' initial states by least squares for known `A`, `C`: the output

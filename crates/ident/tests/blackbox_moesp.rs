@@ -131,6 +131,7 @@ fn mimo_three_states_two_inputs_two_outputs() {
         MoespOptions {
             horizon: 6,
             order: None,
+            max_order: None,
         },
     )
     .unwrap();
@@ -152,6 +153,7 @@ fn two_records_are_combined() {
         MoespOptions {
             horizon: 8,
             order: None,
+            max_order: None,
         },
     )
     .unwrap();
@@ -178,7 +180,8 @@ fn bad_input_gives_typed_errors() {
             TS,
             MoespOptions {
                 horizon: 1,
-                order: None
+                order: None,
+                max_order: None,
             }
         ),
         Err(IdentError::InvalidParameter { .. })
@@ -189,7 +192,8 @@ fn bad_input_gives_typed_errors() {
             TS,
             MoespOptions {
                 horizon: 3,
-                order: Some(5)
+                order: Some(5),
+                max_order: None,
             }
         ),
         Err(IdentError::InvalidParameter { .. })
@@ -201,6 +205,7 @@ fn bad_input_gives_typed_errors() {
         MoespOptions {
             horizon: 3,
             order: None,
+            max_order: None,
         },
     ) {
         Err(IdentError::NonFinite { column, at, .. }) => {
@@ -212,4 +217,37 @@ fn bad_input_gives_typed_errors() {
         moesp(&[IoRecord::siso(&u[..10], &y)], TS, short),
         Err(IdentError::LengthMismatch { .. })
     ));
+}
+
+#[test]
+fn max_order_caps_the_selection() {
+    // A third-order system: unbounded, the gap rule finds 3; with `max_order = 2` it may only
+    // choose among 1 and 2, by the same rule (the largest σ_n/σ_{n+1}) applied here to the
+    // returned singular values, and the model is the one `order = Some(n)` identifies.
+    let a0 = Mat::from_diagonal(&pendulab_lti::Vector::from_vec(vec![0.9, 0.7, -0.6]));
+    let sys = random_system(&a0, 1, 1, 41);
+    let (u, y) = data(&sys, 400, 42);
+    let rec = || [IoRecord::siso(&u[0], &y[0])];
+    let opts = |order, max_order| MoespOptions {
+        horizon: 8,
+        order,
+        max_order,
+    };
+    let full = moesp(&rec(), TS, opts(None, None)).unwrap();
+    check_recovery(&sys, &full);
+    let capped = moesp(&rec(), TS, opts(None, Some(2))).unwrap();
+    let sv = &capped.singular_values;
+    let want = if sv[0] / sv[1] >= sv[1] / sv[2] { 1 } else { 2 };
+    assert_eq!(capped.order, want, "{sv:?}");
+    assert_eq!(capped.order, 2, "{sv:?}");
+    let fixed = moesp(&rec(), TS, opts(Some(2), None)).unwrap();
+    assert_eq!(capped, fixed);
+    // A cap above what the horizon allows is the horizon's limit: the unbounded result.
+    assert_eq!(moesp(&rec(), TS, opts(None, Some(100))).unwrap(), full);
+    for bad in [opts(None, Some(0)), opts(Some(2), Some(2))] {
+        match moesp(&rec(), TS, bad) {
+            Err(IdentError::InvalidParameter { name, .. }) => assert_eq!(name, "MOESP max_order"),
+            other => panic!("{bad:?}: {other:?}"),
+        }
+    }
 }

@@ -157,6 +157,7 @@ fn moesp_of_the_cart_drive_matches_table_3_5() {
         MoespOptions {
             horizon: 20,
             order: Some(2),
+            max_order: None,
         },
     )
     .unwrap();

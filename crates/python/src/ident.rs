@@ -10,7 +10,7 @@
 //! | `ident_arm_pendulum_ls(ts, phi1, phi2, …)` | `arm_pendulum_ls` (+ `validate_arm_pendulum`) | `α₂`, `J₂`, `μ₂` |
 //! | `ident_p_step(t, y, …)` | `p_step` (+ `validate_p_step`) | `a`, `b`, `T_p`, overshoot |
 //! | `ident_arx(u, y, ts, na, nb, nk, max_order, u_val, y_val)` | `blackbox::arx`, `arx_order_selection` (+ `Arx::fit_percent`) | `A`, `B` polynomials, AIC table |
-//! | `ident_moesp(u, y, ts, order, horizon, u_val, y_val)` | `blackbox::moesp` (+ `Moesp::fit_percent`) | `A`, `B`, `C`, `D`, singular values |
+//! | `ident_moesp(u, y, ts, order, horizon, u_val, y_val, max_order)` | `blackbox::moesp` (+ `Moesp::fit_percent`) | `A`, `B`, `C`, `D`, singular values |
 //! | `ident_free_oscillation(t, y, m, l, g, …)` | `free_oscillation`, `pendulum_from_oscillation` (+ `validate_free_pendulum`, `validate_oscillation`) | `J`, `μ`, period, decay ratio |
 //!
 //! Each returns a dict: the estimates, the least-squares diagnostics (`std_error`,
@@ -150,18 +150,34 @@ fn ident_dataset(source: &str, text: &str, time_unit: Option<&str>) -> PyResult<
     Ok(NativeDataset { data })
 }
 
-/// The least-squares options of `pendulab identify`: `filter` `"causal"` (default),
-/// `"zero-phase"` or `"none"`, the time constant `tf` (s) of `1/(T_f s + 1)³`, its
-/// discretisation `hold` (`"zoh"`, `"foh"`), and the differentiator (three-point, or
-/// Savitzky–Golay of `savgol` samples and order `savgol_order`).
-fn ls_options(
-    filter: &str,
-    tf: f64,
-    hold: &str,
-    savgol: Option<usize>,
-    savgol_order: usize,
-) -> PyResult<LsOptions> {
-    let hold = match hold {
+/// The least-squares options of `pendulab identify`, the keyword arguments `**options` of
+/// `ident_drive_ls`, `ident_cart_pendulum_ls` and `ident_arm_pendulum_ls`: `filter`
+/// `"causal"` (default), `"zero-phase"` or `"none"`, the time constant `tf` (s, default
+/// 0.075) of `1/(T_f s + 1)³`, its discretisation `hold` (`"zoh"` default, `"foh"`), and the
+/// differentiator (three-point, or Savitzky–Golay of `savgol` samples and order
+/// `savgol_order`, default 3).
+///
+/// # Errors
+/// `TypeError` for another keyword or a value of the wrong type (as Python does);
+/// `InvalidArgumentError` for an unknown filter or hold.
+fn ls_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LsOptions> {
+    let (mut filter, mut tf, mut hold) = ("causal".to_owned(), 0.075, "zoh".to_owned());
+    let (mut savgol, mut savgol_order) = (None::<usize>, 3usize);
+    for (k, v) in options.into_iter().flat_map(|d| d.iter()) {
+        match k.extract::<String>()?.as_str() {
+            "filter" => filter = v.extract()?,
+            "tf" => tf = v.extract()?,
+            "hold" => hold = v.extract()?,
+            "savgol" => savgol = v.extract()?,
+            "savgol_order" => savgol_order = v.extract()?,
+            other => {
+                return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                    "unexpected keyword argument {other:?} (the least-squares options are filter, tf, hold, savgol, savgol_order)"
+                )));
+            }
+        }
+    }
+    let hold = match hold.as_str() {
         "zoh" => FilterHold::Zoh,
         "foh" => FilterHold::Foh,
         other => {
@@ -172,7 +188,7 @@ fn ls_options(
             ));
         }
     };
-    let prefilter = match filter {
+    let prefilter = match filter.as_str() {
         "causal" => Prefilter::Causal { tf, hold },
         "zero-phase" => Prefilter::ZeroPhase { tf, hold },
         "none" => Prefilter::None,
@@ -272,26 +288,20 @@ fn put_fit(
     d.set_item(key, f)
 }
 
-/// `ident_drive_ls(rig, ts, y, v, filter, tf, hold, savgol, savgol_order)`: the drive
-/// `ÿ = −a ẏ + b v` by least squares (book Part 1 §3.2.2, eq. (3.31)): `rig` `"cart"` (y = z,
-/// `a_c`, `b_c`) or `"arm"` (y = φ₁, `a₁`, `b₁`), sample time `ts` (s).
+/// `ident_drive_ls(rig, ts, y, v, **options)`: the drive `ÿ = −a ẏ + b v` by least squares
+/// (book Part 1 §3.2.2, eq. (3.31)): `rig` `"cart"` (y = z, `a_c`, `b_c`) or `"arm"`
+/// (y = φ₁, `a₁`, `b₁`), sample time `ts` (s); `options` as [`ls_options`].
 #[pyfunction]
-#[pyo3(signature = (rig, ts, y, v, filter = "causal", tf = 0.075, hold = "zoh", savgol = None,
-                    savgol_order = 3))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (rig, ts, y, v, **options))]
 fn ident_drive_ls<'py>(
     py: Python<'py>,
     rig: &str,
     ts: f64,
     y: &Bound<'py, PyAny>,
     v: &Bound<'py, PyAny>,
-    filter: &str,
-    tf: f64,
-    hold: &str,
-    savgol: Option<usize>,
-    savgol_order: usize,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let opts = ls_options(filter, tf, hold, savgol, savgol_order)?;
+    let opts = ls_options(options)?;
     let (yname, cart) = match rig {
         "cart" => ("z", true),
         "arm" => ("phi1", false),
@@ -327,10 +337,9 @@ fn ident_drive_ls<'py>(
 
 /// `ident_cart_pendulum_ls(ts, z, phi, mp, lp, g, …)`: the cart pendulum's `J_p`, `μ_p` by
 /// least squares with the known `m_p`, `l_p`, `g` (book Part 1 §3.2.2); `phi` is the angle
-/// from the hanging rest (`φ = θ − π`).
+/// from the hanging rest (`φ = θ − π`); `options` as [`ls_options`].
 #[pyfunction]
-#[pyo3(signature = (ts, z, phi, mp = 0.107, lp = 0.230, g = 9.81, filter = "causal", tf = 0.075,
-                    hold = "zoh", savgol = None, savgol_order = 3))]
+#[pyo3(signature = (ts, z, phi, mp = 0.107, lp = 0.230, g = 9.81, **options))]
 #[allow(clippy::too_many_arguments)]
 fn ident_cart_pendulum_ls<'py>(
     py: Python<'py>,
@@ -340,13 +349,9 @@ fn ident_cart_pendulum_ls<'py>(
     mp: f64,
     lp: f64,
     g: f64,
-    filter: &str,
-    tf: f64,
-    hold: &str,
-    savgol: Option<usize>,
-    savgol_order: usize,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let opts = ls_options(filter, tf, hold, savgol, savgol_order)?;
+    let opts = ls_options(options)?;
     let c = CartPendulumConstants { mp, lp, g };
     let (z, phi) = (column(z, "z")?, column(phi, "phi")?);
     let (r, fit) = solve_then_validate(
@@ -367,10 +372,9 @@ fn ident_cart_pendulum_ls<'py>(
 
 /// `ident_arm_pendulum_ls(ts, phi1, phi2, L1, m2, l2, g, …)`: the arm pendulum's `α₂`, `μ₂`
 /// (and `J₂ = α₂ − m₂ l₂²`) by least squares with the known `L₁`, `m₂`, `l₂`, `g` (book Part 1
-/// §3.3).
+/// §3.3); `options` as [`ls_options`].
 #[pyfunction]
-#[pyo3(signature = (ts, phi1, phi2, L1 = 0.227, m2 = 0.096, l2 = 0.195, g = 9.81,
-                    filter = "causal", tf = 0.075, hold = "zoh", savgol = None, savgol_order = 3))]
+#[pyo3(signature = (ts, phi1, phi2, L1 = 0.227, m2 = 0.096, l2 = 0.195, g = 9.81, **options))]
 #[allow(clippy::too_many_arguments, non_snake_case)]
 fn ident_arm_pendulum_ls<'py>(
     py: Python<'py>,
@@ -381,13 +385,9 @@ fn ident_arm_pendulum_ls<'py>(
     m2: f64,
     l2: f64,
     g: f64,
-    filter: &str,
-    tf: f64,
-    hold: &str,
-    savgol: Option<usize>,
-    savgol_order: usize,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let opts = ls_options(filter, tf, hold, savgol, savgol_order)?;
+    let opts = ls_options(options)?;
     let c = ArmPendulumConstants { l1: L1, m2, l2, g };
     let (p1, p2) = (column(phi1, "phi1")?, column(phi2, "phi2")?);
     let (r, fit) = solve_then_validate(
@@ -638,14 +638,16 @@ fn ident_arx<'py>(
     Ok(d)
 }
 
-/// `ident_moesp(u, y, ts, order=None, horizon=10, u_val=None, y_val=None)`: a discrete
-/// state-space model by PO-MOESP (`pendulab_ident::moesp`; the order from the largest gap of
-/// the singular values when `None`). Returns a dict: `model` (the discrete `StateSpace`),
-/// `A`, `B`, `C`, `D`, `order`, `horizon`, `singular_values`, `ts` and `fit` (MATLAB
-/// `compare` percent, simulated from the zero state on `(u_val, y_val)`, default the
-/// estimation record).
+/// `ident_moesp(u, y, ts, order=None, horizon=10, u_val=None, y_val=None, max_order=None)`: a
+/// discrete state-space model by PO-MOESP (`pendulab_ident::moesp`; with `order = None` the
+/// order is the largest gap `σ_n/σ_{n+1}` of the singular values among
+/// `n ∈ 1…min(max_order, horizon − 1)`, `MoespOptions::max_order`). Returns a dict: `model`
+/// (the discrete `StateSpace`), `A`, `B`, `C`, `D`, `order`, `horizon`, `max_order`,
+/// `singular_values`, `ts` and `fit` (MATLAB `compare` percent, simulated from the zero state
+/// on `(u_val, y_val)`, default the estimation record).
 #[pyfunction]
-#[pyo3(signature = (u, y, ts, order = None, horizon = 10, u_val = None, y_val = None))]
+#[pyo3(signature = (u, y, ts, order = None, horizon = 10, u_val = None, y_val = None,
+                    max_order = None))]
 #[allow(clippy::too_many_arguments)]
 fn ident_moesp<'py>(
     py: Python<'py>,
@@ -656,19 +658,19 @@ fn ident_moesp<'py>(
     horizon: usize,
     u_val: Option<&Bound<'py, PyAny>>,
     y_val: Option<&Bound<'py, PyAny>>,
+    max_order: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     at_least_one("order", order)?;
     let (u, y) = (column(u, "u")?, column(y, "y")?);
     let (uv, yv) = validation_record(&u, &y, u_val, y_val)?;
+    let opts = MoespOptions {
+        horizon,
+        order,
+        max_order,
+    };
     let (r, fit) = solve_then_validate(
         py,
-        || {
-            moesp(
-                &[IoRecord::siso(&u, &y)],
-                ts,
-                MoespOptions { horizon, order },
-            )
-        },
+        || moesp(&[IoRecord::siso(&u, &y)], ts, opts),
         |s| s.fit_percent(&IoRecord::siso(&uv, &yv)),
     );
     let s = ie(r)?;
@@ -681,6 +683,7 @@ fn ident_moesp<'py>(
     d.set_item("D", matrix_to_numpy(py, s.model.d()))?;
     d.set_item("order", s.order)?;
     d.set_item("horizon", horizon)?;
+    d.set_item("max_order", max_order)?;
     d.set_item("singular_values", slice_to_numpy(py, &s.singular_values))?;
     d.set_item("ts", ts)?;
     d.set_item("fit", fit.first().copied().unwrap_or(f64::NAN))?;

@@ -107,3 +107,49 @@ def test_bad_input_raises():
         ident.moesp(u, y, 0.01, order=20, horizon=5)
     with pytest.raises(pl.ShapeError):
         ident.moesp(u, y, 0.01, horizon=40)
+
+
+def third_order(n=400):
+    """A noise-free third-order system with a weak third mode: the largest singular-value gap
+    below 3 is σ₂/σ₃, so ``max_order=2`` gives 2 (the same record as the CLI's test)."""
+    st, u = 12345, []
+    for _ in range(n):
+        st = (st * 6364136223846793005 + 1442695040888963407) % 2**64
+        u.append(1.0 if st >> 63 else -1.0)
+    u = np.array(u)
+    p, b = np.array([0.9, 0.7, -0.6]), np.array([0.5, -0.8, 0.05])
+    x, y = np.zeros(3), np.zeros(n)
+    for k in range(n):
+        y[k] = x.sum() + 0.2 * u[k]
+        x = p * x + b * u[k]
+    return u, y
+
+
+def test_moesp_max_order_caps_the_selection():
+    u, y = third_order()
+    full = ident.moesp(u, y, 0.01, horizon=8)
+    assert full.order == 3 and full.max_order is None
+    capped = ident.moesp(u, y, 0.01, horizon=8, max_order=2)
+    sv = capped.singular_values
+    assert capped.order == (1 if sv[0] / sv[1] >= sv[1] / sv[2] else 2) == 2
+    assert capped.max_order == 2
+    fixed = ident.moesp(u, y, 0.01, horizon=8, order=2)
+    assert np.array_equal(capped.A, fixed.A) and np.array_equal(capped.B, fixed.B)
+    assert capped.fit == fixed.fit
+    with pytest.raises(pl.InvalidArgumentError, match="max_order"):
+        ident.moesp(u, y, 0.01, horizon=8, max_order=0)
+    with pytest.raises(pl.InvalidArgumentError, match="max_order"):
+        ident.moesp(u, y, 0.01, horizon=8, order=2, max_order=2)
+
+
+@needs_cli
+def test_moesp_max_order_equals_the_cli(tmp_path):
+    u, y = third_order()
+    f = tmp_path / "third.csv"
+    f.write_text("t,u,y\n" + "".join(f"{k * 0.01!r},{a!r},{b!r}\n" for k, (a, b) in enumerate(zip(u.tolist(), y.tolist()))))
+    c = cli("moesp", "--data", str(f), "--input", "u", "--output", "y", "--horizon", "8", "--max-order", "2")
+    r = ident.moesp(u, y, 0.01, horizon=8, max_order=2)
+    assert c["model"]["order"] == r.order == 2
+    assert r.A.tolist() == c["model"]["a"]
+    assert list(r.singular_values) == c["model"]["singular_values"]
+    assert r.fit == c["fit"]["percent"]

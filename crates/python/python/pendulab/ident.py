@@ -259,6 +259,8 @@ class MoespResult:
     D: Any
     order: int
     horizon: int
+    #: The cap of the order selection (``None``: ``horizon − 1``).
+    max_order: Optional[int]
     #: Singular values of ``L₃₂`` (the order is the number of dominant ones).
     singular_values: Any
     ts: float
@@ -281,11 +283,14 @@ def arx(u, y, ts: float, na: Optional[int] = None, nb: Optional[int] = None, nk:
 
 
 def moesp(u, y, ts: float, order: Optional[int] = None, horizon: int = 10,
-          validate: Optional[tuple] = None) -> MoespResult:
+          validate: Optional[tuple] = None, max_order: Optional[int] = None) -> MoespResult:
     """PO-MOESP subspace identification (``pendulab identify moesp``): ``horizon`` block rows,
-    ``order`` (default: the largest gap of the singular values). ``validate=(u_val, y_val)``
-    as in :func:`arx`. Raises as :func:`arx` (an order above ``horizon − 1``, a horizon too
-    long for the record)."""
+    ``order`` (default: the largest gap ``σ_n/σ_(n+1)`` of the singular values among
+    ``n = 1 … min(max_order, horizon − 1)``; ``max_order=None`` is ``horizon − 1``).
+    ``validate=(u_val, y_val)`` as in :func:`arx`. Raises as :func:`arx` (an order above
+    ``horizon − 1``, ``max_order`` 0 or given with ``order``, a horizon too long for the
+    record)."""
     uv, yv = validate if validate is not None else (None, None)
-    r = _native.ident_moesp(u, y, ts, order=order, horizon=horizon, u_val=uv, y_val=yv)
+    r = _native.ident_moesp(u, y, ts, order=order, horizon=horizon, u_val=uv, y_val=yv,
+                            max_order=max_order)
     return MoespResult(**r)

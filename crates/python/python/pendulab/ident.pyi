@@ -19,7 +19,7 @@ class Dataset:
 
 def read_csv(data: Union[str, os.PathLike], time_unit: Optional[str] = ...) -> Dataset: ...
 def identify(method: str, data: Any, **options: Any) -> Dict[str, Any]: ...
-def drive_ls(rig: str, ts: float, y: npt.ArrayLike, v: npt.ArrayLike, filter: str = ..., tf: float = ...,
+def drive_ls(rig: str, ts: float, y: npt.ArrayLike, v: npt.ArrayLike, *, filter: str = ..., tf: float = ...,
              hold: str = ..., savgol: Optional[int] = ..., savgol_order: int = ...) -> Dict[str, Any]: ...
 def cart_pendulum_ls(ts: float, z: npt.ArrayLike, phi: npt.ArrayLike, mp: float = ..., lp: float = ...,
                      g: float = ..., **options: Any) -> Dict[str, Any]: ...
@@ -50,6 +50,7 @@ class MoespResult:
     D: np.ndarray
     order: int
     horizon: int
+    max_order: Optional[int]
     singular_values: np.ndarray
     ts: float
     model: Any
@@ -59,4 +60,5 @@ def arx(u: npt.ArrayLike, y: npt.ArrayLike, ts: float, na: Optional[int] = ..., 
         nk: int = ..., max_order: Optional[int] = ...,
         validate: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = ...) -> ArxResult: ...
 def moesp(u: npt.ArrayLike, y: npt.ArrayLike, ts: float, order: Optional[int] = ..., horizon: int = ...,
-          validate: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = ...) -> MoespResult: ...
+          validate: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = ...,
+          max_order: Optional[int] = ...) -> MoespResult: ...
