@@ -10,7 +10,8 @@
 //! | [`response`] | `lsim`, `lsim_split`, `step`, `impulse`, `initial`, `freqresp`, `bode` |
 //! | [`synthesis`] | `hinfsyn`, `h2syn`, `augw` |
 //! | [`transfer`] | `TransferMatrix` (MIMO `tf`), `pade`, `thiran` |
-//! | [`loop_analysis`] | `nyquist`, `nichols`, `rlocus`, `rlocfind`, `disk_margin`, `sigma` |
+//! | [`loop_analysis`] | `nyquist`, `nichols`, `rlocus`, `rlocfind`, `disk_margin`, `disk_margin_mimo`, `mu_diag_complex`, `sigma` |
+//! | [`reduction`] | `stabsep`, `hsvd`, `balreal`, `balred`, `hinfnorm` |
 //!
 //! Every function converts its arguments ([`crate::convert`]), releases the GIL around the
 //! pendulab-lti call and returns NumPy arrays or a small result class ([`results`]) that
@@ -21,6 +22,7 @@ pub mod analysis;
 pub mod design;
 pub mod equations;
 pub mod loop_analysis;
+pub mod reduction;
 pub mod response;
 pub mod results;
 pub mod synthesis;
@@ -54,6 +56,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     use design::*;
     use equations::*;
     use loop_analysis::*;
+    use reduction::*;
     use response::*;
     use synthesis::*;
     use system::*;
@@ -63,11 +66,13 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
          ss, tf, c2d, d2c, poles, zeros, dcgain, damp, ctrb_py, obsv_py, gram, lyap, dlyap, care, dare,
          lqr, dlqr, lqe, dlqe, place_py, acker_py, place_observer_py, lqi, lqr_sampled_data, reg,
          minimal_order_observer, lsim, lsim_split, step, impulse, initial, freqresp, bode, nyquist,
-         nichols, rlocus, rlocfind, disk_margin, sigma, pade, thiran];
+         nichols, rlocus, rlocfind, disk_margin, sigma, pade, thiran,
+         disk_margin_mimo, mu_diag_complex_py, stabsep, hsvd, balreal, balred, hinfnorm];
         [HinfsynResult, H2synResult,
          StateSpace, TransferFunction, DampResult, MatrixEquationResult, RiccatiResult, LqrResult,
          LqeResult, PlaceResult, LqiResult, SampledDataLqrResult, MinimalObserverResult, LsimResult,
          LsimSplit, TimeResponse, FrequencyResponse, BodeResult, NyquistResult, NicholsResult,
-         RootLocusResult, RlocfindResult, DiskMarginResult, SigmaResult, TransferMatrix]);
+         RootLocusResult, RlocfindResult, DiskMarginResult, SigmaResult, TransferMatrix,
+         MimoDiskMarginResult, MuResult, StabsepResult, BalrealResult, HinfnormResult]);
     Ok(())
 }

@@ -13,6 +13,11 @@ Sign convention: every state-feedback gain is for ``u = -K x`` (closed loop ``A 
 observer gains for ``A - L C``. The book 「倒立振子で学ぶ制御工学」 writes ``u = +K x``;
 its gain is ``K_book = -K``.
 
+Model reduction follows MATLAB for unstable systems: ``stabsep`` splits ``G = G_s + G_u``,
+``hsvd`` lists ``inf`` for each unstable state, ``balreal``/``balred`` keep the unstable part.
+``disk_margin_mimo`` gives the loop-at-a-time and multi-loop disk margins of a square loop
+(MATLAB ``diskmargin(L)``), the latter from ``mu_diag_complex`` bounds.
+
 MIMO transfer functions are ``TransferMatrix`` objects (``tf`` with lists of lists of
 coefficient lists, or ``tf`` of a MIMO system): ``G * C``, ``G + H``, ``G - H``, ``G / H``
 and ``(G * C).feedback(K)`` work on them; a shape or sample-time mismatch raises.
@@ -27,6 +32,18 @@ message; all but the base class are also ``ValueError``.
 """
 
 from ._native import (
+    BalrealResult,
+    HinfnormResult,
+    MimoDiskMarginResult,
+    MuResult,
+    StabsepResult,
+    balreal,
+    balred,
+    disk_margin_mimo,
+    hinfnorm,
+    hsvd,
+    mu_diag_complex,
+    stabsep,
     H2synResult,
     HinfsynResult,
     augw,
@@ -99,6 +116,18 @@ from ._native import (
 )
 
 __all__ = [
+    "stabsep",
+    "hsvd",
+    "balreal",
+    "balred",
+    "hinfnorm",
+    "disk_margin_mimo",
+    "mu_diag_complex",
+    "StabsepResult",
+    "BalrealResult",
+    "HinfnormResult",
+    "MimoDiskMarginResult",
+    "MuResult",
     "hinfsyn",
     "h2syn",
     "augw",

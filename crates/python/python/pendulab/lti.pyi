@@ -271,6 +271,47 @@ def rlocfind(sys: SystemLike, s0: complex) -> RlocfindResult: ...
 def disk_margin(sys: SystemLike, skew: float = ...) -> DiskMarginResult: ...
 def sigma(sys: SystemLike, omega: Optional[ArrayLike] = ...) -> SigmaResult: ...
 
+class StabsepResult(_Result):
+    """G = G_s + G_u (MATLAB ``GS, GNS = stabsep(G)``); G_u strictly proper."""
+    stable: StateSpace
+    unstable: StateSpace
+
+class BalrealResult(_Result):
+    """MATLAB ``sysb, g, T, Ti = balreal(sys)``: x_b = T x, x = Ti x_b; g descending, inf per unstable state."""
+    sysb: StateSpace
+    g: Array
+    T: Array
+    Ti: Array
+
+class HinfnormResult(_Result):
+    """MATLAB ``ninf, fpeak = hinfnorm(sys)``; fpeak in rad/s."""
+    ninf: float
+    fpeak: float
+    upper_bound: float
+
+class MuResult(_Result):
+    """Bounds on μ(M) for diagonal complex Δ; unpacks as ``upper, lower``."""
+    upper: float
+    lower: float
+    d_scaling: Array
+
+class MimoDiskMarginResult(_Result):
+    """MATLAB ``DM, MM = diskmargin(L)``: loop-at-a-time and multi-loop disk margins."""
+    loop_at_a_time: list[DiskMarginResult]
+    multi_loop: DiskMarginResult
+    alpha_bounds: Tuple[float, float]
+    mu_peak: MuResult
+    peak_frequency: float
+    closed_loop_stable: bool
+
+def stabsep(sys: SystemLike) -> StabsepResult: ...
+def hsvd(sys: SystemLike) -> Array: ...
+def balreal(sys: SystemLike) -> BalrealResult: ...
+def balred(sys: SystemLike, orders: Union[int, Sequence[int]], method: Literal["truncate", "matchdc"] = ...) -> Union[StateSpace, list[StateSpace]]: ...
+def hinfnorm(sys: SystemLike, tol: float = ...) -> HinfnormResult: ...
+def mu_diag_complex(M: ArrayLike) -> MuResult: ...
+def disk_margin_mimo(L: SystemLike, skew: float = ...) -> MimoDiskMarginResult: ...
+
 __all__: list[str]
 
 class HinfsynResult(_Result):

@@ -1,5 +1,6 @@
-//! Loop analysis: `nyquist`, `nichols`, `rlocus`, `rlocfind`, `disk_margin`, `sigma`
-//! (pendulab-lti's `nyquist`, `rlocus`, `disk_margin` and `sigma` modules).
+//! Loop analysis: `nyquist`, `nichols`, `rlocus`, `rlocfind`, `disk_margin`,
+//! `disk_margin_mimo`, `mu_diag_complex`, `sigma` (pendulab-lti's `nyquist`, `rlocus`,
+//! `disk_margin`, `mu` and `sigma` modules).
 
 use super::nogil;
 use super::response::frequencies;
@@ -7,9 +8,11 @@ use super::results::{obj, result_class};
 use super::system::{system, with_sys};
 use crate::convert::{complex_to_numpy, complex_vector, slice_to_numpy, vector};
 use crate::errors::{Kind, new_err};
-use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
-use pendulab_lti::Complex64;
+use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pendulab_lti::disk_margin::DiskMargin;
+use pendulab_lti::mu::{self, MuBounds, mu_diag_complex};
+use pendulab_lti::{CMat, Complex64};
 use pyo3::prelude::*;
 
 result_class!(
@@ -221,6 +224,21 @@ result_class!(
     }
 );
 
+impl DiskMarginResult {
+    /// From pendulab-lti's margin.
+    fn from_margin(py: Python<'_>, m: &DiskMargin) -> PyResult<Self> {
+        Ok(DiskMarginResult {
+            alpha: obj(py, m.alpha)?,
+            gain_margin_db: obj(py, m.gain_margin_db())?,
+            phase_margin_deg: obj(py, m.phase_margin_deg)?,
+            gain_interval: obj(py, (m.gain_interval.0, m.gain_interval.1))?,
+            frequency: obj(py, m.frequency)?,
+            closed_loop_stable: obj(py, m.closed_loop_stable)?,
+            skew: obj(py, m.skew)?,
+        })
+    }
+}
+
 /// `disk_margin(sys, skew=0.0)`: the disk margin of the SISO loop (Seiler, Packard &
 /// Gahinet 2020), the gain interval and phase margin it guarantees, the critical frequency.
 /// Returns `DiskMarginResult` (`alpha, gain_margin_db, phase_margin_deg`).
@@ -233,14 +251,135 @@ pub fn disk_margin(sys: &Bound<'_, PyAny>, skew: f64) -> PyResult<DiskMarginResu
         py,
         || with_sys!(&s, s => pendulab_lti::disk_margin::disk_margin(s, skew)),
     )?;
-    Ok(DiskMarginResult {
-        alpha: obj(py, m.alpha)?,
-        gain_margin_db: obj(py, m.gain_margin_db())?,
-        phase_margin_deg: obj(py, m.phase_margin_deg)?,
-        gain_interval: obj(py, (m.gain_interval.0, m.gain_interval.1))?,
-        frequency: obj(py, m.frequency)?,
-        closed_loop_stable: obj(py, m.closed_loop_stable)?,
-        skew: obj(py, m.skew)?,
+    DiskMarginResult::from_margin(py, &m)
+}
+
+result_class!(
+    MuResult, "MuResult",
+    "Bounds on the structured singular value μ(M) for Δ = diag(δ₁, …, δ_p), δᵢ ∈ ℂ; unpacks as `upper, lower` (MATLAB mussv's bounds order).",
+    array none,
+    unpack {
+        upper as "upper": "min_D σ̄(D M D⁻¹) at the returned scaling: a guaranteed upper bound (equal to μ for p ≤ 3 up to the optimisation's tolerance).",
+        lower as "lower": "ρ(Q M) for the best unitary diagonal Q found: a guaranteed lower bound.",
+    }
+    also {
+        d_scaling as "d_scaling": "The diagonal of the scaling D (positive, d₀ = 1).",
+    }
+);
+
+impl MuResult {
+    fn from_bounds(py: Python<'_>, b: &MuBounds) -> PyResult<Self> {
+        Ok(MuResult {
+            upper: obj(py, b.upper)?,
+            lower: obj(py, b.lower)?,
+            d_scaling: slice_to_numpy(py, &b.d_scaling).into_any().unbind(),
+        })
+    }
+}
+
+/// A square complex matrix from any NumPy-convertible 2-d input (real or complex).
+///
+/// # Errors
+/// `InvalidArgumentError` if NumPy cannot read it as complex numbers; `ShapeError` unless it
+/// is 2-d (NaN/±Inf and non-square are left to the library, which names the entry).
+fn complex_matrix(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<CMat> {
+    let py = obj.py();
+    let a = py
+        .import("numpy")?
+        .getattr("asarray")?
+        .call1((obj, "complex128"))
+        .map_err(|e| {
+            new_err(
+                Kind::InvalidArgument,
+                format!("{what} cannot be read as a complex matrix: {}", e.value(py)),
+                None,
+            )
+        })?;
+    let a = a
+        .cast_into::<PyArrayDyn<Complex64>>()
+        .map_err(|e| new_err(Kind::InvalidArgument, format!("{what}: {e}"), None))?;
+    let shape = a.shape().to_vec();
+    let [r, c] = shape[..] else {
+        return Err(new_err(
+            Kind::Shape,
+            format!("{what} must be a 2-d matrix, got shape {shape:?}"),
+            None,
+        ));
+    };
+    let ro = a.try_readonly()?;
+    let v = ro.as_array();
+    Ok(CMat::from_fn(r, c, |i, j| v[[i, j]]))
+}
+
+/// `mu_diag_complex(M)`: bounds on the structured singular value
+/// `μ(M) = 1 / min{σ̄(Δ) : det(I − M Δ) = 0}` for diagonal complex `Δ = diag(δ₁, …, δ_p)`
+/// (Packard & Doyle 1993): the upper bound `min_D σ̄(D M D⁻¹)` over positive diagonal `D`
+/// (Osborne's balancing, then steepest descent on the convex `log D`), the lower bound
+/// `ρ(Q M)` over unitary diagonal `Q` (the Packard–Doyle power iteration). For `p ≤ 3` the
+/// upper bound is `μ` itself. `M` is any real or complex square matrix. Returns `MuResult`
+/// (`upper, lower`).
+///
+/// Raises `pendulab.ShapeError` for a non-square or non-2-d `M`, `pendulab.NotFiniteError` for
+/// a NaN or infinite entry.
+#[pyfunction]
+#[pyo3(name = "mu_diag_complex", signature = (M))]
+#[allow(non_snake_case)]
+pub fn mu_diag_complex_py(M: &Bound<'_, PyAny>) -> PyResult<MuResult> {
+    let py = M.py();
+    let m = complex_matrix(M, "M")?;
+    let b = nogil(py, || mu_diag_complex(&m))?;
+    MuResult::from_bounds(py, &b)
+}
+
+result_class!(
+    MimoDiskMarginResult, "MimoDiskMarginResult",
+    "Loop-at-a-time and multi-loop disk margins of a square loop; unpacks as MATLAB's `DM, MM = diskmargin(L)`.",
+    array none,
+    unpack {
+        loop_at_a_time as "loop_at_a_time": "A list of DiskMarginResult, channel i broken with the other loops closed: α = 1/‖S_ii + (skew − 1)/2‖∞ (exact peak).",
+        multi_loop as "multi_loop": "DiskMarginResult of simultaneous independent perturbations of every channel: α = 1/μ_upper of S + (skew − 1)/2·I at the peak (conservative).",
+    }
+    also {
+        alpha_bounds as "alpha_bounds": "(1/μ_upper, 1/μ_lower) at the peak: the multi-loop α lies in this interval (both 0 for an unstable closed loop).",
+        mu_peak as "mu_peak": "MuResult of S + (skew − 1)/2·I at the peak frequency.",
+        peak_frequency as "peak_frequency": "The frequency of the largest μ upper bound, rad/s (inf for the feedthrough of a continuous loop, nan for an unstable closed loop).",
+        closed_loop_stable as "closed_loop_stable": "Whether the nominal closed loop is stable.",
+    }
+);
+
+/// `disk_margin_mimo(L, skew=0.0)`: the disk margins of the square loop `L` closed with
+/// negative unit feedback (MATLAB `[DM, MM] = diskmargin(L)`; Seiler, Packard & Gahinet 2020),
+/// with `S = (I + L)⁻¹` and `S_σ = S + (skew − 1)/2·I`: loop-at-a-time margins
+/// `α_i = 1/‖(S_σ)_ii‖∞` (the SISO `disk_margin` of channel `i` with the other loops closed)
+/// and the multi-loop margin `α = 1/sup_ω μ(S_σ(jω))` for simultaneous independent
+/// perturbations `f_i ∈ D(α, skew)` of every channel. `μ` is bounded (`mu_diag_complex`) on
+/// a logarithmic grid of 40 points per decade, plus `ω = 0` and `∞` (the Nyquist frequency in
+/// discrete time), and the peak refined by golden-section search; the reported multi-loop
+/// margin uses the upper bound (conservative), `alpha_bounds` brackets the true `α` at the
+/// located peak. Returns `MimoDiskMarginResult` (`loop_at_a_time, multi_loop`).
+///
+/// Raises `pendulab.ShapeError` (variant `NotSquare`) for a non-square `L`,
+/// `pendulab.InvalidArgumentError` for a non-finite skew, `pendulab.LinAlgError`
+/// (`Singular`) for an ill-posed loop (`I + D` singular).
+#[pyfunction]
+#[pyo3(signature = (L, skew = 0.0))]
+#[allow(non_snake_case)]
+pub fn disk_margin_mimo(L: &Bound<'_, PyAny>, skew: f64) -> PyResult<MimoDiskMarginResult> {
+    let py = L.py();
+    let s = system(L)?;
+    let m = nogil(py, || with_sys!(&s, s => mu::disk_margin_mimo(s, skew)))?;
+    let lat = m
+        .loop_at_a_time
+        .iter()
+        .map(|d| Py::new(py, DiskMarginResult::from_margin(py, d)?))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(MimoDiskMarginResult {
+        loop_at_a_time: obj(py, lat)?,
+        multi_loop: Py::new(py, DiskMarginResult::from_margin(py, &m.multi_loop)?)?.into_any(),
+        alpha_bounds: obj(py, m.multi_loop_alpha_bounds)?,
+        mu_peak: Py::new(py, MuResult::from_bounds(py, &m.mu_peak)?)?.into_any(),
+        peak_frequency: obj(py, m.peak_frequency)?,
+        closed_loop_stable: obj(py, m.multi_loop.closed_loop_stable)?,
     })
 }
 
