@@ -1,17 +1,19 @@
 //! The loop-analysis verbs: `nyquist`, `nichols`, `rlocus` (with `--at`: `rlocfind`),
-//! `diskmargin` and `sigma`, over `pendulab_lti::{nyquist, rlocus, disk_margin, sigma}` and
-//! the charts of `pendulab_plot`.
+//! `diskmargin` (SISO, or a square MIMO loop's loop-at-a-time and multi-loop margins) and
+//! `sigma`, over `pendulab_lti::{nyquist, rlocus, disk_margin, mu, sigma}` and the charts of
+//! `pendulab_plot`.
 
 use super::input::{Sys, vector_arg, with_sys};
 use super::verbs::{finite_or_null, frequencies, pairs, parse_complex, save_figure};
 use super::{FigureArgs, SysCommand};
 use anyhow::{Result, anyhow, bail};
-use pendulab_lti::disk_margin::disk_margin;
+use pendulab_lti::disk_margin::{DiskMargin, disk_margin};
+use pendulab_lti::mu::{MimoDiskMargin, disk_margin_mimo};
 use pendulab_lti::nyquist::{NyquistOptions, nichols, nyquist};
 use pendulab_lti::rlocus::{rlocfind, rlocus};
 use pendulab_lti::sigma::sigma;
 use pendulab_plot::{Nichols, Nyquist, RootLocusPlot, SigmaPlot};
-use serde_json::json;
+use serde_json::{Value, json};
 
 /// Runs one loop-analysis verb.
 ///
@@ -54,41 +56,7 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
             at,
             fig,
         } => rlocus_verb(&sys.load()?, gains.as_deref(), at.as_deref(), fig),
-        SysCommand::Diskmargin { sys, skew, json } => {
-            let s = sys.load()?;
-            let m = with_sys!(&s, |v| disk_margin(v, *skew))?;
-            let out = json!({
-                "alpha": finite_or_null(m.alpha),
-                "skew": m.skew,
-                "gain_interval": [m.gain_interval.0, finite_or_null(m.gain_interval.1)],
-                "gain_margin_db": finite_or_null(m.gain_margin_db()),
-                "phase_margin_deg": m.phase_margin_deg,
-                "frequency": finite_or_null(m.frequency),
-                "frequency_infinite": m.frequency == f64::INFINITY,
-                "closed_loop_stable": m.closed_loop_stable,
-                "convention": "alpha = 1/‖S + (skew − 1)/2‖∞ (0 for an unstable closed loop); null = ∞; the loop L is closed as u = −L y",
-            });
-            if *json {
-                println!("{out}");
-                return Ok(());
-            }
-            if !m.closed_loop_stable {
-                println!("the closed loop is unstable: disk margin 0");
-                return Ok(());
-            }
-            println!(
-                "disk margin α = {:.6} (skew {}) at ω = {:.6} rad/s",
-                m.alpha, m.skew, m.frequency
-            );
-            println!(
-                "gain may vary in ({:.6}, {:.6}) = {:.4} dB; phase by ±{:.4}°",
-                m.gain_interval.0,
-                m.gain_interval.1,
-                m.gain_margin_db(),
-                m.phase_margin_deg
-            );
-            Ok(())
-        }
+        SysCommand::Diskmargin { sys, skew, json } => diskmargin_verb(&sys.load()?, *skew, *json),
         SysCommand::Sigma { sys, freq, fig } => {
             let s = sys.load()?;
             let w = frequencies(&s, freq)?;
@@ -290,4 +258,96 @@ fn rlocus_verb(s: &Sys, gains: Option<&str>, at: Option<&str>, fig: &FigureArgs)
             );
         }
     })
+}
+
+/// A disk margin as JSON (`null` for an infinite or undefined number).
+fn margin_json(m: &DiskMargin) -> Value {
+    json!({
+        "alpha": finite_or_null(m.alpha),
+        "skew": m.skew,
+        "gain_interval": [m.gain_interval.0, finite_or_null(m.gain_interval.1)],
+        "gain_margin_db": finite_or_null(m.gain_margin_db()),
+        "phase_margin_deg": m.phase_margin_deg,
+        "frequency": finite_or_null(m.frequency),
+        "frequency_infinite": m.frequency == f64::INFINITY,
+        "closed_loop_stable": m.closed_loop_stable,
+    })
+}
+
+/// `pendulab diskmargin`: the SISO disk margin, or for a square MIMO loop (more than one
+/// channel) the loop-at-a-time margins of each channel and the multi-loop margin with its
+/// bounds (`pendulab_lti::mu::disk_margin_mimo`).
+///
+/// # Errors
+/// A non-square loop, a non-finite skew, an ill-posed loop (the library's messages).
+fn diskmargin_verb(s: &Sys, skew: f64, as_json: bool) -> Result<()> {
+    let (ny, nu) = with_sys!(s, |v| (v.ny(), v.nu()));
+    if ny == 1 && nu == 1 {
+        let m = with_sys!(s, |v| disk_margin(v, skew))?;
+        let mut out = margin_json(&m);
+        out["convention"] = json!(
+            "alpha = 1/‖S + (skew − 1)/2‖∞ (0 for an unstable closed loop); null = ∞; the loop L is closed as u = −L y"
+        );
+        if as_json {
+            println!("{out}");
+        } else {
+            print_margin("disk margin", &m);
+        }
+        return Ok(());
+    }
+    let m = with_sys!(s, |v| disk_margin_mimo(v, skew))?;
+    if as_json {
+        println!("{}", mimo_json(&m));
+        return Ok(());
+    }
+    if !m.multi_loop.closed_loop_stable {
+        println!("the closed loop is unstable: every disk margin is 0");
+        return Ok(());
+    }
+    for (i, c) in m.loop_at_a_time.iter().enumerate() {
+        print_margin(&format!("channel {i} (others closed)"), c);
+    }
+    print_margin("multi-loop (all channels at once)", &m.multi_loop);
+    println!(
+        "multi-loop α in [{:.6}, {:.6}] (1/μ upper, 1/μ lower at the peak); μ ∈ [{:.6}, {:.6}]",
+        m.multi_loop_alpha_bounds.0, m.multi_loop_alpha_bounds.1, m.mu_peak.lower, m.mu_peak.upper
+    );
+    Ok(())
+}
+
+/// The MIMO disk margins as one JSON object.
+fn mimo_json(m: &MimoDiskMargin) -> Value {
+    json!({
+        "loop_at_a_time": m.loop_at_a_time.iter().map(margin_json).collect::<Vec<_>>(),
+        "multi_loop": margin_json(&m.multi_loop),
+        "multi_loop_alpha_bounds": [finite_or_null(m.multi_loop_alpha_bounds.0), finite_or_null(m.multi_loop_alpha_bounds.1)],
+        "mu_peak": {
+            "lower": finite_or_null(m.mu_peak.lower),
+            "upper": finite_or_null(m.mu_peak.upper),
+            "d_scaling": m.mu_peak.d_scaling,
+        },
+        "peak_frequency": finite_or_null(m.peak_frequency),
+        "peak_frequency_infinite": m.peak_frequency == f64::INFINITY,
+        "closed_loop_stable": m.multi_loop.closed_loop_stable,
+        "convention": "S = (I + L)⁻¹, S_σ = S + (skew − 1)/2 I; loop at a time: alpha_i = 1/‖(S_σ)_ii‖∞ (channel i broken, the others closed); multi-loop: alpha = 1/sup_ω μ_upper(S_σ(jω)) for simultaneous independent perturbations of every channel (conservative; the true value lies in multi_loop_alpha_bounds at the located peak); null = ∞; u = −L y",
+    })
+}
+
+/// Prints one margin: α, its frequency, the gain interval and the phase margin.
+fn print_margin(what: &str, m: &DiskMargin) {
+    if !m.closed_loop_stable {
+        println!("the closed loop is unstable: {what} 0");
+        return;
+    }
+    println!(
+        "{what}: α = {:.6} (skew {}) at ω = {:.6} rad/s",
+        m.alpha, m.skew, m.frequency
+    );
+    println!(
+        "  gain may vary in ({:.6}, {:.6}) = {:.4} dB; phase by ±{:.4}°",
+        m.gain_interval.0,
+        m.gain_interval.1,
+        m.gain_margin_db(),
+        m.phase_margin_deg
+    );
 }

@@ -183,7 +183,8 @@ pub enum SysCommand {
         #[command(flatten)]
         out: SystemOut,
     },
-    /// Hankel singular values of a stable system (MATLAB `hsvd`).
+    /// Hankel singular values (MATLAB `hsvd`); an unstable system's unstable states are listed
+    /// first as ∞ (null in JSON), then those of its stable part (`stabsep`).
     Hsvd {
         #[command(flatten)]
         sys: SysArgs,
@@ -291,8 +292,9 @@ pub enum SysCommand {
         #[command(flatten)]
         fig: FigureArgs,
     },
-    /// Disk margin of a SISO loop (MATLAB `diskmargin`, Seiler–Packard–Gahinet 2020): α, the
-    /// gain interval and phase margin it guarantees, the critical frequency.
+    /// Disk margins (MATLAB `diskmargin`, Seiler–Packard–Gahinet 2020): α, the gain interval
+    /// and phase margin it guarantees, the critical frequency; for a square MIMO loop each
+    /// channel's loop-at-a-time margin and the multi-loop margin (μ bounds, peak frequency).
     Diskmargin {
         #[command(flatten)]
         sys: SysArgs,
