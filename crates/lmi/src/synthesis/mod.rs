@@ -17,6 +17,7 @@
 //! Convention: the control law is `u = −K x` throughout (the textbook writes `u = +K̃ x`
 //! with `K̃ = L X⁻¹`, i.e. `K̃ = −K`).
 
+mod coordinates;
 mod gain_schedule;
 mod h2;
 mod hinf;

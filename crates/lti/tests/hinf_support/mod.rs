@@ -35,6 +35,23 @@ pub fn plant_of(case: &Value) -> StandardPlant {
     .unwrap()
 }
 
+/// Every fixture case as `(name, plant, case)`: the loop the synthesis tests share.
+pub fn cases() -> Vec<(String, StandardPlant, Value)> {
+    let fix = fixture();
+    fix["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|case| {
+            (
+                case["name"].as_str().unwrap().to_owned(),
+                plant_of(case),
+                case.clone(),
+            )
+        })
+        .collect()
+}
+
 /// ẋ = a x + w + u, z = [x; u]: the full-information optimum is `1/√(1 + a²)` at the static
 /// gain `u = x/a` (a < 0), and `1` (not attained) for a > 0: `‖T_zw‖∞² = (1 + k²)/(k − a)²`
 /// at ω = 0 for `u = −k x`, minimised over `k > a`.
