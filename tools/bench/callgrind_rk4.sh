@@ -4,12 +4,16 @@
 # on a small harness built against the crates of a given checkout, so that two checkouts (e.g.
 # a worktree of an older commit and this one) are measured by the same harness.
 #
-# Usage: tools/bench/callgrind_rk4.sh [-r RUNS] REPO_DIR...
+# Usage: tools/bench/callgrind_rk4.sh [-r RUNS] [-t ROUNDS] REPO_DIR...
 #
 #   REPO_DIR  a pendulab checkout (its crates/lti, crates/sim, crates/plants and Cargo.lock);
 #             the harness takes `CartPendulum::with_trig` where the checkout has no
 #             `plants::cart::fast::FastCart` (before the fast paths moved behind `sim::fast`)
 #   -r RUNS   recorded 10 s runs after the first one (default 10)
+#   -t ROUNDS also time the harnesses natively, alternating between the checkouts ROUNDS times
+#             (1000 runs each time); prints each one's fastest and median ns per step over the
+#             rounds (each round's figure: its fastest run) — instructions are not cycles: the
+#             loop is bound by the latency of the state → command → step chain
 #
 # The harness runs the sim-rk4 loop (book cart, LQR with Q = diag(10, 10, 0, 0), R = 1, ZOH
 # 1 kHz, RK4 1 ms, 10 s from θ₀ = 15°, every sample recorded, storage recycled) 1 + RUNS times;
@@ -22,21 +26,29 @@
 set -euo pipefail
 
 runs=10
-while getopts "r:" opt; do
+rounds=0
+while getopts "r:t:" opt; do
     case "$opt" in
         r) runs="$OPTARG" ;;
-        *) sed -n '7,12p' "$0"; exit 2 ;;
+        t) rounds="$OPTARG" ;;
+        *) sed -n '7,16p' "$0"; exit 2 ;;
     esac
 done
 shift $((OPTIND - 1))
-[ "$#" -ge 1 ] || { sed -n '7,12p' "$0"; exit 2; }
+[ "$#" -ge 1 ] || { sed -n '7,16p' "$0"; exit 2; }
+
+# The harness's folder for a checkout.
+harness_dir() {
+    local hash
+    hash="$(printf '%s' "$(cd "$1" && pwd)" | cksum | cut -d' ' -f1)"
+    printf '%s\n' "${HC_TARGET:-/tmp}/callgrind-rk4-$hash"
+}
 
 measure() {
     local repo
     repo="$(cd "$1" && pwd)"
-    local hash
-    hash="$(printf '%s' "$repo" | cksum | cut -d' ' -f1)"
-    local dir="${HC_TARGET:-/tmp}/callgrind-rk4-$hash"
+    local dir
+    dir="$(harness_dir "$repo")"
     mkdir -p "$dir/src"
     local plant
     if [ -f "$repo/crates/plants/src/cart/fast.rs" ]; then
@@ -89,15 +101,22 @@ fn main() {
     let mut fast = lp.fixed::<4>().expect("fixed kernel");
     let x0 = [0.0, 15f64.to_radians(), 0.0, 0.0];
     let mut last = fast.run(&x0).expect("run");
+    let mut times = Vec::with_capacity(runs);
     for _ in 0..runs {
+        let start = std::time::Instant::now();
         last = fast.run_recycling(black_box(&x0), &mut (), last).expect("run");
+        times.push(start.elapsed().as_secs_f64());
     }
     let d = &last.diagnostics;
+    times.sort_by(f64::total_cmp);
+    let per_step = |s: f64| s * 1e9 / d.integration.accepted_steps as f64;
     println!(
-        "path {:?} steps/run {} final_state {:?}",
+        "path {:?} steps/run {} final_state {:?} ns/step min {:.3} median {:.3}",
         fast.multiply_add(),
         d.integration.accepted_steps,
-        d.final_state
+        d.final_state,
+        per_step(times.first().copied().unwrap_or(f64::NAN)),
+        per_step(times.get(times.len() / 2).copied().unwrap_or(f64::NAN)),
     );
 }
 EOF
@@ -120,3 +139,19 @@ EOF
 for repo in "$@"; do
     measure "$repo"
 done
+
+if [ "$rounds" -gt 0 ]; then
+    declare -A figs=()
+    for ((r = 1; r <= rounds; r++)); do
+        for repo in "$@"; do
+            line="$("$(harness_dir "$repo")/target/release/callgrind-rk4" 1000)"
+            figs[$repo]+="$(sed -E 's/.*ns\/step min ([0-9.]+).*/\1/' <<<"$line") "
+        done
+    done
+    for repo in "$@"; do
+        printf '%s\n' ${figs[$repo]} | sort -g | awk -v r="$repo" '{ v[NR] = $1 } END {
+            m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
+            printf "%s: %.3f ns/step fastest, %.3f median of %d alternated rounds\n", r, v[1], m, NR
+        }'
+    done
+fi

@@ -189,15 +189,21 @@ impl<const N: usize> FixedController<N> for StaticStateFeedback {
     const NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND: bool = true;
     #[inline(always)]
     fn command(&mut self, _t: f64, x: &[f64; N]) -> f64 {
-        let (k, r, _) = self.parts();
-        // One length check each, then no more: `u = −(0 + Σ K_i (x_i − x_ref,i))`, the
-        // operations of `Controller::update` in its order. The subtraction stays for a zero
-        // reference too (`x − (+0)` is `x` bit for bit): two packed subtractions cost fewer
-        // instructions per sample than a branch on the reference.
+        let (k, r, zero_ref) = self.parts();
+        // One length check each, then no more: `u = −(0 + Σ K_i (x_i − x_ref,i))` in the
+        // order of `Controller::update` (`x − 0` is `x` bit for bit, so a zero reference is
+        // skipped: the subtraction would lengthen the chain state → command → step, which
+        // bounds the loop, by its latency).
         let (k, r) = (&k[..N], &r[..N]);
         let mut acc = 0.0;
-        for i in 0..N {
-            acc += k[i] * (x[i] - r[i]);
+        if zero_ref {
+            for i in 0..N {
+                acc += k[i] * x[i];
+            }
+        } else {
+            for i in 0..N {
+                acc += k[i] * (x[i] - r[i]);
+            }
         }
         -acc
     }
@@ -494,9 +500,13 @@ fn run_loop<
         let mut unchecked = None;
         // `start ≤ n_samples`; the loop ends at `k == n_samples` (or a stop or an error).
         let mut k = start;
+        // Each sample's command is computed right after the step that leads to it (the first
+        // one here), from the new state still in registers: computed at the top of the loop,
+        // it read half of the state back from the stack, a store and a reload on the chain
+        // state → command → step that bounds the loop (measured: 22.7 against 22.0 ns/step).
+        let mut ucmd = controller.command(tk, &x);
         loop {
             samples_run += 1;
-            let ucmd = controller.command(tk, &x);
             if !finite(ucmd) {
                 if C::NON_FINITE_STATE_GIVES_NON_FINITE_COMMAND {
                     check_state_copy(tk, x)?;
@@ -557,6 +567,7 @@ fn run_loop<
             }
             tk = tk1;
             k += 1;
+            ucmd = controller.command(tk, &x);
         }
         match unchecked {
             None => break,
