@@ -79,23 +79,64 @@
 use crate::swing_up::{
     ArmEnergyShaping, CartEnergyShaping, EnergyShapingGains, swing_up_then_balance,
 };
-use pendulab_lti::design::{lq_servo, lqr};
-use pendulab_lti::{LtiError, Mat, StateSpace};
+use pendulab_lti::{Mat, StateSpace};
 use pendulab_plants::rig::PlantKind;
 use pendulab_plants::spec::{PlantParameters, PlantSpec};
-use pendulab_plants::{ArmPendulum, CartPendulum, PlantError};
+use pendulab_plants::{ArmPendulum, CartPendulum};
 use pendulab_sim::Controller;
 use pendulab_sim::controllers::{IntegrationRule, LqIntegralServo, StaticStateFeedback};
 use pendulab_sim::signal::Signal;
 use serde::{Deserialize, Serialize};
 
+/// Declares the keys of one `kind`: a struct whose keys are all optional (`Option`, left out
+/// of a written file when `None`) and which refuses any key it does not declare
+/// (`deny_unknown_fields`, so a key of another kind is an error naming it), with the design
+/// record `designed_for` every kind takes last, and `KEYS`, the keys as written in a file in
+/// declaration order (read by [`ControllerSpec::KEYS`]). `#[serde(flatten)]` of a common part
+/// cannot serve here: serde does not combine it with `deny_unknown_fields`.
+macro_rules! kind_keys {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $(
+                $(#[$field_meta:meta])*
+                pub $field:ident: Option<$ty:ty>,
+            )*
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Default, PartialEq, ::serde::Serialize, ::serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            $(
+                $(#[$field_meta])*
+                #[serde(skip_serializing_if = "Option::is_none")]
+                pub $field: Option<$ty>,
+            )*
+            /// The model the controller was designed on
+            /// ([`DesignRecord`](crate::spec::DesignRecord); optional).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub designed_for: Option<$crate::spec::DesignRecord>,
+        }
+
+        impl $name {
+            /// The keys of this kind's table as written in a file (besides `kind`), in
+            /// declaration order, `designed_for` last: any other key is refused when the table
+            /// is read.
+            pub const KEYS: &[&str] = &[$(stringify!($field),)* "designed_for"];
+        }
+    };
+}
+
 pub mod design;
+mod error;
 pub mod mpc;
 pub mod nmpc;
 pub mod observer;
 pub mod pid;
 mod record;
 pub mod scheduled;
+pub use error::SpecError;
 pub use mpc::MpcSpec;
 pub use nmpc::NmpcSpec;
 pub use observer::{ObserverDesign, ObserverSpec, observer_design};
@@ -199,85 +240,14 @@ impl ControllerSpec {
     /// The keys of each `kind` (besides `kind` itself), as the module documentation lists
     /// them: any other key in a kind's table is refused when it is read.
     pub const KEYS: [(&str, &[&str]); 8] = [
-        (
-            Self::KINDS[0],
-            &["k", "k_book", "lqr", "reference", "designed_for"],
-        ),
-        (
-            Self::KINDS[1],
-            &["k1", "k2", "lqr", "reference", "step_time", "designed_for"],
-        ),
-        (
-            Self::KINDS[2],
-            &[
-                "coefficients",
-                "schedule",
-                "lqr",
-                "design_points_deg",
-                "x_coefficients",
-                "l_coefficients",
-                "reference",
-                "step_time",
-                "designed_for",
-            ],
-        ),
-        (Self::KINDS[3], &["balance", "switch_deg", "designed_for"]),
-        (
-            Self::KINDS[4],
-            &[
-                "k",
-                "k_book",
-                "lqr",
-                "poles",
-                "l",
-                "observer_poles",
-                "discretization",
-                "designed_for",
-            ],
-        ),
-        (
-            Self::KINDS[5],
-            &[
-                "form",
-                "kp",
-                "ki",
-                "kd",
-                "tf",
-                "discretization",
-                "reference",
-                "step_time",
-                "designed_for",
-            ],
-        ),
-        (
-            Self::KINDS[6],
-            &[
-                "horizon",
-                "horizon_rate",
-                "divisions",
-                "q",
-                "qf",
-                "r",
-                "u_max",
-                "dummy_weight",
-                "gmres_iterations",
-                "zeta",
-                "designed_for",
-            ],
-        ),
-        (
-            Self::KINDS[7],
-            &[
-                "horizon",
-                "step",
-                "q",
-                "r",
-                "u_max",
-                "travel_limit",
-                "du_max",
-                "designed_for",
-            ],
-        ),
+        (Self::KINDS[0], StateFeedbackSpec::KEYS),
+        (Self::KINDS[1], LqServoSpec::KEYS),
+        (Self::KINDS[2], GainScheduledSpec::KEYS),
+        (Self::KINDS[3], SwingUpBalanceSpec::KEYS),
+        (Self::KINDS[4], ObserverSpec::KEYS),
+        (Self::KINDS[5], PidSpec::KEYS),
+        (Self::KINDS[6], NmpcSpec::KEYS),
+        (Self::KINDS[7], MpcSpec::KEYS),
     ];
 
     /// The `kind` as written in a file.
@@ -349,235 +319,46 @@ impl ControllerSpec {
     }
 }
 
-/// Keys of `kind = "state-feedback"`: exactly one of `k`, `k_book`, `lqr`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct StateFeedbackSpec {
-    /// Library gain (`u = −K (y − reference)`), 4 entries.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub k: Option<Vec<f64>>,
-    /// Book gain (`u = +K_book y`), 4 entries.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub k_book: Option<Vec<f64>>,
-    /// LQR design (`q` of length 4).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lqr: Option<LqrSpec>,
-    /// State reference `[q₀, q₁, q̇₀, q̇₁]` \[m or rad, rad, m/s or rad/s, rad/s\] (default 0).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reference: Option<Vec<f64>>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
+kind_keys! {
+    /// Keys of `kind = "state-feedback"`: exactly one of `k`, `k_book`, `lqr`.
+    pub struct StateFeedbackSpec {
+        /// Library gain (`u = −K (y − reference)`), 4 entries.
+        pub k: Option<Vec<f64>>,
+        /// Book gain (`u = +K_book y`), 4 entries.
+        pub k_book: Option<Vec<f64>>,
+        /// LQR design (`q` of length 4).
+        pub lqr: Option<LqrSpec>,
+        /// State reference `[q₀, q₁, q̇₀, q̇₁]` \[m or rad, rad, m/s or rad/s, rad/s\] (default 0).
+        pub reference: Option<Vec<f64>>,
+    }
 }
 
-/// Keys of `kind = "lq-servo"`: `k1` with `k2`, or `lqr`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LqServoSpec {
-    /// Servo state gain `K₁` (library sign, 4 entries).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub k1: Option<Vec<f64>>,
-    /// Servo integral gain `K₂` (library sign: `u = −K₁ y − K₂ w`) \[V/(m·s) or V/(rad·s)\].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub k2: Option<f64>,
-    /// LQR design on `[x; ∫(r − q₀)]` (`q` of length 5).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lqr: Option<LqrSpec>,
-    /// Servo reference of `q₀` (one entry, m or rad, default 0), applied as a step at
-    /// `step_time`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reference: Option<Vec<f64>>,
-    /// Time of the reference step \[s\], from 0 to [`DURATION_MAX`] (default 0).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub step_time: Option<f64>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
+kind_keys! {
+    /// Keys of `kind = "lq-servo"`: `k1` with `k2`, or `lqr`.
+    pub struct LqServoSpec {
+        /// Servo state gain `K₁` (library sign, 4 entries).
+        pub k1: Option<Vec<f64>>,
+        /// Servo integral gain `K₂` (library sign: `u = −K₁ y − K₂ w`) \[V/(m·s) or V/(rad·s)\].
+        pub k2: Option<f64>,
+        /// LQR design on `[x; ∫(r − q₀)]` (`q` of length 5).
+        pub lqr: Option<LqrSpec>,
+        /// Servo reference of `q₀` (one entry, m or rad, default 0), applied as a step at
+        /// `step_time`.
+        pub reference: Option<Vec<f64>>,
+        /// Time of the reference step \[s\], from 0 to [`DURATION_MAX`] (default 0).
+        pub step_time: Option<f64>,
+    }
 }
 
-/// Keys of `kind = "swing-up-balance"`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SwingUpBalanceSpec {
-    /// Balance gain (required).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub balance: Option<GainSpec>,
-    /// Switch to balance when `|wrap(q₁)|` is below this \[°\], above 0 and at most
-    /// [`SWITCH_DEG_MAX`] (default [`SWITCH_DEG_DEFAULT`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub switch_deg: Option<f64>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
-}
-
-/// What [`build`] refuses. Each message names the key as written in a controller file
-/// (`controller.…`), its value and what is wrong.
-#[derive(Debug, thiserror::Error)]
-pub enum SpecError {
-    /// The loop period is not a positive finite number.
-    #[error("sample time ts = {ts}: must be finite and > 0")]
-    SampleTime {
-        /// The period given \[s\].
-        ts: f64,
-    },
-    /// An entry is NaN or infinite.
-    #[error("{key}[{index}] = {value}: must be finite")]
-    NotFinite {
-        /// The key.
-        key: String,
-        /// The entry's index.
-        index: usize,
-        /// Its value.
-        value: f64,
-    },
-    /// A list has the wrong number of entries.
-    #[error("{key} has {got} {entries}, expected {expected}")]
-    Length {
-        /// The key.
-        key: String,
-        /// `"entries"` or `"diagonal entries"`.
-        entries: &'static str,
-        /// Entries given.
-        got: usize,
-        /// Entries required.
-        expected: usize,
-    },
-    /// The servo's (or the PID's) reference is not one value.
-    #[error("controller.reference of a {kind} is one value (of q0), got {got}")]
-    ServoReferenceLength {
-        /// The controller's `kind`.
-        kind: &'static str,
-        /// Entries given.
-        got: usize,
-    },
-    /// A diagonal weight entry is negative.
-    #[error("{key}[{index}] = {value}: must be ≥ 0")]
-    Negative {
-        /// The key.
-        key: String,
-        /// The entry's index.
-        index: usize,
-        /// Its value.
-        value: f64,
-    },
-    /// The input weight `r` is not positive and finite.
-    #[error("{key}.r = {value}: must be finite and > 0")]
-    InputWeight {
-        /// The `lqr` key.
-        key: String,
-        /// Its `r`.
-        value: f64,
-    },
-    /// A number outside its documented range.
-    #[error("{key} = {value}: must be in {range}")]
-    OutOfRange {
-        /// The key.
-        key: &'static str,
-        /// Its value.
-        value: f64,
-        /// The range, with unit.
-        range: String,
-    },
-    /// A required key is missing, or keys that exclude each other are given together.
-    #[error("{key}: {expected}")]
-    Keys {
-        /// The table (`controller`, `controller (lq-servo)`, …).
-        key: String,
-        /// What it must hold.
-        expected: &'static str,
-    },
-    /// An unknown scheduling variable.
-    #[error("controller.schedule = '{0}': expected 'one-minus-cos-q0' or 'q0-squared'")]
-    Schedule(String),
-    /// A coefficient of `X(ρ)` that is not symmetric, or `X(0)` not positive definite.
-    #[error("{key}: {detail}")]
-    ScheduleMatrix {
-        /// The key (`controller.x_coefficients[i]`).
-        key: String,
-        /// What is wrong.
-        detail: String,
-    },
-    /// `design_points_deg` given for a plant or a schedule it does not apply to, or points
-    /// that do not determine the interpolation.
-    #[error("controller.design_points_deg{detail}")]
-    DesignPoints {
-        /// What is wrong (with the points when they are the problem).
-        detail: String,
-    },
-    /// The book plant could not be linearised.
-    #[error("linearising the {at}: {source}")]
-    Linearisation {
-        /// Which plant and where (`cart plant`, `arm at 60°`).
-        at: String,
-        /// The plant's error.
-        source: PlantError,
-    },
-    /// An LQR or LQ-servo design failed.
-    #[error("{what} failed: {source}")]
-    Design {
-        /// The design (`controller: LQR design`, `LQR design at θ₁ = 60°`, …).
-        what: String,
-        /// The design's error.
-        source: LtiError,
-    },
-    /// The servo's design model could not be formed.
-    #[error("servo model: {0}")]
-    ServoModel(LtiError),
-    /// A run-time controller refused its parameters.
-    #[error("controller: {0}")]
-    Controller(#[from] pendulab_sim::SimError),
-    /// The swing-up controller refused its parameters.
-    #[error("controller: {0}")]
-    SwingUp(#[from] crate::ControlError),
-    /// A reference given twice (scenario and spec) or to a kind that tracks none.
-    #[error("controller ({kind}): {detail}")]
-    Reference {
-        /// The controller's `kind`.
-        kind: &'static str,
-        /// What is wrong.
-        detail: &'static str,
-    },
-    /// The controller was designed for the other plant kind (its `designed_for.plant`).
-    #[error(
-        "controller.designed_for.plant = \"{}\": the controller was designed for the {} pendulum and cannot run on the {} pendulum",
-        designed.name(), designed.name(), plant.name()
-    )]
-    WrongPlant {
-        /// The plant kind of the design record.
-        designed: PlantKind,
-        /// The plant kind it was to run on.
-        plant: PlantKind,
-    },
-    /// A kind that exists for one plant only, given for the other.
-    #[error(
-        "controller.kind = \"{kind}\": runs on the {} pendulum only, not on the {} pendulum",
-        only.name(), plant.name()
-    )]
-    NotForPlant {
-        /// The controller's `kind`.
-        kind: &'static str,
-        /// The plant it was to run on.
-        plant: PlantKind,
-        /// The plant it is made for.
-        only: PlantKind,
-    },
-    /// The design record is malformed.
-    #[error("{key}: {detail}")]
-    DesignRecord {
-        /// The key (`controller.designed_for.…`).
-        key: String,
-        /// What is wrong.
-        detail: String,
-    },
-    /// The servo's reference signal could not be formed.
-    #[error("controller.step_time = {time}: {source}")]
-    Step {
-        /// The step time \[s\].
-        time: f64,
-        /// The signal's error.
-        source: pendulab_sim::SimError,
-    },
+kind_keys! {
+    /// Keys of `kind = "swing-up-balance"`.
+    pub struct SwingUpBalanceSpec {
+        /// Balance gain (required).
+        pub balance: Option<GainSpec>,
+        /// Switch to balance when `|wrap(q₁)|` is below this \[°\], above 0 and at most
+        /// [`SWITCH_DEG_MAX`] (default [`SWITCH_DEG_DEFAULT`]).
+        pub switch_deg: Option<f64>,
+    }
 }
 
 /// A controller built from a [`ControllerSpec`], with what a runtime needs to know about it.
@@ -744,16 +525,13 @@ fn gain(
         (Some(k), None, None) => row(&format!("{key}.k"), k, 4),
         (None, Some(kb), None) => Ok(-row(&format!("{key}.k_book"), kb, 4)?),
         (None, None, Some(l)) => {
-            let sys = upright(plant)?;
-            let d = lqr(
-                &sys,
-                &diag(&format!("{key}.lqr.q"), &l.q, 4)?,
-                &check_r(&format!("{key}.lqr"), l.r)?,
-                None,
-            )
-            .map_err(|source| SpecError::Design {
-                what: format!("{key}: LQR design"),
-                source,
+            diag(&format!("{key}.lqr.q"), &l.q, 4)?;
+            check_r(&format!("{key}.lqr"), l.r)?;
+            let d = design::lqr_upright(&upright(plant)?, &l.q, l.r).map_err(|source| {
+                SpecError::Design {
+                    what: format!("{key}: LQR design"),
+                    source,
+                }
             })?;
             Ok(d.gain)
         }
@@ -808,24 +586,19 @@ fn servo(
             (row("controller.k1", k1, 4)?, Mat::from_element(1, 1, k2))
         }
         (None, None, Some(l)) => {
-            let lin = upright(plant)?;
-            let sys = StateSpace::continuous(
-                lin.a().clone(),
-                lin.b().clone(),
-                c_q0.clone(),
-                Mat::zeros(1, 1),
-            )
-            .map_err(SpecError::ServoModel)?;
-            let d = lq_servo(
-                &sys,
-                &diag("controller.lqr.q", &l.q, 5)?,
-                &check_r("controller.lqr", l.r)?,
-            )
-            .map_err(|source| SpecError::Design {
-                what: "controller: LQ servo design".into(),
-                source,
+            diag("controller.lqr.q", &l.q, 5)?;
+            check_r("controller.lqr", l.r)?;
+            let d = design::servo_upright(&upright(plant)?, &l.q, l.r).map_err(|source| {
+                SpecError::Design {
+                    what: "controller: LQ servo design".into(),
+                    source,
+                }
             })?;
-            (d.state_gain, d.integral_gain)
+            // The gain is [K₁ K₂] on [x; w].
+            (
+                d.gain.columns(0, 4).clone_owned(),
+                d.gain.columns(4, 1).clone_owned(),
+            )
         }
         _ => {
             return Err(SpecError::Keys {

@@ -2,6 +2,7 @@
 //! loader with the code; the file-level tests stay in `pendulab_rig::config`).
 
 use super::*;
+use pendulab_lti::design::lqr;
 use pendulab_plants::ArmEquilibrium;
 
 /// The parts of a rig controller file the factory reads (other tables are ignored here).

@@ -16,6 +16,10 @@ use pendulab_lti::linalg::Complex64;
 use pendulab_lti::{Continuous, LtiError, Mat, StateSpace};
 use std::collections::BTreeMap;
 
+/// The design record's `method` for the LQ integral servo of [`servo_upright`], as every front
+/// end writes it: the `kind` of the controller it gives (`lq-servo`).
+pub const SERVO_METHOD: &str = "lq-servo";
+
 /// What the upright designs return.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UprightDesign {

@@ -6,6 +6,7 @@
 use super::*;
 use crate::scenario::simulate;
 use pendulab_lti::Complex64;
+use pendulab_lti::design::lq_servo;
 use pendulab_sim::scenario::{Imperfections, ScenarioSpec};
 
 fn parse(text: &str) -> Result<ControllerSpec, String> {

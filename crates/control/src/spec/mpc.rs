@@ -17,46 +17,35 @@
 //! | `travel_limit` | none | > 0 (m or rad) |
 //! | `du_max` | none | > 0 (V per step) |
 
-use super::{DesignRecord, SpecError, diag, finite};
+use super::{SpecError, diag, finite};
 use crate::mpc::{LinearMpc, MpcController, MpcSettings, QpOptions, StateBound, Terminal};
 use pendulab_lti::Mat;
 use pendulab_plants::spec::PlantParameters;
 use pendulab_sim::Controller;
-use serde::{Deserialize, Serialize};
 
 /// Longest horizon a file may ask for (steps): the condensed Hessian is `N × N` and the QP is
 /// solved every loop period.
 pub const HORIZON_MAX: usize = 200;
 
-/// Keys of `kind = "mpc"` (module documentation of [`crate::spec::mpc`]).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MpcSpec {
-    /// Horizon `N` in prediction steps (1 to [`HORIZON_MAX`]; default 20).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub horizon: Option<usize>,
-    /// Prediction step \[s\], a whole number of loop periods (default 0.01).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub step: Option<f64>,
-    /// `diag(Q)` on `[q₀, q₁, q̇₀, q̇₁]` (4 entries ≥ 0; default `[100, 100, 0, 0]`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub q: Option<Vec<f64>>,
-    /// `R` \[1/V²\] (> 0; default 0.01).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub r: Option<f64>,
-    /// Input bound `|u| ≤ u_max` \[V\] (> 0; default 5).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub u_max: Option<f64>,
-    /// Track bound `|q₀| ≤ travel_limit` on the predicted states \[m or rad\] (> 0; none by
-    /// default).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub travel_limit: Option<f64>,
-    /// Rate bound `|u_k − u_{k−1}| ≤ du_max` per prediction step \[V\] (> 0; none by default).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub du_max: Option<f64>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
+kind_keys! {
+    /// Keys of `kind = "mpc"` (module documentation of [`crate::spec::mpc`]).
+    pub struct MpcSpec {
+        /// Horizon `N` in prediction steps (1 to [`HORIZON_MAX`]; default 20).
+        pub horizon: Option<usize>,
+        /// Prediction step \[s\], a whole number of loop periods (default 0.01).
+        pub step: Option<f64>,
+        /// `diag(Q)` on `[q₀, q₁, q̇₀, q̇₁]` (4 entries ≥ 0; default `[100, 100, 0, 0]`).
+        pub q: Option<Vec<f64>>,
+        /// `R` \[1/V²\] (> 0; default 0.01).
+        pub r: Option<f64>,
+        /// Input bound `|u| ≤ u_max` \[V\] (> 0; default 5).
+        pub u_max: Option<f64>,
+        /// Track bound `|q₀| ≤ travel_limit` on the predicted states \[m or rad\] (> 0; none by
+        /// default).
+        pub travel_limit: Option<f64>,
+        /// Rate bound `|u_k − u_{k−1}| ≤ du_max` per prediction step \[V\] (> 0; none by default).
+        pub du_max: Option<f64>,
+    }
 }
 
 /// Default `horizon`.

@@ -9,53 +9,39 @@
 //! ([`SpecError::NotForPlant`]). It swings up from the hanging rest, so a run has no angle
 //! window, and ends balancing upright (pendulum centre 0).
 
-use super::{DesignRecord, SpecError, finite};
+use super::{SpecError, finite};
 use crate::cgmres::Horizon;
 use crate::nmpc::{ArmSwingUpSettings, arm_swing_up_controller};
 use pendulab_plants::ArmPendulum;
 use pendulab_plants::rig::PlantKind;
 use pendulab_plants::spec::PlantParameters;
 use pendulab_sim::Controller;
-use serde::{Deserialize, Serialize};
 
-/// Keys of `kind = "nmpc"` (module documentation of [`crate::spec::nmpc`]); each defaults to
-/// [`ArmSwingUpSettings::book`].
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct NmpcSpec {
-    /// Final horizon length `T_f` \[s\] of `T(t) = T_f(1 − e^{−αt})` (> 0; book 0.5).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub horizon: Option<f64>,
-    /// Horizon growth rate `α` \[1/s\] (> 0; book 0.5).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub horizon_rate: Option<f64>,
-    /// Divisions `N` of the horizon (1 to 1000; book 25).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub divisions: Option<usize>,
-    /// Stage weights `diag(Q)` on `[θ₁, θ₂, θ̇₁, θ̇₂]` (4 entries ≥ 0; book `[1, 1, 0, 0]`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub q: Option<Vec<f64>>,
-    /// Terminal weights `diag(Q_f)` (4 entries ≥ 0; book `[3, 1, 0, 0]`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub qf: Option<Vec<f64>>,
-    /// Input weight `r` \[1/V²\] (> 0; default 0.1, see [`ArmSwingUpSettings::book`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub r: Option<f64>,
-    /// Input bound `u_max` \[V\] (> 0; book 2.5).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub u_max: Option<f64>,
-    /// Weight of the dummy input of the bound (> 0; default 0.1).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub dummy_weight: Option<f64>,
-    /// GMRES iterations per update `kmax` (1 to 100; book 5).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub gmres_iterations: Option<usize>,
-    /// Stabilisation `ζ` \[1/s\] (> 0, `ζ·ts ≤ 1`; default `1/ts`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub zeta: Option<f64>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
+kind_keys! {
+    /// Keys of `kind = "nmpc"` (module documentation of [`crate::spec::nmpc`]); each defaults to
+    /// [`ArmSwingUpSettings::book`].
+    pub struct NmpcSpec {
+        /// Final horizon length `T_f` \[s\] of `T(t) = T_f(1 − e^{−αt})` (> 0; book 0.5).
+        pub horizon: Option<f64>,
+        /// Horizon growth rate `α` \[1/s\] (> 0; book 0.5).
+        pub horizon_rate: Option<f64>,
+        /// Divisions `N` of the horizon (1 to 1000; book 25).
+        pub divisions: Option<usize>,
+        /// Stage weights `diag(Q)` on `[θ₁, θ₂, θ̇₁, θ̇₂]` (4 entries ≥ 0; book `[1, 1, 0, 0]`).
+        pub q: Option<Vec<f64>>,
+        /// Terminal weights `diag(Q_f)` (4 entries ≥ 0; book `[3, 1, 0, 0]`).
+        pub qf: Option<Vec<f64>>,
+        /// Input weight `r` \[1/V²\] (> 0; default 0.1, see [`ArmSwingUpSettings::book`]).
+        pub r: Option<f64>,
+        /// Input bound `u_max` \[V\] (> 0; book 2.5).
+        pub u_max: Option<f64>,
+        /// Weight of the dummy input of the bound (> 0; default 0.1).
+        pub dummy_weight: Option<f64>,
+        /// GMRES iterations per update `kmax` (1 to 100; book 5).
+        pub gmres_iterations: Option<usize>,
+        /// Stabilisation `ζ` \[1/s\] (> 0, `ζ·ts ≤ 1`; default `1/ts`).
+        pub zeta: Option<f64>,
+    }
 }
 
 impl NmpcSpec {

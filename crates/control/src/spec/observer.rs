@@ -15,43 +15,32 @@
 //!
 //! Poles are written as `[re, im]` pairs in rad/s, a complex pole with its conjugate.
 
-use super::{DesignRecord, LqrSpec, SpecError, gain, row};
+use super::{LqrSpec, SpecError, gain, row};
 use crate::estimation::output_feedback_controller;
 use pendulab_lti::design::{StateFeedback, observer_controller, place, place_observer};
 use pendulab_lti::linalg::{eigenvalues, sort_eigenvalues};
 use pendulab_lti::{Complex64, Continuous, Discretization, Mat, StateSpace};
 use pendulab_plants::spec::PlantParameters;
 use pendulab_sim::Controller;
-use serde::{Deserialize, Serialize};
 
-/// Keys of `kind = "observer"` (module documentation of [`crate::spec::observer`]).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ObserverSpec {
-    /// Library state-feedback gain `K` (`u = −K x̂`), 4 entries.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub k: Option<Vec<f64>>,
-    /// The book's gain `K_book` (`u = +K_book x̂`), 4 entries.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub k_book: Option<Vec<f64>>,
-    /// An LQR design of `K` (`q` of length 4).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lqr: Option<LqrSpec>,
-    /// Closed-loop poles of `A − BK` \[rad/s\], 4 `[re, im]` pairs (pole placement).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub poles: Option<Vec<[f64; 2]>>,
-    /// Library observer gain `L` (`A − LC`), 4 rows of 2 entries (columns `q₀`, `q₁`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub l: Option<Vec<Vec<f64>>>,
-    /// Observer poles, eigenvalues of `A − LC` \[rad/s\], 4 `[re, im]` pairs.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub observer_poles: Option<Vec<[f64; 2]>>,
-    /// `"tustin"` (default) or `"zoh"`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub discretization: Option<String>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
+kind_keys! {
+    /// Keys of `kind = "observer"` (module documentation of [`crate::spec::observer`]).
+    pub struct ObserverSpec {
+        /// Library state-feedback gain `K` (`u = −K x̂`), 4 entries.
+        pub k: Option<Vec<f64>>,
+        /// The book's gain `K_book` (`u = +K_book x̂`), 4 entries.
+        pub k_book: Option<Vec<f64>>,
+        /// An LQR design of `K` (`q` of length 4).
+        pub lqr: Option<LqrSpec>,
+        /// Closed-loop poles of `A − BK` \[rad/s\], 4 `[re, im]` pairs (pole placement).
+        pub poles: Option<Vec<[f64; 2]>>,
+        /// Library observer gain `L` (`A − LC`), 4 rows of 2 entries (columns `q₀`, `q₁`).
+        pub l: Option<Vec<Vec<f64>>>,
+        /// Observer poles, eigenvalues of `A − LC` \[rad/s\], 4 `[re, im]` pairs.
+        pub observer_poles: Option<Vec<[f64; 2]>>,
+        /// `"tustin"` (default) or `"zoh"`.
+        pub discretization: Option<String>,
+    }
 }
 
 /// An observer-based design on a plant: its model, gains and closed-loop poles.

@@ -20,47 +20,35 @@
 //! not fed back: these are the book's controllers of the drive with the pendulum **hanging**
 //! (the crane of §2.3), so the kind's pendulum centre is `π`.
 
-use super::{ControllerSpec, DesignRecord, SpecError, drive_reference, finite};
+use super::{ControllerSpec, SpecError, drive_reference, finite};
 use pendulab_sim::Controller;
 use pendulab_sim::controllers::{Pid, PidDiscretization, PidForm};
-use serde::{Deserialize, Serialize};
 
 /// Default derivative filter time constant `tf` \[s\]: the rig's pseudo-differentiator
 /// `s/(0.02 s + 1)` (book part 1 §2.1.2), as the book's chapter 2 simulations use it.
 pub const PID_TF_DEFAULT: f64 = 0.02;
 
-/// Keys of `kind = "pid"` (module documentation of [`crate::spec::pid`] for the laws).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PidSpec {
-    /// The form: `"p"`, `"pd"`, `"p-d"`, `"pi"`, `"pid"` or `"i-pd"` (required).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub form: Option<String>,
-    /// Proportional gain `k_P` \[V/m or V/rad\] (every form).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub kp: Option<f64>,
-    /// Integral gain `k_I` \[V/(m·s) or V/(rad·s)\] (`pi`, `pid`, `i-pd` only).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub ki: Option<f64>,
-    /// Derivative gain `k_D` \[V·s/m or V·s/rad\] (`pd`, `p-d`, `pid`, `i-pd` only).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub kd: Option<f64>,
-    /// Derivative filter time constant `T_f` \[s\] (finite, > 0; forms with `kd` only;
-    /// default [`PID_TF_DEFAULT`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub tf: Option<f64>,
-    /// `"tustin"` (default) or `"backward-euler"`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub discretization: Option<String>,
-    /// Reference of `q₀` (one entry, m or rad, default 0), a step at `step_time`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reference: Option<Vec<f64>>,
-    /// Time of the reference step \[s\], 0 to [`super::DURATION_MAX`] (default 0).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub step_time: Option<f64>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
+kind_keys! {
+    /// Keys of `kind = "pid"` (module documentation of [`crate::spec::pid`] for the laws).
+    pub struct PidSpec {
+        /// The form: `"p"`, `"pd"`, `"p-d"`, `"pi"`, `"pid"` or `"i-pd"` (required).
+        pub form: Option<String>,
+        /// Proportional gain `k_P` \[V/m or V/rad\] (every form).
+        pub kp: Option<f64>,
+        /// Integral gain `k_I` \[V/(m·s) or V/(rad·s)\] (`pi`, `pid`, `i-pd` only).
+        pub ki: Option<f64>,
+        /// Derivative gain `k_D` \[V·s/m or V·s/rad\] (`pd`, `p-d`, `pid`, `i-pd` only).
+        pub kd: Option<f64>,
+        /// Derivative filter time constant `T_f` \[s\] (finite, > 0; forms with `kd` only;
+        /// default [`PID_TF_DEFAULT`]).
+        pub tf: Option<f64>,
+        /// `"tustin"` (default) or `"backward-euler"`.
+        pub discretization: Option<String>,
+        /// Reference of `q₀` (one entry, m or rad, default 0), a step at `step_time`.
+        pub reference: Option<Vec<f64>>,
+        /// Time of the reference step \[s\], 0 to [`super::DURATION_MAX`] (default 0).
+        pub step_time: Option<f64>,
+    }
 }
 
 impl PidSpec {

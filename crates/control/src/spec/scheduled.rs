@@ -37,9 +37,7 @@
 //!   reference `reference` (one value, m or rad, default 0) as a step at `step_time` \[s\]
 //!   (default 0), or a scenario's reference signal instead of both.
 
-use super::{
-    ControllerSpec, DesignRecord, LqrSpec, SpecError, check_r, diag, drive_reference, finite, row,
-};
+use super::{ControllerSpec, LqrSpec, SpecError, check_r, diag, drive_reference, finite, row};
 use nalgebra::SMatrix;
 use pendulab_lti::Mat;
 use pendulab_lti::design::lqr;
@@ -48,50 +46,38 @@ use pendulab_plants::spec::PlantParameters;
 use pendulab_sim::Controller;
 use pendulab_sim::controllers::{GainScheduled, IntegrationRule, LqIntegralServo};
 use pendulab_sim::signal::Signal;
-use serde::{Deserialize, Serialize};
 
-/// Keys of `kind = "gain-scheduled"` (module documentation of [`crate::spec::scheduled`]):
-/// `coefficients`; or `lqr` with `design_points_deg`; or `x_coefficients` with
-/// `l_coefficients`; `schedule`; `reference` and `step_time` for a 5-state (servo) gain.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GainScheduledSpec {
-    /// Gain-polynomial coefficients `K₀, K₁, …` (library sign, `u = −K(ρ) z`): 4 entries each
-    /// (regulator; \[V/m or V/rad, V/rad, V·s/m or V·s/rad, V·s/rad\]) or 5 (integral servo,
-    /// the fifth \[V/(m·s) or V/(rad·s)\] on `w`); `K_i` multiplies `ρ^i`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub coefficients: Option<Vec<Vec<f64>>>,
-    /// Scheduling variable `ρ`: `"one-minus-cos-q0"` (`ρ = 1 − cos q₀`, default; the book's
-    /// `ρ = 1 − cos θ₁`) or `"q0-squared"` (`ρ = q₀²`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub schedule: Option<String>,
-    /// LQR design at each of `design_points_deg`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lqr: Option<LqrSpec>,
-    /// Arm angles \[°\] of two LQR designs interpolated linearly in `ρ = 1 − cos θ₁`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub design_points_deg: Option<Vec<f64>>,
-    /// Coefficients `X₀, X₁, …` of `X(ρ) = Σ ρ^i X_i` (the M-file's `X_0, X_1, X_2`), each
-    /// an `n × n` symmetric matrix as `n` rows, `n` = 4 (regulator) or 5 (servo on
-    /// `[y; w]`). `z X(ρ)⁻¹ z` is the design's Lyapunov function (so `X_i` has the units of
-    /// `z zᵀ`: m², rad², …). With `l_coefficients`: `K(ρ) = −L(ρ) X(ρ)⁻¹`.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub x_coefficients: Option<Vec<Vec<Vec<f64>>>>,
-    /// Coefficients `L₀, L₁, …` of `L(ρ) = Σ ρ^i L_i` (the M-file's `L_0, L_1, L_2`), each a
-    /// row of `n` entries (`L = K_book X`: volts times the units of `z`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub l_coefficients: Option<Vec<Vec<f64>>>,
-    /// Servo reference of `q₀` (one entry, m or rad, default 0), applied as a step at
-    /// `step_time`; 5-state gains only.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reference: Option<Vec<f64>>,
-    /// Time of the reference step \[s\], from 0 to [`super::DURATION_MAX`] (default 0);
-    /// 5-state gains only.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub step_time: Option<f64>,
-    /// The model the controller was designed on ([`DesignRecord`]; optional).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub designed_for: Option<DesignRecord>,
+kind_keys! {
+    /// Keys of `kind = "gain-scheduled"` (module documentation of [`crate::spec::scheduled`]):
+    /// `coefficients`; or `lqr` with `design_points_deg`; or `x_coefficients` with
+    /// `l_coefficients`; `schedule`; `reference` and `step_time` for a 5-state (servo) gain.
+    pub struct GainScheduledSpec {
+        /// Gain-polynomial coefficients `K₀, K₁, …` (library sign, `u = −K(ρ) z`): 4 entries each
+        /// (regulator; \[V/m or V/rad, V/rad, V·s/m or V·s/rad, V·s/rad\]) or 5 (integral servo,
+        /// the fifth \[V/(m·s) or V/(rad·s)\] on `w`); `K_i` multiplies `ρ^i`.
+        pub coefficients: Option<Vec<Vec<f64>>>,
+        /// Scheduling variable `ρ`: `"one-minus-cos-q0"` (`ρ = 1 − cos q₀`, default; the book's
+        /// `ρ = 1 − cos θ₁`) or `"q0-squared"` (`ρ = q₀²`).
+        pub schedule: Option<String>,
+        /// LQR design at each of `design_points_deg`.
+        pub lqr: Option<LqrSpec>,
+        /// Arm angles \[°\] of two LQR designs interpolated linearly in `ρ = 1 − cos θ₁`.
+        pub design_points_deg: Option<Vec<f64>>,
+        /// Coefficients `X₀, X₁, …` of `X(ρ) = Σ ρ^i X_i` (the M-file's `X_0, X_1, X_2`), each
+        /// an `n × n` symmetric matrix as `n` rows, `n` = 4 (regulator) or 5 (servo on
+        /// `[y; w]`). `z X(ρ)⁻¹ z` is the design's Lyapunov function (so `X_i` has the units of
+        /// `z zᵀ`: m², rad², …). With `l_coefficients`: `K(ρ) = −L(ρ) X(ρ)⁻¹`.
+        pub x_coefficients: Option<Vec<Vec<Vec<f64>>>>,
+        /// Coefficients `L₀, L₁, …` of `L(ρ) = Σ ρ^i L_i` (the M-file's `L_0, L_1, L_2`), each a
+        /// row of `n` entries (`L = K_book X`: volts times the units of `z`).
+        pub l_coefficients: Option<Vec<Vec<f64>>>,
+        /// Servo reference of `q₀` (one entry, m or rad, default 0), applied as a step at
+        /// `step_time`; 5-state gains only.
+        pub reference: Option<Vec<f64>>,
+        /// Time of the reference step \[s\], from 0 to [`super::DURATION_MAX`] (default 0);
+        /// 5-state gains only.
+        pub step_time: Option<f64>,
+    }
 }
 
 /// The measured states `y = [q₀, q₁, q̇₀, q̇₁]`.
