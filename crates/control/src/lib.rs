@@ -20,6 +20,7 @@
 //! | [`scenario`] | the one simulate path: [`simulate`](scenario::simulate)`(&PlantSpec, &ControllerSpec, &ScenarioSpec)` builds plant, controller and the rig's chains and runs the sampled-data loop; the run as arrays with its summary (settling, overshoot, peak voltage, saturation time, angle window) | — |
 //! | [`estimation`] | the observer-based controller `(A + BK_b + L_b C, −L_b, K_b)` discretised by ZOH/Tustin ([`output_feedback_controller`](estimation::output_feedback_controller)), the steady-state Kalman filter ([`kalman_filter`](estimation::kalman_filter)) and state feedback on its current estimate ([`kalman_controller`](estimation::kalman_controller)) | `p1c74_ex1`, `p1c83_ex2`, `p1c84_ex4` |
 //! | [`kalman`] | the time-varying Kalman filter ([`KalmanFilter`](kalman::KalmanFilter), `A_k, B_k, C_k` per sample), the extended and unscented filters of any `Dynamics` sampled by RK4 ([`ExtendedKalmanFilter`](kalman::ExtendedKalmanFilter), [`UnscentedKalmanFilter`](kalman::UnscentedKalmanFilter) with scaled sigma points), encoder quantisation as measurement noise `q²/12`, NIS and NEES | — |
+//! | [`inspect`] | a controller that hands every update (with its wall-clock time) to an inspector, for benchmarks and tests ([`Inspected`](inspect::Inspected)) | — |
 //! | [`trim`] | operating points of any `Dynamics` with fixed states, inputs and outputs by Levenberg–Marquardt ([`find_operating_point`](trim::find_operating_point), MATLAB `findop`) | — |
 //!
 //! Conventions: SI units, volts, radians with angles from the **upward** vertical (as
@@ -46,6 +47,7 @@ pub mod cgmres;
 pub mod error;
 pub mod estimation;
 pub mod gmres;
+pub mod inspect;
 pub mod kalman;
 pub mod mpc;
 pub mod nmpc;

@@ -7,6 +7,7 @@ mod common;
 
 use common::{column, diag};
 use pendulab_control::ControlError;
+use pendulab_control::inspect::{Inspected, Update};
 use pendulab_control::mpc::{
     DualActiveSetQp, LinearMpc, MpcController, MpcSettings, QpOptions, QpStatus, StateBound,
     Terminal, WarmStart, kkt_residuals,
@@ -265,46 +266,32 @@ fn infeasible_limits_give_the_status_with_a_farkas_certificate() {
     );
 }
 
-/// Records the KKT residuals and the Clarabel distance of every solve of the wrapped MPC.
-struct Checked {
-    inner: MpcController,
+/// The worst KKT residual and Clarabel distance over the solves of an inspected MPC.
+struct Checks {
     worst_kkt: f64,
     worst_clarabel: f64,
     clarabel_every: usize,
     count: usize,
 }
 
-impl Controller for Checked {
-    fn ny(&self) -> usize {
-        self.inner.ny()
+/// The inspector (`pendulab_control::inspect`): every solve's KKT residuals, and every
+/// `clarabel_every`-th against Clarabel.
+fn check_solve(s: &mut Checks, c: &MpcController, _: &Update<'_>) {
+    let mpc = c.mpc();
+    let (g, w) = mpc.last_qp_vectors();
+    let (h, a) = (mpc.hessian(), mpc.constraint_matrix());
+    let r = kkt_residuals(h, g, a, w, mpc.plan(), mpc.qp().multipliers()).unwrap();
+    s.worst_kkt = s
+        .worst_kkt
+        .max(r.stationarity)
+        .max(r.primal)
+        .max(r.dual)
+        .max(r.complementarity);
+    if s.count.is_multiple_of(s.clarabel_every) {
+        let theirs = clarabel(h, g, a, w, 1e-12);
+        s.worst_clarabel = s.worst_clarabel.max(max_abs_diff(mpc.plan(), &theirs));
     }
-    fn nu(&self) -> usize {
-        self.inner.nu()
-    }
-    fn reset(&mut self) {
-        self.inner.reset()
-    }
-    fn sample_time(&self) -> Option<f64> {
-        self.inner.sample_time()
-    }
-    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
-        self.inner.update(t, y, u);
-        let mpc = self.inner.mpc();
-        let (g, w) = mpc.last_qp_vectors();
-        let (h, a) = (mpc.hessian(), mpc.constraint_matrix());
-        let r = kkt_residuals(h, g, a, w, mpc.plan(), mpc.qp().multipliers()).unwrap();
-        self.worst_kkt = self
-            .worst_kkt
-            .max(r.stationarity)
-            .max(r.primal)
-            .max(r.dual)
-            .max(r.complementarity);
-        if self.count.is_multiple_of(self.clarabel_every) {
-            let theirs = clarabel(h, g, a, w, 1e-12);
-            self.worst_clarabel = self.worst_clarabel.max(max_abs_diff(mpc.plan(), &theirs));
-        }
-        self.count += 1;
-    }
+    s.count += 1;
 }
 
 /// Clipped discrete LQR `u = clamp(−K x, ±5 V)` with the MPC's `K`.
@@ -364,16 +351,25 @@ fn on_the_nonlinear_cart_from_10_degrees_the_mpc_keeps_5_v_and_the_track_and_bal
     let ctrl = MpcController::new(mpc, 1e-3, periods, &[0.0; 4], &[-U_MAX], &[U_MAX]).unwrap();
     let x0 = [0.0, 10f64.to_radians(), 0.0, 0.0];
     let (mpc_run, checked) = run(
-        Checked {
-            inner: ctrl,
-            worst_kkt: 0.0,
-            worst_clarabel: 0.0,
-            clarabel_every: 25,
-            count: 0,
-        },
+        Inspected::new(
+            ctrl,
+            Checks {
+                worst_kkt: 0.0,
+                worst_clarabel: 0.0,
+                clarabel_every: 25,
+                count: 0,
+            },
+            check_solve,
+        ),
         &x0,
         5.0,
-        |c| (*c.inner.statistics(), c.worst_kkt, c.worst_clarabel),
+        |c| {
+            (
+                *c.inner.statistics(),
+                c.state.worst_kkt,
+                c.state.worst_clarabel,
+            )
+        },
     );
     let (stats, worst_kkt, worst_clarabel) = checked;
     assert_eq!(stats.solves, 5001);
