@@ -240,7 +240,7 @@ impl Designer {
             Method::Lqr { .. } => "lqr",
             Method::Lmi { q, .. } if q.len() == NX => "lmi-lq",
             Method::Lmi { .. } => "lmi-servo",
-            Method::Servo { .. } => "lq-servo",
+            Method::Servo { .. } => pendulab_control::spec::design::SERVO_METHOD,
             Method::Place { .. } => "place",
         };
         let mut record = self.record.clone();
