@@ -225,21 +225,17 @@ impl Model {
         x: &[f64],
         u: &[f64],
     ) -> PyResult<Self> {
+        let params = || -> PyResult<Option<HashMap<String, f64>>> {
+            Ok(Some(sys.getattr("params")?.extract()?))
+        };
         let plant = if let Ok(name) = sys.extract::<String>() {
             Some((name, None))
+        } else if sys.is_instance_of::<crate::plants::CartPendulum>() {
+            Some(("cart".to_string(), params()?))
+        } else if sys.is_instance_of::<crate::plants::ArmPendulum>() {
+            Some(("arm".to_string(), params()?))
         } else {
-            let class = sys.get_type().name()?.to_string();
-            if (class == "CartPendulum" || class == "ArmPendulum") && sys.hasattr("params")? {
-                let params: HashMap<String, f64> = sys.getattr("params")?.extract()?;
-                let name = if class == "CartPendulum" {
-                    "cart"
-                } else {
-                    "arm"
-                };
-                Some((name.to_string(), Some(params)))
-            } else {
-                None
-            }
+            None
         };
         let Some((name, params)) = plant else {
             return Ok(Model::Callable(PyDynamics::new(sys, h, x, u)?));

@@ -49,8 +49,9 @@ def test_arm_upright_and_hanging():
 
 
 def test_cart_rolling_at_constant_speed_needs_a_c_zdot_over_b_c():
-    cart = CartPendulum()
+    cart = CartPendulum({"a_c": 9.5})  # the object's own parameters are used
     p = cart.params
+    assert p["a_c"] == 9.5
     op = find_operating_point(cart, [0.0, 0.0, 0.2, 0.0], [0.0], ix=[2], iu=[], idx=[1, 2, 3])
     assert abs(op.u[0] - p["a_c"] * 0.2 / p["b_c"]) < 1e-9
     assert abs(op.dx[0] - 0.2) < 1e-12 and np.abs(op.dx[1:]).max() < 1e-10
