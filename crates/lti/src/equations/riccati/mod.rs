@@ -60,12 +60,14 @@
 
 mod boundary;
 mod care;
+mod compact;
 mod dare;
 mod small;
 mod smith;
 
 pub use boundary::{BOUNDARY_MAX_TESTED, BOUNDARY_ROUNDING, BOUNDARY_SCREEN};
 pub use care::care;
+pub use compact::{COMPACT_MAX, CompactCare, care_compact};
 pub use dare::dare;
 
 use crate::error::{LtiError, Result};

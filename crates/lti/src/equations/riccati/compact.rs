@@ -1,0 +1,743 @@
+//! A compact CARE solver for small orders ([`care_compact`]): the stabilising solution, the
+//! gain and the closed-loop poles of `n ≤ COMPACT_MAX` states on stack arrays, by code that is
+//! small rather than fast in a loop.
+//!
+//! It exists for callers that solve one small CARE at a time from cold caches — the browser
+//! lab redesigns on every slider move (`docs/web.md`, "Redesign time"), each move a frame or
+//! more after the last, when the time is set by how much code and data the solve touches, not
+//! by its flops. The general [`care`](super::care) (validation on heap matrices, the
+//! fixed-size doubling path monomorphised per order, the boundary verdict) runs several times
+//! as much code. Here every loop runs over run-time `n` on flat row-major arrays, one LU
+//! factorisation serves every linear solve, and nothing is allocated.
+//!
+//! ## Method
+//! With `R = LLᵀ` (Cholesky), `G = B R⁻¹ Bᵀ` and the scaling `X = sY`,
+//! `s = sqrt(‖Q‖_F / ‖G‖_F)` (SLICOT `SB02MD`'s, as the general path), the Hamiltonian
+//! `H = [A, −sG; −Q/s, −Aᵀ]` has `[I; Y]` spanning its stable invariant subspace. Its matrix
+//! sign function `W = sign(H)` is computed by Newton's iteration
+//! `Z ← (Z/c + c Z⁻¹)/2` with determinant scaling `c = |det Z|^{1/2n}` (Byers, "Solving the
+//! algebraic Riccati equation with the matrix sign function", Linear Algebra Appl. 85, 1987;
+//! Kenney & Laub, "The matrix sign function", IEEE TAC 40, 1995), stopped when a step changes
+//! `Z` by less than `10⁻¹⁰` relative (1-norm). `(W + I)[I; Y] = 0` gives the overdetermined
+//! system `[W₁₂; W₂₂ + I] Y = −[W₁₁ + I; W₂₁]`, solved by its normal equations (their squared
+//! conditioning only costs accuracy that the refinement restores). Then Newton–Kleinman
+//! refinement (Kleinman, "On an iterative technique for Riccati equation computations", IEEE
+//! TAC 13, 1968) in residual-correction form: `FᵀΔ + ΔF = −Res(X)`, `F = A − GX`,
+//! `Res(X) = AᵀX + XA − XGX + Q`, the Lyapunov equation solved on the `n(n+1)/2` unknowns of
+//! the symmetric `Δ` (Kronecker form, LU with partial pivoting); a step is kept only if it
+//! lowers the relative residual, and the refinement stops when a step gains less than a
+//! factor 2 or the residual reaches `10·n·ε` (at most 6 steps). The closed-loop poles
+//! `eig(A − BK)` come from a Householder reduction to Hessenberg form and the Francis
+//! double-shift QR iteration (EISPACK `hqr`).
+//!
+//! ## Accuracy and refusal
+//! The result is accepted only when the relative residual (the definition of
+//! [`care_residual`](super::care_residual): `‖Res(X)‖_F` over the sum of the Frobenius norms
+//! of `AᵀX`, `XA`, `XGX`, `Q`) is at most `20·n·ε` (below the general path's `100·n·ε` for its own fast path: the
+//! Kronecker-form Lyapunov solves of the refinement lose accuracy on strongly non-normal
+//! closed loops, and such a problem is better left to the general solver) and every closed-loop pole lies left of
+//! `−sqrt(ε)·‖A − BK‖_F`. A residual at rounding level with a Hurwitz closed loop identifies
+//! the unique stabilising solution, so an accepted result is the general solver's to the
+//! problem's conditioning. Anything else — `R` not positive definite, `Q` or `R` not exactly
+//! symmetric, a singular iterate, slow convergence, a rejected check, a pole near the
+//! imaginary axis — sends the problem to the general [`care`](super::care) (default options),
+//! whose solution (or error: not stabilisable, boundary eigenvalue, …) is returned instead;
+//! [`CompactCare::general`] says which path answered.
+
+use super::{RiccatiOptions, care};
+use crate::error::{LtiError, Result};
+use crate::linalg::{Complex64, Mat};
+
+/// The largest state dimension [`care_compact`] accepts.
+pub const COMPACT_MAX: usize = 6;
+
+/// The compact path's acceptance bound on the relative residual, in units of `n·ε`.
+const ACCEPT: f64 = 20.0;
+
+const SQ: usize = COMPACT_MAX * COMPACT_MAX;
+const H2: usize = 4 * SQ;
+const SYM: usize = COMPACT_MAX * (COMPACT_MAX + 1) / 2;
+
+/// The result of [`care_compact`], in fixed arrays (row-major, the first entries used).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompactCare {
+    n: usize,
+    m: usize,
+    x: [f64; SQ],
+    k: [f64; SQ],
+    poles: [Complex64; COMPACT_MAX],
+    /// The relative residual of the CARE at `X` (the definition of
+    /// [`care_residual`](super::care_residual)).
+    pub residual: f64,
+    /// Whether the general [`care`](super::care) produced the result (the compact path
+    /// refused the problem; module documentation).
+    pub general: bool,
+}
+
+impl CompactCare {
+    /// The stabilising solution `X`, `n × n` row-major (symmetric).
+    pub fn x(&self) -> &[f64] {
+        &self.x[..self.n * self.n]
+    }
+
+    /// The gain `K = R⁻¹BᵀX`, `m × n` row-major (the control law `u = −K x`).
+    pub fn gain(&self) -> &[f64] {
+        &self.k[..self.m * self.n]
+    }
+
+    /// The closed-loop poles `eig(A − BK)`, in the order of
+    /// [`sort_eigenvalues`](crate::linalg::sort_eigenvalues) (real part descending, then
+    /// imaginary part descending).
+    pub fn poles(&self) -> &[Complex64] {
+        &self.poles[..self.n]
+    }
+}
+
+/// The stabilising solution of `AᵀX + XA − XBR⁻¹BᵀX + Q = 0` for `n ≤` [`COMPACT_MAX`]
+/// states and `1 ≤ m ≤ n` inputs, its gain `K = R⁻¹BᵀX` and the closed-loop poles
+/// `eig(A − BK)` (module documentation: method, accuracy, when the general solver answers
+/// instead).
+///
+/// `a` is `n × n`, `b` `n × m`, `q` `n × n`, `r` `m × m`, each row-major, with
+/// `m = b.len() / n`.
+///
+/// # Errors
+/// [`LtiError::InvalidArgument`] when the slices' lengths do not fit `n` (or `n` is 0 or
+/// above [`COMPACT_MAX`], or `m` is 0 or above `n`); otherwise the errors of the general
+/// [`care`](super::care) when it answers: non-finite or non-symmetric data, `R` not positive
+/// definite, no stabilising solution ([`LtiError::NotStabilizable`],
+/// [`LtiError::NotDetectable`], [`LtiError::BoundaryEigenvalue`]).
+pub fn care_compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize) -> Result<CompactCare> {
+    let m = b.len().checked_div(n).unwrap_or(0);
+    let fits = (1..=COMPACT_MAX).contains(&n)
+        && (1..=n).contains(&m)
+        && a.len() == n * n
+        && b.len() == n * m
+        && q.len() == n * n
+        && r.len() == m * m;
+    if !fits {
+        return Err(LtiError::InvalidArgument(format!(
+            "care_compact needs A n×n, B n×m, Q n×n, R m×m with 1 ≤ m ≤ n ≤ {COMPACT_MAX}; \
+             got n = {n} and {}, {}, {}, {} entries",
+            a.len(),
+            b.len(),
+            q.len(),
+            r.len()
+        )));
+    }
+    if let Some(sol) = compact(a, b, q, r, n, m) {
+        return Ok(sol);
+    }
+    general(a, b, q, r, n, m)
+}
+
+/// The general solver's answer in a [`CompactCare`].
+fn general(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Result<CompactCare> {
+    let mat = |rows, cols, v: &[f64]| Mat::from_row_slice(rows, cols, v);
+    let sol = care(
+        &mat(n, n, a),
+        &mat(n, m, b),
+        &mat(n, n, q),
+        &mat(m, m, r),
+        None,
+        &RiccatiOptions::default(),
+    )?;
+    let mut out = CompactCare {
+        n,
+        m,
+        x: [0.0; SQ],
+        k: [0.0; SQ],
+        poles: [Complex64::new(0.0, 0.0); COMPACT_MAX],
+        residual: sol.residual,
+        general: true,
+    };
+    for i in 0..n {
+        for j in 0..n {
+            out.x[i * n + j] = sol.x[(i, j)];
+        }
+    }
+    for i in 0..m {
+        for j in 0..n {
+            out.k[i * n + j] = sol.gain[(i, j)];
+        }
+    }
+    out.poles[..n].copy_from_slice(&sol.closed_loop_poles);
+    Ok(out)
+}
+
+/// The compact path; `None` refuses (module documentation).
+fn compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Option<CompactCare> {
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    let symmetric =
+        |v: &[f64], k: usize| (0..k).all(|i| (0..i).all(|j| v[i * k + j] == v[j * k + i]));
+    if !(finite(a) && finite(b) && finite(q) && finite(r) && symmetric(q, n) && symmetric(r, m)) {
+        return None;
+    }
+    // R = LLᵀ, W = L⁻¹Bᵀ (m × n), G = WᵀW.
+    let mut l = [0.0; SQ];
+    l[..m * m].copy_from_slice(r);
+    if !cholesky(&mut l, m) {
+        return None;
+    }
+    let mut w = [0.0; SQ];
+    for j in 0..n {
+        for i in 0..m {
+            let s: f64 = (0..i).map(|p| l[i * m + p] * w[p * n + j]).sum();
+            w[i * n + j] = (b[j * m + i] - s) / l[i * m + i];
+        }
+    }
+    let mut g = [0.0; SQ];
+    for i in 0..n {
+        for j in 0..n {
+            g[i * n + j] = (0..m).map(|p| w[p * n + i] * w[p * n + j]).sum();
+        }
+    }
+    let (qn, gn) = (fro(&q[..n * n]), fro(&g[..n * n]));
+    let s = if qn > 0.0 && gn > 0.0 {
+        (qn / gn).sqrt()
+    } else {
+        1.0
+    };
+
+    // The sign function of H = [A, −sG; −Q/s, −Aᵀ].
+    let n2 = 2 * n;
+    let mut z = [0.0; H2];
+    for i in 0..n {
+        for j in 0..n {
+            z[i * n2 + j] = a[i * n + j];
+            z[i * n2 + n + j] = -s * g[i * n + j];
+            z[(n + i) * n2 + j] = -q[i * n + j] / s;
+            z[(n + i) * n2 + n + j] = -a[j * n + i];
+        }
+    }
+    let mut converged = false;
+    for _ in 0..60 {
+        let mut lu_z = z;
+        let mut piv = [0usize; 2 * COMPACT_MAX];
+        if !lu(&mut lu_z, &mut piv, n2) {
+            return None;
+        }
+        let log_det: f64 = (0..n2).map(|i| lu_z[i * n2 + i].abs().ln()).sum();
+        let c = (log_det / n2 as f64).exp();
+        let mut zi = [0.0; H2];
+        inverse(&lu_z, &piv, n2, &mut zi);
+        let (mut change, mut size) = (0.0f64, 0.0f64);
+        for j in 0..n2 {
+            let (mut dc, mut sc) = (0.0, 0.0);
+            for i in 0..n2 {
+                let new = 0.5 * (z[i * n2 + j] / c + c * zi[i * n2 + j]);
+                dc += (new - z[i * n2 + j]).abs();
+                sc += new.abs();
+                z[i * n2 + j] = new;
+            }
+            change = change.max(dc);
+            size = size.max(sc);
+        }
+        if !(change.is_finite() && size.is_finite()) {
+            return None;
+        }
+        if change <= 1e-10 * size {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    // [W₁₂; W₂₂ + I] Y = −[W₁₁ + I; W₂₁] by its normal equations; X = sY.
+    let col = |i: usize, j: usize| z[i * n2 + n + j] + if i == n + j { 1.0 } else { 0.0 };
+    let rhs = |i: usize, j: usize| -(z[i * n2 + j] + if i == j { 1.0 } else { 0.0 });
+    let mut nm = [0.0; SQ];
+    let mut x = [0.0; SQ];
+    for i in 0..n {
+        for j in 0..n {
+            nm[i * n + j] = (0..n2).map(|p| col(p, i) * col(p, j)).sum();
+            x[i * n + j] = (0..n2).map(|p| col(p, i) * rhs(p, j)).sum();
+        }
+    }
+    let mut piv = [0usize; 2 * COMPACT_MAX];
+    if !lu(&mut nm, &mut piv, n) {
+        return None;
+    }
+    let mut colv = [0.0; 2 * COMPACT_MAX];
+    for j in 0..n {
+        for i in 0..n {
+            colv[i] = x[i * n + j];
+        }
+        lu_solve(&nm, &piv, n, &mut colv);
+        for i in 0..n {
+            x[i * n + j] = s * colv[i];
+        }
+    }
+    symmetrize(&mut x, n);
+
+    // Newton–Kleinman refinement.
+    let mut res = [0.0; SQ];
+    let mut rel = residual(a, &g, q, &x, n, &mut res);
+    let floor = 10.0 * n as f64 * f64::EPSILON;
+    for _ in 0..6 {
+        if rel <= floor {
+            break;
+        }
+        let mut f = [0.0; SQ];
+        closed_loop(a, &g, &x, n, &mut f);
+        let mut d = [0.0; SQ];
+        if !lyapunov(&f, &res, n, &mut d) {
+            break;
+        }
+        let mut trial = x;
+        for (t, dv) in trial[..n * n].iter_mut().zip(&d[..n * n]) {
+            *t += dv;
+        }
+        symmetrize(&mut trial, n);
+        let mut trial_res = [0.0; SQ];
+        let trial_rel = residual(a, &g, q, &trial, n, &mut trial_res);
+        // A NaN residual is no improvement either.
+        if trial_rel.partial_cmp(&rel) != Some(std::cmp::Ordering::Less) {
+            break;
+        }
+        let gain = rel / trial_rel;
+        (x, res, rel) = (trial, trial_res, trial_rel);
+        if gain < 2.0 {
+            break;
+        }
+    }
+    if rel.is_nan() || rel > ACCEPT * n as f64 * f64::EPSILON {
+        return None;
+    }
+    // K = R⁻¹BᵀX = L⁻ᵀ (W X), the closed loop A − BK = A − GX and its poles.
+    let mut k = [0.0; SQ];
+    for j in 0..n {
+        for i in 0..m {
+            k[i * n + j] = (0..n).map(|p| w[i * n + p] * x[p * n + j]).sum();
+        }
+        for i in (0..m).rev() {
+            let s: f64 = (i + 1..m).map(|p| l[p * m + i] * k[p * n + j]).sum();
+            k[i * n + j] = (k[i * n + j] - s) / l[i * m + i];
+        }
+    }
+    let mut f = [0.0; SQ];
+    for i in 0..n {
+        for j in 0..n {
+            f[i * n + j] = a[i * n + j] - (0..m).map(|p| b[i * m + p] * k[p * n + j]).sum::<f64>();
+        }
+    }
+    let margin = f64::EPSILON.sqrt() * fro(&f[..n * n]);
+    let poles = eigenvalues(&mut f, n)?;
+    if poles[..n].iter().any(|p| p.re.is_nan() || p.re >= -margin) {
+        return None;
+    }
+    Some(CompactCare {
+        n,
+        m,
+        x,
+        k,
+        poles,
+        residual: rel,
+        general: false,
+    })
+}
+
+fn fro(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn symmetrize(x: &mut [f64; SQ], n: usize) {
+    for i in 0..n {
+        for j in 0..i {
+            let v = 0.5 * (x[i * n + j] + x[j * n + i]);
+            x[i * n + j] = v;
+            x[j * n + i] = v;
+        }
+    }
+}
+
+/// `F = A − GX`.
+fn closed_loop(a: &[f64], g: &[f64; SQ], x: &[f64; SQ], n: usize, f: &mut [f64; SQ]) {
+    for i in 0..n {
+        for j in 0..n {
+            f[i * n + j] = a[i * n + j] - (0..n).map(|p| g[i * n + p] * x[p * n + j]).sum::<f64>();
+        }
+    }
+}
+
+/// `Res = AᵀX + XA − XGX + Q` into `res`; returns the relative residual.
+fn residual(
+    a: &[f64],
+    g: &[f64; SQ],
+    q: &[f64],
+    x: &[f64; SQ],
+    n: usize,
+    res: &mut [f64; SQ],
+) -> f64 {
+    let mut xa = [0.0; SQ];
+    let mut gx = [0.0; SQ];
+    for i in 0..n {
+        for j in 0..n {
+            xa[i * n + j] = (0..n).map(|p| x[i * n + p] * a[p * n + j]).sum();
+            gx[i * n + j] = (0..n).map(|p| g[i * n + p] * x[p * n + j]).sum();
+        }
+    }
+    let (mut rn, mut xan, mut xgxn, mut qn) = (0.0, 0.0, 0.0, 0.0);
+    for i in 0..n {
+        for j in 0..n {
+            let xgx: f64 = (0..n).map(|p| x[i * n + p] * gx[p * n + j]).sum();
+            let v = xa[j * n + i] + xa[i * n + j] - xgx + q[i * n + j];
+            res[i * n + j] = v;
+            rn += v * v;
+            xan += xa[i * n + j] * xa[i * n + j];
+            xgxn += xgx * xgx;
+            qn += q[i * n + j] * q[i * n + j];
+        }
+    }
+    let sum = 2.0 * xan.sqrt() + xgxn.sqrt() + qn.sqrt();
+    if sum > 0.0 {
+        rn.sqrt() / sum
+    } else {
+        rn.sqrt()
+    }
+}
+
+/// `FᵀD + DF = −Res` for symmetric `D`, on the unknowns `D_ij`, `i ≤ j`; `false` when the
+/// Kronecker matrix is singular.
+fn lyapunov(f: &[f64; SQ], res: &[f64; SQ], n: usize, d: &mut [f64; SQ]) -> bool {
+    let p = n * (n + 1) / 2;
+    let idx = |i: usize, j: usize| {
+        let (i, j) = if i <= j { (i, j) } else { (j, i) };
+        i * n - i * (i + 1) / 2 + j
+    };
+    let mut kron = [0.0; SYM * SYM];
+    let mut rhs = [0.0; SYM];
+    for i in 0..n {
+        for j in i..n {
+            let row = idx(i, j);
+            // Σ_k F_ki D_kj + Σ_k D_ik F_kj.
+            for k in 0..n {
+                kron[row * p + idx(k, j)] += f[k * n + i];
+                kron[row * p + idx(i, k)] += f[k * n + j];
+            }
+            rhs[row] = -res[i * n + j];
+        }
+    }
+    let mut piv = [0usize; SYM];
+    if !lu(&mut kron, &mut piv, p) {
+        return false;
+    }
+    lu_solve(&kron, &piv, p, &mut rhs);
+    for i in 0..n {
+        for j in 0..n {
+            d[i * n + j] = rhs[idx(i, j)];
+        }
+    }
+    true
+}
+
+/// `R = LLᵀ` in place (lower triangle); `false` unless `R ≻ 0`.
+fn cholesky(l: &mut [f64; SQ], m: usize) -> bool {
+    for j in 0..m {
+        let d = l[j * m + j] - (0..j).map(|p| l[j * m + p] * l[j * m + p]).sum::<f64>();
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        let d = d.sqrt();
+        l[j * m + j] = d;
+        for i in j + 1..m {
+            let s: f64 = (0..j).map(|p| l[i * m + p] * l[j * m + p]).sum();
+            l[i * m + j] = (l[i * m + j] - s) / d;
+        }
+    }
+    true
+}
+
+/// `PA = LU` in place (row-major, stride `n`), partial pivoting; `false` on a zero pivot.
+fn lu(a: &mut [f64], piv: &mut [usize], n: usize) -> bool {
+    for k in 0..n {
+        let p = (k..n)
+            .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+            .unwrap_or(k);
+        piv[k] = p;
+        if a[p * n + k] == 0.0 {
+            return false;
+        }
+        if p != k {
+            for j in 0..n {
+                a.swap(k * n + j, p * n + j);
+            }
+        }
+        let inv = 1.0 / a[k * n + k];
+        for i in k + 1..n {
+            let f = a[i * n + k] * inv;
+            a[i * n + k] = f;
+            if f != 0.0 {
+                for j in k + 1..n {
+                    a[i * n + j] -= f * a[k * n + j];
+                }
+            }
+        }
+    }
+    true
+}
+
+/// Solves `A y = b` in place from [`lu`]'s factors.
+fn lu_solve(lu: &[f64], piv: &[usize], n: usize, b: &mut [f64]) {
+    for k in 0..n {
+        b.swap(k, piv[k]);
+    }
+    for i in 0..n {
+        let s: f64 = (0..i).map(|p| lu[i * n + p] * b[p]).sum();
+        b[i] -= s;
+    }
+    for i in (0..n).rev() {
+        let s: f64 = (i + 1..n).map(|p| lu[i * n + p] * b[p]).sum();
+        b[i] = (b[i] - s) / lu[i * n + i];
+    }
+}
+
+/// `A⁻¹` (stride `n`) from [`lu`]'s factors.
+fn inverse(lu: &[f64], piv: &[usize], n: usize, out: &mut [f64]) {
+    let mut e = [0.0; 2 * COMPACT_MAX];
+    for j in 0..n {
+        e[..n].fill(0.0);
+        e[j] = 1.0;
+        lu_solve(lu, piv, n, &mut e);
+        for i in 0..n {
+            out[i * n + j] = e[i];
+        }
+    }
+}
+
+/// Eigenvalues of `a` (`n × n`, destroyed): Householder reduction to Hessenberg form, then
+/// the Francis double-shift QR iteration (EISPACK `hqr`); sorted as
+/// [`sort_eigenvalues`](crate::linalg::sort_eigenvalues). `None` when the iteration does not
+/// converge in `30·n` steps.
+fn eigenvalues(a: &mut [f64; SQ], n: usize) -> Option<[Complex64; COMPACT_MAX]> {
+    hessenberg(a, n);
+    let mut wr = [0.0; COMPACT_MAX];
+    let mut wi = [0.0; COMPACT_MAX];
+    if !hqr(a, n, &mut wr, &mut wi) {
+        return None;
+    }
+    let mut ev = [Complex64::new(0.0, 0.0); COMPACT_MAX];
+    for i in 0..n {
+        ev[i] = Complex64::new(wr[i], wi[i]);
+    }
+    // Insertion sort in the order of `sort_eigenvalues` (no allocation, little code).
+    let before = |x: &Complex64, y: &Complex64| x.re > y.re || (x.re == y.re && x.im > y.im);
+    for i in 1..n {
+        let mut j = i;
+        while j > 0 && before(&ev[j], &ev[j - 1]) {
+            ev.swap(j, j - 1);
+            j -= 1;
+        }
+    }
+    Some(ev)
+}
+
+/// Householder reduction of `a` (`n × n`) to upper Hessenberg form by similarity.
+fn hessenberg(a: &mut [f64; SQ], n: usize) {
+    for k in 0..n.saturating_sub(2) {
+        let mut v = [0.0; COMPACT_MAX];
+        let norm = (k + 1..n)
+            .map(|i| a[i * n + k] * a[i * n + k])
+            .sum::<f64>()
+            .sqrt();
+        if norm == 0.0 {
+            continue;
+        }
+        let alpha = if a[(k + 1) * n + k] > 0.0 {
+            -norm
+        } else {
+            norm
+        };
+        for i in k + 1..n {
+            v[i] = a[i * n + k];
+        }
+        v[k + 1] -= alpha;
+        let vv: f64 = (k + 1..n).map(|i| v[i] * v[i]).sum();
+        if vv == 0.0 {
+            continue;
+        }
+        // (I − 2vvᵀ/vᵀv) A (I − 2vvᵀ/vᵀv).
+        for j in 0..n {
+            let s = 2.0 * (k + 1..n).map(|i| v[i] * a[i * n + j]).sum::<f64>() / vv;
+            for i in k + 1..n {
+                a[i * n + j] -= s * v[i];
+            }
+        }
+        for i in 0..n {
+            let s = 2.0 * (k + 1..n).map(|j| a[i * n + j] * v[j]).sum::<f64>() / vv;
+            for j in k + 1..n {
+                a[i * n + j] -= s * v[j];
+            }
+        }
+        for i in k + 2..n {
+            a[i * n + k] = 0.0;
+        }
+    }
+}
+
+/// |a| with the sign of b.
+fn sign(a: f64, b: f64) -> f64 {
+    if b >= 0.0 { a.abs() } else { -a.abs() }
+}
+
+/// Eigenvalues of the upper Hessenberg `a` (`n × n`, destroyed) by the Francis double-shift
+/// QR iteration with EISPACK `hqr`'s deflation test and exceptional shifts; `false` when an
+/// eigenvalue takes more than 30 iterations.
+fn hqr(a: &mut [f64; SQ], n: usize, wr: &mut [f64], wi: &mut [f64]) -> bool {
+    let at = |i: usize, j: usize| i * n + j;
+    let mut anorm = 0.0;
+    for i in 0..n {
+        for j in i.saturating_sub(1)..n {
+            anorm += a[at(i, j)].abs();
+        }
+    }
+    let mut nn = n as isize - 1;
+    let mut t = 0.0;
+    while nn >= 0 {
+        let mut its = 0;
+        loop {
+            let nu = nn as usize;
+            // A negligible subdiagonal entry splits the matrix at l.
+            let mut l = nu;
+            while l >= 1 {
+                let mut s = a[at(l - 1, l - 1)].abs() + a[at(l, l)].abs();
+                if s == 0.0 {
+                    s = anorm;
+                }
+                if a[at(l, l - 1)].abs() + s == s {
+                    a[at(l, l - 1)] = 0.0;
+                    break;
+                }
+                l -= 1;
+            }
+            let mut x = a[at(nu, nu)];
+            if l == nu {
+                wr[nu] = x + t;
+                wi[nu] = 0.0;
+                nn -= 1;
+                break;
+            }
+            let mut y = a[at(nu - 1, nu - 1)];
+            let mut w = a[at(nu, nu - 1)] * a[at(nu - 1, nu)];
+            if l + 1 == nu {
+                let p = 0.5 * (y - x);
+                let q = p * p + w;
+                let z = q.abs().sqrt();
+                x += t;
+                if q >= 0.0 {
+                    let z = p + sign(z, p);
+                    wr[nu - 1] = x + z;
+                    wr[nu] = if z != 0.0 { x - w / z } else { x + z };
+                    wi[nu - 1] = 0.0;
+                    wi[nu] = 0.0;
+                } else {
+                    wr[nu - 1] = x + p;
+                    wr[nu] = x + p;
+                    wi[nu - 1] = z;
+                    wi[nu] = -z;
+                }
+                nn -= 2;
+                break;
+            }
+            if its == 30 {
+                return false;
+            }
+            if its == 10 || its == 20 {
+                t += x;
+                for i in 0..=nu {
+                    a[at(i, i)] -= x;
+                }
+                let s = a[at(nu, nu - 1)].abs() + a[at(nu - 1, nu - 2)].abs();
+                x = 0.75 * s;
+                y = x;
+                w = -0.4375 * s * s;
+            }
+            its += 1;
+            // Two consecutive small subdiagonal entries start the bulge at m.
+            let mut m = nu - 2;
+            let (mut p, mut q, mut r);
+            loop {
+                let z = a[at(m, m)];
+                let rr = x - z;
+                let ss = y - z;
+                p = (rr * ss - w) / a[at(m + 1, m)] + a[at(m, m + 1)];
+                q = a[at(m + 1, m + 1)] - z - rr - ss;
+                r = a[at(m + 2, m + 1)];
+                let s = p.abs() + q.abs() + r.abs();
+                p /= s;
+                q /= s;
+                r /= s;
+                if m == l {
+                    break;
+                }
+                let u = a[at(m, m - 1)].abs() * (q.abs() + r.abs());
+                let v = p.abs() * (a[at(m - 1, m - 1)].abs() + z.abs() + a[at(m + 1, m + 1)].abs());
+                if u + v == v {
+                    break;
+                }
+                m -= 1;
+            }
+            for i in m + 2..=nu {
+                a[at(i, i - 2)] = 0.0;
+                if i != m + 2 {
+                    a[at(i, i - 3)] = 0.0;
+                }
+            }
+            // The double-shift QR step on rows l..=nu, columns m..=nu.
+            for k in m..nu {
+                if k != m {
+                    p = a[at(k, k - 1)];
+                    q = a[at(k + 1, k - 1)];
+                    r = if k + 1 != nu {
+                        a[at(k + 2, k - 1)]
+                    } else {
+                        0.0
+                    };
+                    x = p.abs() + q.abs() + r.abs();
+                    if x != 0.0 {
+                        p /= x;
+                        q /= x;
+                        r /= x;
+                    }
+                }
+                let s = sign((p * p + q * q + r * r).sqrt(), p);
+                if s != 0.0 {
+                    if k == m {
+                        if l != m {
+                            a[at(k, k - 1)] = -a[at(k, k - 1)];
+                        }
+                    } else {
+                        a[at(k, k - 1)] = -s * x;
+                    }
+                    p += s;
+                    x = p / s;
+                    y = q / s;
+                    let z = r / s;
+                    q /= p;
+                    r /= p;
+                    for j in k..=nu {
+                        let mut pp = a[at(k, j)] + q * a[at(k + 1, j)];
+                        if k + 1 != nu {
+                            pp += r * a[at(k + 2, j)];
+                            a[at(k + 2, j)] -= pp * z;
+                        }
+                        a[at(k + 1, j)] -= pp * y;
+                        a[at(k, j)] -= pp * x;
+                    }
+                    let mmin = if nu < k + 3 { nu } else { k + 3 };
+                    for i in l..=mmin {
+                        let mut pp = x * a[at(i, k)] + y * a[at(i, k + 1)];
+                        if k + 1 != nu {
+                            pp += z * a[at(i, k + 2)];
+                            a[at(i, k + 2)] -= pp * r;
+                        }
+                        a[at(i, k + 1)] -= pp * q;
+                        a[at(i, k)] -= pp;
+                    }
+                }
+            }
+        }
+    }
+    true
+}
