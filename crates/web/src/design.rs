@@ -18,8 +18,7 @@
 
 use crate::error::WebError;
 use pendulab_control::spec::design::{
-    UprightDesign, drive_servo_model, lqr_upright, place_upright, pole_inputs, servo_upright,
-    weight_inputs,
+    drive_servo_model, place_upright, pole_inputs, weight_inputs,
 };
 use pendulab_control::spec::{
     ControllerSpec, DesignInput, DesignRecord, GainSpec, LqServoSpec, StateFeedbackSpec,
@@ -28,10 +27,11 @@ use pendulab_control::spec::{
 use pendulab_lmi::synthesis::{LqWeights, Region, StateFeedbackSpec as LmiSpec, Vertex};
 use pendulab_lmi::{Backend, SolveOptions, Status};
 use pendulab_lti::design::integral_augmentation;
+use pendulab_lti::equations::riccati::care_compact;
 use pendulab_lti::linalg::Complex64;
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_plants::spec::PlantSpec;
-use std::collections::BTreeMap;
+use std::rc::Rc;
 
 /// The state count of both rigs' models, `[q₀, q₁, q̇₀, q̇₁]`.
 pub const NX: usize = 4;
@@ -108,10 +108,9 @@ pub struct Design {
     pub poles: Vec<Complex64>,
     /// The open-loop poles, `eig(A)` \[1/s\].
     pub open_loop: Vec<Complex64>,
-    /// The design record the controller spec carries (`designed_for`: the plant's kind,
-    /// parameters and provenance, the upright operating point, the method and its inputs),
-    /// which `pendulab rig run` and `simulate` check against the plant they run on.
-    pub record: DesignRecord,
+    /// The plant's part of the design record (kind, parameters, provenance, operating
+    /// point), shared by every design of one [`Designer`]; [`Design::record`] completes it.
+    base: Rc<DesignRecord>,
     /// The linearisation's `A` (4 × 4).
     pub a: Mat,
     /// The linearisation's `B` (4 × 1).
@@ -183,7 +182,11 @@ pub fn design(plant: &PlantSpec, method: &Method) -> Result<Design, WebError> {
 pub struct Designer {
     sys: StateSpace<Continuous>,
     open_loop: Vec<Complex64>,
-    record: DesignRecord,
+    record: Rc<DesignRecord>,
+    /// `A`, `B` (row-major) of the regulator (`n = 4`) and of the servo's augmentation on
+    /// `[x; w]` (`n = 5`), for the compact Riccati solver of the slider moves.
+    lqr_ab: ([f64; NX * NX], [f64; NX]),
+    servo_ab: ([f64; (NX + 1) * (NX + 1)], [f64; NX + 1]),
 }
 
 impl Designer {
@@ -194,10 +197,33 @@ impl Designer {
     /// the linearisation's eigenvalues cannot be computed.
     pub fn new(plant: &PlantSpec) -> Result<Self, WebError> {
         let sys = linearization(plant)?;
+        let (a5, b5) = integral_augmentation(&drive_servo_model(&sys)?)?;
+        let mut lqr_ab = ([0.0; NX * NX], [0.0; NX]);
+        let mut servo_ab = ([0.0; (NX + 1) * (NX + 1)], [0.0; NX + 1]);
+        for i in 0..NX {
+            for j in 0..NX {
+                lqr_ab.0[NX * i + j] = sys.a()[(i, j)];
+            }
+            lqr_ab.1[i] = sys.b()[(i, 0)];
+        }
+        for i in 0..=NX {
+            for j in 0..=NX {
+                servo_ab.0[(NX + 1) * i + j] = a5[(i, j)];
+            }
+            servo_ab.1[i] = b5[(i, 0)];
+        }
         Ok(Self {
             open_loop: sys.poles()?,
-            record: DesignRecord::new(plant, vec![0.0; NX], None, "", Default::default()),
+            record: Rc::new(DesignRecord::new(
+                plant,
+                vec![0.0; NX],
+                None,
+                "",
+                Default::default(),
+            )),
             sys,
+            lqr_ab,
+            servo_ab,
         })
     }
 
@@ -209,21 +235,19 @@ impl Designer {
         let sys = &self.sys;
         let (a, b) = (sys.a().clone(), sys.b().clone());
         let mut lmi = None;
-        let (gain, poles, inputs) = match method {
+        let (gain, poles) = match method {
             Method::Lmi { q, r, alpha } => {
                 let (gain, poles, cert) = lmi_design(sys, q, *r, *alpha)?;
                 lmi = Some(cert);
-                let mut w = weight_inputs(q, *r);
-                w.insert("decay_rate".into(), DesignInput::Number(*alpha));
-                (gain, poles, w)
+                (gain, poles)
             }
             Method::Lqr { q, r } => {
                 check_weights(q, NX, *r)?;
-                upright(lqr_upright(sys, q, *r)?, weight_inputs(q, *r))
+                lq_compact(&self.lqr_ab.0, &self.lqr_ab.1, q, *r)?
             }
             Method::Servo { q, r } => {
                 check_weights(q, NX + 1, *r)?;
-                upright(servo_upright(sys, q, *r)?, weight_inputs(q, *r))
+                lq_compact(&self.servo_ab.0, &self.servo_ab.1, q, *r)?
             }
             Method::Place { poles } => {
                 if poles.len() != NX {
@@ -233,21 +257,12 @@ impl Designer {
                         expected: NX,
                     });
                 }
-                upright(place_upright(sys, poles)?, pole_inputs(poles))
+                let d = place_upright(sys, poles)?;
+                (d.gain.iter().copied().collect(), d.poles)
             }
         };
-        let name = match method {
-            Method::Lqr { .. } => "lqr",
-            Method::Lmi { q, .. } if q.len() == NX => "lmi-lq",
-            Method::Lmi { .. } => "lmi-servo",
-            Method::Servo { .. } => pendulab_control::spec::design::SERVO_METHOD,
-            Method::Place { .. } => "place",
-        };
-        let mut record = self.record.clone();
-        record.method = name.to_string();
-        record.inputs = inputs;
         Ok(Design {
-            record,
+            base: Rc::clone(&self.record),
             method: method.clone(),
             gain,
             poles,
@@ -329,13 +344,26 @@ fn lmi_design(
     Ok((f.gain.iter().copied().collect(), poles, cert))
 }
 
-/// The gain (4 or 5 entries) and the closed-loop poles of an upright design
-/// (`pendulab_control::spec::design`), with the record's `inputs`.
-fn upright(
-    d: UprightDesign,
-    inputs: BTreeMap<String, DesignInput>,
-) -> (Vec<f64>, Vec<Complex64>, BTreeMap<String, DesignInput>) {
-    (d.gain.iter().copied().collect(), d.poles, inputs)
+/// LQR on `(A, B)` (`n × n`, `n × 1`, row-major; `n` = 4, or 5 for the servo's augmentation)
+/// with `Q = diag(q)`, `R = r`: the gain and the closed-loop poles by
+/// `pendulab_lti::equations::riccati::care_compact` — the same stabilising solution as
+/// `pendulab_lti::design::lqr` (the general solver answers whatever the compact path refuses),
+/// with a fraction of the code run, which is what a slider move's time depends on
+/// (`docs/web.md`, "Redesign time"). The weights are checked by [`check_weights`] (a
+/// diagonal `Q ⪰ 0`, `R > 0`: LQ weights).
+fn lq_compact(
+    a: &[f64],
+    b: &[f64],
+    q: &[f64],
+    r: f64,
+) -> Result<(Vec<f64>, Vec<Complex64>), WebError> {
+    let n = q.len();
+    let mut qm = [0.0; (NX + 1) * (NX + 1)];
+    for (i, v) in q.iter().enumerate() {
+        qm[n * i + i] = *v;
+    }
+    let sol = care_compact(a, b, &qm[..n * n], &[r], n)?;
+    Ok((sol.gain().to_vec(), sol.poles().to_vec()))
 }
 
 fn diag(q: &[f64]) -> Mat {
@@ -343,6 +371,34 @@ fn diag(q: &[f64]) -> Mat {
 }
 
 impl Design {
+    /// The design record the controller spec carries (`designed_for`: the plant's kind,
+    /// parameters and provenance, the upright operating point, the method and its inputs),
+    /// which `pendulab rig run` and `simulate` check against the plant they run on. Built on
+    /// demand from the plant's part (shared by the designs of one [`Designer`]) and the
+    /// method: a slider move copies no record.
+    pub fn record(&self) -> DesignRecord {
+        let mut record = DesignRecord::clone(&self.base);
+        let (name, inputs) = match &self.method {
+            Method::Lqr { q, r } => ("lqr", weight_inputs(q, *r)),
+            Method::Servo { q, r } => (pendulab_control::spec::design::SERVO_METHOD, weight_inputs(q, *r)),
+            Method::Place { poles } => ("place", pole_inputs(poles)),
+            Method::Lmi { q, r, alpha } => {
+                let mut w = weight_inputs(q, *r);
+                w.insert("decay_rate".into(), DesignInput::Number(*alpha));
+                (if q.len() == NX { "lmi-lq" } else { "lmi-servo" }, w)
+            }
+        };
+        record.method = name.to_string();
+        record.inputs = inputs;
+        record
+    }
+
+    /// Whether two designs share the plant part of their records (designed by one
+    /// [`Designer`], hence on one plant).
+    pub fn same_plant_record(&self, other: &Design) -> bool {
+        Rc::ptr_eq(&self.base, &other.base)
+    }
+
     /// Whether the gain is the servo's `[K₁, K₂]` (5 entries).
     pub fn is_servo(&self) -> bool {
         self.gain.len() == NX + 1
@@ -353,6 +409,19 @@ impl Design {
     /// `step_time` \[s\] on; none for the swing-up, which balances at `q₀ = 0`). A servo gain
     /// in [`Mode::SwingUp`] runs as the servo.
     pub fn controller(&self, mode: Mode, reference: f64, step_time: f64) -> ControllerSpec {
+        self.controller_with(mode, reference, step_time, Some(self.record()))
+    }
+
+    /// [`Design::controller`] carrying `record` as its design record (`None`: none, so the
+    /// factory checks nothing of the plant — for a design whose record was already checked
+    /// against the plant it runs on).
+    pub fn controller_with(
+        &self,
+        mode: Mode,
+        reference: f64,
+        step_time: f64,
+        record: Option<DesignRecord>,
+    ) -> ControllerSpec {
         let k = || Some(self.gain[..NX].to_vec());
         let nonzero = |v: Vec<f64>| (reference != 0.0).then_some(v);
         if self.is_servo() {
@@ -361,7 +430,7 @@ impl Design {
                 k2: Some(self.gain[NX]),
                 reference: nonzero(vec![reference]),
                 step_time: (reference != 0.0 && step_time > 0.0).then_some(step_time),
-                designed_for: Some(self.record.clone()),
+                designed_for: record,
                 ..Default::default()
             });
         }
@@ -369,7 +438,7 @@ impl Design {
             Mode::Balance => ControllerSpec::StateFeedback(StateFeedbackSpec {
                 k: k(),
                 reference: nonzero(vec![reference, 0.0, 0.0, 0.0]),
-                designed_for: Some(self.record.clone()),
+                designed_for: record,
                 ..Default::default()
             }),
             Mode::SwingUp => ControllerSpec::SwingUpBalance(SwingUpBalanceSpec {
@@ -377,7 +446,7 @@ impl Design {
                     k: k(),
                     ..Default::default()
                 }),
-                designed_for: Some(self.record.clone()),
+                designed_for: record,
                 ..Default::default()
             }),
         }

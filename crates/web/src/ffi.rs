@@ -266,7 +266,7 @@ pub extern "C" fn pl_design(method: u32, r: f64) -> i32 {
 }
 
 fn current_mode(lab: &Lab) -> Mode {
-    if lab.controller_spec().is_swing_up() {
+    if lab.swings_up() {
         Mode::SwingUp
     } else {
         Mode::Balance
@@ -508,7 +508,7 @@ pub extern "C" fn pl_controller_toml() -> i32 {
     with(|s| {
         let lab = lab(s)?;
         let head = describe(lab.design());
-        let text = controller_file(lab.plant(), lab.controller_spec(), &head)?;
+        let text = controller_file(lab.plant(), &lab.controller_spec(), &head)?;
         s.text_out = text.into_bytes();
         Ok(s.text_out.len() as i32)
     })

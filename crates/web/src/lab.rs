@@ -84,7 +84,12 @@ pub struct Lab {
     design: Design,
     mode: Mode,
     reference: f64,
-    spec: ControllerSpec,
+    /// The time of the last rebuild: the servo's reference step time.
+    step_time: f64,
+    /// Whether the running design's record (its plant part) has been checked against the
+    /// plant by the factory; designs of one `Designer` share it, so a slider move builds the
+    /// controller without the record and the check runs once per plant.
+    record_checked: bool,
     controller: Box<dyn Controller>,
     imperfections: Imperfections,
     sensor: pendulab_sim::SensorChain,
@@ -108,7 +113,7 @@ impl std::fmt::Debug for Lab {
             .field("kind", &self.plant.kind())
             .field("t", &self.t)
             .field("x", &self.x)
-            .field("spec", &self.spec)
+            .field("spec", &self.controller_spec())
             .finish_non_exhaustive()
     }
 }
@@ -134,8 +139,7 @@ impl Lab {
         }
         let ts = rig.sample_time;
         let nx = rig.nx;
-        let spec = design.controller(mode, 0.0, 0.0);
-        let controller = build_for(&spec, &plant, ts)?.controller;
+        let controller = build_for(&design.controller(mode, 0.0, 0.0), &plant, ts)?.controller;
         let mut lab = Self {
             model: model(&plant, &Imperfections::ideal(), None)?,
             sensor: pendulab_sim::SensorChain::full_state(nx),
@@ -145,7 +149,8 @@ impl Lab {
             design,
             mode,
             reference: 0.0,
-            spec,
+            step_time: 0.0,
+            record_checked: true,
             controller,
             imperfections: Imperfections::ideal(),
             ts,
@@ -201,6 +206,7 @@ impl Lab {
     /// # Errors
     /// The factory's [`WebError::Controller`].
     pub fn set_design(&mut self, design: Design, mode: Mode) -> Result<(), WebError> {
+        self.record_checked = self.record_checked && design.same_plant_record(&self.design);
         self.design = design;
         self.mode = mode;
         self.rebuild()
@@ -223,9 +229,16 @@ impl Lab {
         self.rebuild()
     }
 
+    /// The controller rebuilt by the factory from the running design; its record is checked
+    /// against the plant only when it has not been (`record_checked`).
     fn rebuild(&mut self) -> Result<(), WebError> {
-        self.spec = self.design.controller(self.mode, self.reference, self.t);
-        self.controller = build_for(&self.spec, &self.plant, self.ts)?.controller;
+        let record = (!self.record_checked).then(|| self.design.record());
+        let spec = self
+            .design
+            .controller_with(self.mode, self.reference, self.t, record);
+        self.controller = build_for(&spec, &self.plant, self.ts)?.controller;
+        self.step_time = self.t;
+        self.record_checked = true;
         Ok(())
     }
 
@@ -393,8 +406,15 @@ impl Lab {
     }
 
     /// The controller spec running now.
-    pub fn controller_spec(&self) -> &ControllerSpec {
-        &self.spec
+    pub fn controller_spec(&self) -> ControllerSpec {
+        self.design
+            .controller(self.mode, self.reference, self.step_time)
+    }
+
+    /// Whether the controller swings up from hanging before balancing (the mode is
+    /// [`Mode::SwingUp`] and the gain is not the servo's).
+    pub fn swings_up(&self) -> bool {
+        self.mode == Mode::SwingUp && !self.design.is_servo()
     }
 
     /// The design running now.
