@@ -228,23 +228,38 @@ pub(super) fn p1c223_pcont(ctx: &RunContext) -> Result<ExampleOutput, BookError>
             3.0,
         )?);
     }
-    out.notes.push(NOTE_GAINS.into());
-    out.notes.push(
+    finish_model_match(
+        ctx,
+        out,
+        ID223,
         "Reference model ω_n²/(s² + 2ζω_n s + ω_n²), ζ = 1/√2. Speed matching equates the \
          constant terms: k_P = ω_n²/b_c; partial model matching the ratio of the first two \
-         coefficients: k_P = a_c ω_n/(2 b_c ζ). a_c, b_c from table 3.5."
-            .into(),
-    );
+         coefficients: k_P = a_c ω_n/(2 b_c ζ). a_c, b_c from table 3.5.",
+        "P control against the reference models",
+        &runs,
+    )
+}
+
+/// The tail of the model-matching examples (p1c223, p1c224 P–D): the gains note and the
+/// example's `note`, the figure `{id}_response` (titled `{id}: {title}`) of the runs against
+/// the reference models, and the note that the M-file displays no number.
+fn finish_model_match(
+    ctx: &RunContext,
+    mut out: ExampleOutput,
+    id: &str,
+    note: &str,
+    title: &str,
+    runs: &[CartRun],
+) -> Result<ExampleOutput, BookError> {
+    out.notes.push(NOTE_GAINS.into());
+    out.notes.push(note.into());
     if ctx.figures {
-        let fig = model_match_figure(
-            "p1c223_pcont: P control against the reference models",
-            &runs,
-        );
-        write_figure(&mut out, "p1c223_pcont_response", fig);
+        let fig = model_match_figure(&format!("{id}: {title}"), runs);
+        write_figure(&mut out, &format!("{id}_response"), fig);
     }
     no_display_note(
         &mut out,
-        "p1c223_pcont",
+        id,
         "it sets the gains and draws the responses of its Simulink model",
     );
     Ok(out)
@@ -299,25 +314,15 @@ pub(super) fn p1c224_p_dcont(ctx: &RunContext) -> Result<ExampleOutput, BookErro
             3.0,
         )?);
     }
-    out.notes.push(NOTE_GAINS.into());
-    out.notes.push(
+    finish_model_match(
+        ctx,
+        out,
+        ID224PD,
         "P–D (derivative on the output z): the loop is exactly the reference model \
-         ω_n²/(s² + 2ζω_n s + ω_n²) with k_P = ω_n²/b_c, k_D = (2ζω_n − a_c)/b_c, ζ = 1/√2."
-            .into(),
-    );
-    if ctx.figures {
-        let fig = model_match_figure(
-            "p1c224_p_dcont: P–D control and its reference models",
-            &runs,
-        );
-        write_figure(&mut out, "p1c224_p_dcont_response", fig);
-    }
-    no_display_note(
-        &mut out,
-        "p1c224_p_dcont",
-        "it sets the gains and draws the responses of its Simulink model",
-    );
-    Ok(out)
+         ω_n²/(s² + 2ζω_n s + ω_n²) with k_P = ω_n²/b_c, k_D = (2ζω_n − a_c)/b_c, ζ = 1/√2.",
+        "P–D control and its reference models",
+        &runs,
+    )
 }
 
 /// I–PD gains `[k_I, k_P, k_D]` from `s³ + α₂ω_n s² + α₁ω_n² s + ω_n³`, in the order of

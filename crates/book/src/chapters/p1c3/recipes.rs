@@ -205,26 +205,21 @@ pub(super) fn p1c321_cdip_id_cart(ctx: &RunContext) -> Result<ExampleOutput, Boo
          (43.23); its middle coefficient (6.227) is printed to 0.001 and is ac, compared above."
             .into(),
     );
-    out.notes.push(
+    finish_fit(
+        ctx,
+        ID321C,
+        out,
         "As p1c321_cdip_id_cart.m on the measured k_P = 10 step: the samples from t = 1 s \
          (line 20), Tp = the middle of the first peak plateau after the step [s] (lines 28-39), \
          Amax = zmax − zc with the reference zc = 0.2 m (line 47) and gamma = −ln(Amax/zc)/Tp \
          (line 49), delta = π/Tp, omega_n = √(gamma² + delta²), zeta = gamma/omega_n, ac = \
          2 zeta omega_n, bc = omega_n²/kP (lines 50-56); overshoot = Amax; sysGyr_num, \
          sysGyr_den: the displayed tf (line 71). fit_percent (pendulab): MATLAB compare fit of \
-         the identified loop."
-            .into(),
-    );
-    save_fit(
-        ctx,
-        ID321C,
-        &mut out,
-        "p1c321_cdip_id_cart_fit",
-        "p1c321_cdip_id_cart: k_P = 10 step, measured and identified",
+         the identified loop.",
+        "k_P = 10 step, measured and identified",
         (t, "cart position z [m]", z),
         &val,
-    )?;
-    Ok(out)
+    )
 }
 
 pub(super) const ID321D: &str = "p1c321_cdip_id_pend";
@@ -338,23 +333,43 @@ pub(super) fn p1c321_cdip_id_pend(ctx: &RunContext) -> Result<ExampleOutput, Boo
             "T_average and lambda_average again, to three digits",
         )],
     );
-    out.notes.push(
+    finish_fit(
+        ctx,
+        ID321D,
+        out,
         "Free oscillation, window 35–51 s: mean period T̄ (peak to peak) [s] and mean decay \
          ratio λ̄ = A_{i+1}/A_i; γ = ln(1/λ̄)/T̄, δ = 2π/T̄, ω_n = √(γ² + δ²), ζ = γ/ω_n, \
          J_p = m_p g l_p/ω_n² − m_p l_p², μ_p = 2ζω_n (J_p + m_p l_p²). The book's method \
          ignores the swing's large-amplitude period lengthening (≈ 1.7 % here), which makes \
          J_p come out high (table 3.5: 1.59e-3); `pendulab identify pend-free \
-         --amplitude-correction` removes it."
-            .into(),
-    );
-    save_fit(
-        ctx,
-        ID321D,
-        &mut out,
-        "p1c321_cdip_id_pend_fit",
-        "p1c321_cdip_id_pend: free oscillation, measured and identified",
+         --amplitude-correction` removes it.",
+        "free oscillation, measured and identified",
         (t, "pendulum angle φ [rad]", th),
         &val,
+    )
+}
+
+/// The tail of the §3.2.1 identification examples: the example's `note` (how it follows its
+/// M-file), then the fit figure `{id}_fit`, titled `{id}: {what}`, of the measured `series`
+/// against the identified model's output (`save_fit`).
+fn finish_fit(
+    ctx: &RunContext,
+    id: &'static str,
+    mut out: ExampleOutput,
+    note: &str,
+    what: &str,
+    series: (&[f64], &str, &[f64]),
+    val: &pendulab_ident::Validation,
+) -> Result<ExampleOutput, BookError> {
+    out.notes.push(note.into());
+    save_fit(
+        ctx,
+        id,
+        &mut out,
+        &format!("{id}_fit"),
+        &format!("{id}: {what}"),
+        series,
+        val,
     )?;
     Ok(out)
 }
