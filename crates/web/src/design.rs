@@ -10,8 +10,10 @@
 //! ([`LmiCertificate`]).
 //!
 //! The linearisation is the plant spec's own (`PlantParameters::linearize_upright`, the arm at
-//! `θ₁ₑ = 0`; `docs/model.md` §1–2); the designs are `pendulab_lti::design::{lqr, lq_servo,
-//! place}`, whose sign convention is the library's `u = −K x` (`docs/model.md` §4). The gain is
+//! `θ₁ₑ = 0`; `docs/model.md` §1–2). The LQR and the servo (LQR on the augmentation of
+//! `pendulab_lti::design::integral_augmentation`) are solved by
+//! `pendulab_lti::equations::riccati::care_compact`, placement by `pendulab_lti::design::place`;
+//! the sign convention is the library's `u = −K x` (`docs/model.md` §4). The gain is
 //! handed to the controller spec as `k` (or `k1`, `k2`) with the design record
 //! (`designed_for`, `pendulab_control::spec::DesignRecord`), so the controller that runs in the
 //! lab, in a response and in an exported controller file is the gain shown.
