@@ -14,11 +14,12 @@
 
 use super::{BenchReport, Budget};
 use anyhow::{Result, bail};
+use pendulab_control::inspect::{Inspected, Update};
 use pendulab_control::mpc::{LinearMpc, MpcController, QpStatus, WarmStart};
 use pendulab_control::spec::MpcSpec;
 use pendulab_lti::Mat;
 use pendulab_plants::{CartEquilibrium, CartPendulum};
-use pendulab_sim::{Controller, SampledLoop, SampledOptions};
+use pendulab_sim::{SampledLoop, SampledOptions};
 use serde_json::json;
 use std::time::Instant;
 
@@ -30,37 +31,22 @@ const CLARABEL_EVERY: usize = 10;
 /// A kept QP: `g`, `w`, the warm-started plan, the measurement.
 type Kept = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
 
-/// The MPC timed update by update, keeping every `CLARABEL_EVERY`-th QP's data.
-struct Timed {
-    inner: MpcController,
+/// What the timed runs keep: each update's time, and every `CLARABEL_EVERY`-th QP's data
+/// if `keep`.
+struct Timing {
     seconds: Vec<f64>,
     kept: Vec<Kept>,
     keep: bool,
 }
 
-impl Controller for Timed {
-    fn ny(&self) -> usize {
-        self.inner.ny()
-    }
-    fn nu(&self) -> usize {
-        self.inner.nu()
-    }
-    fn reset(&mut self) {
-        self.inner.reset()
-    }
-    fn sample_time(&self) -> Option<f64> {
-        self.inner.sample_time()
-    }
-    fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
-        let start = Instant::now();
-        self.inner.update(t, y, u);
-        self.seconds.push(start.elapsed().as_secs_f64());
-        if self.keep && self.seconds.len() % CLARABEL_EVERY == 1 {
-            let mpc = self.inner.mpc();
-            let (g, w) = mpc.last_qp_vectors();
-            self.kept
-                .push((g.to_vec(), w.to_vec(), mpc.plan().to_vec(), y.to_vec()));
-        }
+/// The inspector of the timed MPC (`pendulab_control::inspect`).
+fn time_update(s: &mut Timing, c: &MpcController, up: &Update<'_>) {
+    s.seconds.push(up.seconds);
+    if s.keep && s.seconds.len() % CLARABEL_EVERY == 1 {
+        let mpc = c.mpc();
+        let (g, w) = mpc.last_qp_vectors();
+        s.kept
+            .push((g.to_vec(), w.to_vec(), mpc.plan().to_vec(), up.y.to_vec()));
     }
 }
 
@@ -103,12 +89,15 @@ fn run_once(keep: bool) -> Result<Run> {
     let x0 = [0.0, 10f64.to_radians(), 0.0, 0.0];
     let mut l = SampledLoop::new(
         CartPendulum::book(),
-        Timed {
-            inner: ctrl,
-            seconds: Vec::with_capacity(5001),
-            kept: Vec::new(),
-            keep,
-        },
+        Inspected::new(
+            ctrl,
+            Timing {
+                seconds: Vec::with_capacity(5001),
+                kept: Vec::new(),
+                keep,
+            },
+            time_update,
+        ),
         SampledOptions {
             t_final: T_FINAL,
             ..Default::default()
@@ -121,8 +110,8 @@ fn run_once(keep: bool) -> Result<Run> {
     let c = l.controller();
     let s = *c.inner.statistics();
     Ok(Run {
-        seconds: c.seconds.clone(),
-        kept: c.kept.clone(),
+        seconds: c.state.seconds.clone(),
+        kept: c.state.kept.clone(),
         mean_iterations: s.total_iterations as f64 / s.solves.max(1) as f64,
         max_iterations: s.max_iterations,
         fallbacks: s.infeasible + s.max_iterations_hit,

@@ -19,6 +19,7 @@ use anyhow::Result;
 use pendulab_lti::linalg::eigenvalues;
 use pendulab_lti::margins::stability_margins;
 use pendulab_lti::norms::hinf_norm;
+use pendulab_lti::random::SplitMix64;
 use pendulab_lti::{Complex64, Continuous, Mat, StateSpace};
 use serde_json::json;
 
@@ -38,36 +39,18 @@ pub fn workloads() -> Vec<Workload> {
     ]
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014), uniform in `[−1, 1)`.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 * (2.0 / (1u64 << 53) as f64) - 1.0
-    }
-    /// Row by row.
-    fn matrix(&mut self, r: usize, c: usize) -> Mat {
-        let mut m = Mat::zeros(r, c);
-        for i in 0..r {
-            for j in 0..c {
-                m[(i, j)] = self.uniform();
-            }
-        }
-        m
-    }
+/// An `r × c` matrix of `pendulab_lti::random::SplitMix64::symmetric` draws (uniform in
+/// `[−1, 1)`), filled row by row: the generator's column-by-column `c × r` matrix, transposed.
+fn rows(g: &mut SplitMix64, r: usize, c: usize) -> Mat {
+    g.matrix(c, r).transpose()
 }
 
 /// The random stable system of the module documentation.
 fn random_stable(seed: u64, n: usize, p: usize, m: usize) -> Result<StateSpace<Continuous>> {
-    let mut g = SplitMix64(seed);
-    let a0 = g.matrix(n, n);
-    let b = g.matrix(n, m);
-    let c = g.matrix(p, n);
+    let mut g = SplitMix64::new(seed);
+    let a0 = rows(&mut g, n, n);
+    let b = rows(&mut g, n, m);
+    let c = rows(&mut g, p, n);
     let shift = eigenvalues(&a0)?
         .iter()
         .map(|l| l.re)
