@@ -26,6 +26,9 @@ use crate::convert::{OneD, matrix, matrix_to_numpy, slice_to_numpy, vector};
 use crate::errors::{Kind, new_err};
 use crate::lti::system::{StateSpace, Sys};
 
+/// A 1-d `float64` array returned to Python.
+type Vector<'py> = Bound<'py, numpy::PyArray1<f64>>;
+
 fn vec_of(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
     Ok(vector(obj, what)?.as_slice().to_vec())
 }
@@ -338,10 +341,7 @@ impl NativeLinearMpc {
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         u_prev: &Bound<'py, PyAny>,
-    ) -> PyResult<(
-        Bound<'py, numpy::PyArray1<f64>>,
-        Bound<'py, numpy::PyArray1<f64>>,
-    )> {
+    ) -> PyResult<(Vector<'py>, Vector<'py>)> {
         let x = vec_of(x, "x")?;
         let u = vec_of(u_prev, "u_prev")?;
         let mut g = vec![0.0; self.mpc.hessian().nrows()];
