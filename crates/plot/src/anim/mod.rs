@@ -31,6 +31,11 @@ use crate::color::Color;
 use crate::error::{PlotError, Result};
 use crate::font::SVG_FONT_FAMILY;
 use crate::style::LineStyle;
+use draw::{ARM, DARK, POST, RAIL, View, draw_cart_body, draw_rod};
+use frames::{Palette, TRANSPARENT, changed_box};
+
+mod draw;
+mod frames;
 
 /// Drawing geometry of the cart-type pendulum, in metres. θ is measured from the upright
 /// vertical; the pendulum tip is at (z + L sin θ, L cos θ) relative to the rail's height at
@@ -779,149 +784,5 @@ fn num_fine(v: f64) -> String {
         "0".into()
     } else {
         s.to_string()
-    }
-}
-
-struct View {
-    scale: f64,
-    cx: f64,
-    cy: f64,
-}
-
-impl View {
-    fn p(&self, x: f64, y: f64) -> (f64, f64) {
-        (self.cx + self.scale * x, self.cy - self.scale * y)
-    }
-}
-
-const RAIL: Color = Color::rgb(120, 120, 120);
-const DARK: Color = Color::rgb(45, 45, 45);
-const CART: Color = Color::rgb(70, 130, 190);
-const ARM: Color = Color::rgb(70, 130, 190);
-const POST: Color = Color::rgb(170, 170, 170);
-const ROD: Color = Color::rgb(200, 60, 40);
-const BOB: Color = Color::rgb(170, 40, 30);
-
-/// Cart body and wheels with the pivot at `p` (pixels).
-fn draw_cart_body(c: &mut dyn Canvas, p: (f64, f64), g: &CartGeometry, s: f64) {
-    let (hw, hh) = (g.cart_width * s / 2.0, g.cart_height * s / 2.0);
-    c.rect(
-        p.0 - hw,
-        p.1 - hh,
-        2.0 * hw,
-        2.0 * hh,
-        Some(CART),
-        Some(&LineStyle::new(DARK, 1.2)),
-    );
-    let r = g.wheel_radius * s;
-    for dx in [-0.6 * hw, 0.6 * hw] {
-        c.circle((p.0 + dx, p.1 + hh + r), r, Some(DARK), None);
-        c.circle((p.0 + dx, p.1 + hh + r), r * 0.35, Some(POST), None);
-    }
-}
-
-/// Pendulum rod from `a` to `b` with a bob of radius `r` at `b` and a pivot pin at `a`.
-fn draw_rod(c: &mut dyn Canvas, a: (f64, f64), b: (f64, f64), r: f64) {
-    c.polyline(&[a, b], &LineStyle::new(ROD, (0.45 * r).max(2.5)));
-    c.circle(b, r.max(3.0), Some(BOB), Some(&LineStyle::new(DARK, 1.0)));
-    c.circle(
-        a,
-        (0.45 * r).max(2.0),
-        Some(Color::WHITE),
-        Some(&LineStyle::new(DARK, 1.2)),
-    );
-}
-
-const TRANSPARENT: u8 = 255;
-
-/// Fixed GIF palette: the scene colours blended with white in 16 steps, a grey ramp, and a
-/// 5-bit-per-channel nearest-colour lookup table.
-struct Palette {
-    bytes: Vec<u8>,
-    lut: Vec<u8>,
-}
-
-impl Palette {
-    fn new() -> Self {
-        let mut cols: Vec<Color> = Vec::new();
-        for base in [RAIL, CART, ROD, BOB, POST, Color::rgb(30, 60, 110)] {
-            for k in 0..16 {
-                cols.push(base.mix(Color::WHITE, k as f64 / 16.0));
-            }
-        }
-        for k in 0..64 {
-            let g = (k * 255 / 63) as u8;
-            cols.push(Color::rgb(g, g, g));
-        }
-        // Blends of the rod and bob over the cart and the arm.
-        for base in [ROD, BOB, DARK] {
-            for k in 1..8 {
-                cols.push(base.mix(CART, k as f64 / 8.0));
-            }
-        }
-        cols.truncate(255);
-        let mut bytes = Vec::with_capacity(768);
-        for c in &cols {
-            bytes.extend_from_slice(&[c.r, c.g, c.b]);
-        }
-        while bytes.len() < 768 {
-            bytes.extend_from_slice(&[255, 255, 255]);
-        }
-        let mut lut = vec![0u8; 32 * 32 * 32];
-        for (i, e) in lut.iter_mut().enumerate() {
-            // Bin centres spread over the full range, so that 31 maps to 255 (pure white).
-            let level = |v: usize| v * 255 / 31;
-            let (r, g, b) = (level((i >> 10) & 31), level((i >> 5) & 31), level(i & 31));
-            let mut best = (u32::MAX, 0u8);
-            for (k, c) in cols.iter().enumerate() {
-                let d = (c.r as i32 - r as i32).pow(2) as u32
-                    + (c.g as i32 - g as i32).pow(2) as u32
-                    + (c.b as i32 - b as i32).pow(2) as u32;
-                if d < best.0 {
-                    best = (d, k as u8);
-                }
-            }
-            *e = best.1;
-        }
-        Self { bytes, lut }
-    }
-    /// Palette indices of an opaque premultiplied RGBA image.
-    fn index_image(&self, rgba: &[u8]) -> Vec<u8> {
-        rgba.chunks_exact(4)
-            .map(|p| {
-                self.lut[((p[0] as usize >> 3) << 10)
-                    | ((p[1] as usize >> 3) << 5)
-                    | (p[2] as usize >> 3)]
-            })
-            .collect()
-    }
-}
-
-/// Bounding box (x0, y0, x1, y1, inclusive) of the pixels that differ, or `None`.
-fn changed_box(a: &[u8], b: &[u8], w: usize, h: usize) -> Option<(usize, usize, usize, usize)> {
-    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
-    for y in 0..h {
-        let ra = &a[y * w..(y + 1) * w];
-        let rb = &b[y * w..(y + 1) * w];
-        if ra == rb {
-            continue;
-        }
-        let first = ra.iter().zip(rb).position(|(p, q)| p != q).unwrap_or(0);
-        let last = w
-            - 1
-            - ra.iter()
-                .rev()
-                .zip(rb.iter().rev())
-                .position(|(p, q)| p != q)
-                .unwrap_or(0);
-        x0 = x0.min(first);
-        x1 = x1.max(last);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    if x0 == usize::MAX {
-        None
-    } else {
-        Some((x0, y0, x1, y1))
     }
 }
