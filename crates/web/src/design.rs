@@ -382,7 +382,10 @@ impl Design {
         let mut record = DesignRecord::clone(&self.base);
         let (name, inputs) = match &self.method {
             Method::Lqr { q, r } => ("lqr", weight_inputs(q, *r)),
-            Method::Servo { q, r } => (pendulab_control::spec::design::SERVO_METHOD, weight_inputs(q, *r)),
+            Method::Servo { q, r } => (
+                pendulab_control::spec::design::SERVO_METHOD,
+                weight_inputs(q, *r),
+            ),
             Method::Place { poles } => ("place", pole_inputs(poles)),
             Method::Lmi { q, r, alpha } => {
                 let mut w = weight_inputs(q, *r);

@@ -1,9 +1,9 @@
 use super::super::tests::example;
 use super::figures::href;
 use super::*;
-use std::path::Path;
 use crate::output::Value;
 use pendulab_lti::Complex64;
+use std::path::Path;
 
 /// The `<article>` of one example in a page.
 fn article<'a>(page: &'a str, id: &str) -> &'a str {
