@@ -7,6 +7,7 @@
 use super::Designed;
 use crate::lab;
 use anyhow::{Context, Result, bail};
+use pendulab_control::spec::design::SERVO_METHOD;
 use pendulab_control::spec::{ControllerSpec, DesignRecord, build_for};
 use pendulab_plants::spec::PlantSpec;
 use serde::Serialize;
@@ -73,11 +74,17 @@ fn body(plant: &PlantSpec, method: &'static str, rate_hz: f64, d: &Designed) -> 
         d.table
     );
     let loaded = pendulab_rig::config::load(&draft).context("the designed controller")?;
+    // The record names the method as every front end does (the browser lab's servo too); the
+    // verb `servo` stays the file's stem and the JSON's `method`.
+    let record_method = match method {
+        "servo" => SERVO_METHOD,
+        other => other,
+    };
     let record = DesignRecord::new(
         plant,
         vec![0.0; 4],
         None,
-        method,
+        record_method,
         d.record.iter().cloned().collect(),
     );
     #[derive(Serialize)]
