@@ -157,7 +157,7 @@ fn infeasible_level_is_a_status() {
 }
 
 /// State feedback: the scalar full-information problem (`γ_opt = 1/√(1 + a²)` at `K = −1/a`
-/// for `a < 0`), and the fixture plants with `D₁₁ = 0` but the mixed-sensitivity ones
+/// for `a < 0`), and every fixture plant with `D₁₁ = 0` (the mixed-sensitivity one included)
 /// against the Riccati γ-iteration; the
 /// gains close stable loops below their level.
 #[test]
@@ -173,12 +173,21 @@ fn state_feedback_hinf_matches_riccati() {
         );
         assert!((sf.gain.unwrap()[(0, 0)] - 1.0).abs() < 1e-2);
         for (name, plant, _) in cases() {
-            // D₁₁ ≠ 0 has no Riccati counterpart here; the mixed-sensitivity plants are
-            // ill-conditioned for the state-feedback LMIs, which have no balanced coordinates.
-            if plant.d11().iter().any(|v| *v != 0.0) || name.starts_with("mixsyn") {
+            // D₁₁ ≠ 0 has no Riccati counterpart here.
+            if plant.d11().iter().any(|v| *v != 0.0) {
                 continue;
             }
             let lmi = hinf_state_feedback_lmi(&plant, &options(backend)).unwrap();
+            if !agrees(backend, &name) && lmi.gain.is_none() {
+                // Clarabel's X on the mixed-sensitivity plant gives K = −LX⁻¹ an unstable
+                // loop: the synthesis must say so rather than return that gain.
+                assert!(
+                    matches!(lmi.status, Status::NumericalTrouble { .. }) && lmi.gamma.is_none(),
+                    "{name} {backend:?}: no gain but {:?}",
+                    lmi.status
+                );
+                continue;
+            }
             let g = lmi
                 .gamma
                 .unwrap_or_else(|| panic!("{name} {backend:?}: {:?}", lmi.status));
@@ -202,7 +211,7 @@ fn state_feedback_hinf_matches_riccati() {
                 plant.d11(),
             )
             .unwrap();
-            assert!(cl.is_stable().unwrap(), "{name}");
+            assert!(cl.is_stable().unwrap(), "{name} {backend:?}");
             let norm = hinf_norm(&cl, 1e-10).unwrap().value;
             assert!(norm <= g * (1.0 + GAMMA_AGREEMENT), "{name}: {norm} vs {g}");
         }

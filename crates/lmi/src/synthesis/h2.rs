@@ -75,6 +75,10 @@ pub struct H2StateFeedbackLmi {
 /// State-feedback H2 synthesis by LMIs (module documentation). Uses `A, B₁, B₂, C₁, D₁₂`;
 /// `options.relax` is not used.
 ///
+/// The gain is returned only if its own closed loop is stable with `‖T_zw‖₂` at most the
+/// certified norm (relative slack 10⁻⁴, absolute `10·√margin`); otherwise `norm` and `gain`
+/// are `None` and the status is [`Status::NumericalTrouble`] with the reason.
+///
 /// # Errors
 /// [`LmiError::InvalidArgument`] for `D₁₁ ≠ 0` (infinite H2 norm), a plant without states
 /// or controls, or a margin that is not positive; modelling and solver errors.
@@ -123,6 +127,25 @@ pub fn h2_state_feedback_lmi(
     };
     if out.solution.all_checks_pass() {
         let (gain, xv) = super::hinf::state_feedback_gain(&out.solution, &x, &l)?;
+        let level = out
+            .solution
+            .objective
+            .map_or(f64::NAN, |t| t.max(0.0).sqrt());
+        // As for the H∞ gain: check the loop itself (stable, ‖T_zw‖₂ at most the certified
+        // norm up to the solver's tolerances, with an absolute floor of 10·√margin for plants
+        // whose optimum is 0).
+        let floor = 10.0 * options.margin.sqrt();
+        if let Some(reason) = super::hinf::state_feedback_loop_fails(plant, &gain, |cl| {
+            let norm = pendulab_lti::norms::h2_norm(cl)?;
+            Ok(
+                (norm <= level * (1.0 + super::hinf::STATE_FEEDBACK_NORM_SLACK) + floor)
+                    .then_some(())
+                    .ok_or(format!("‖T_zw‖₂ = {norm:e} above the certified {level:e}")),
+            )
+        })? {
+            out.status = Status::NumericalTrouble { reason };
+            return Ok(out);
+        }
         out.gain = Some(gain);
         out.norm = out.solution.objective.map(|t| t.max(0.0).sqrt());
         out.x = Some(xv);

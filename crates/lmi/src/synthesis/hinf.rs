@@ -529,6 +529,10 @@ fn reconstruct(
 /// State-feedback H∞ synthesis by the bounded real lemma (module documentation): the minimal
 /// `γ` and the gain `K = −LX⁻¹` there.
 ///
+/// The gain is returned only if its own closed loop is stable with `‖T_zw‖∞ ≤ (1 + 10⁻⁴)·γ`
+/// (lti's `hinf_norm`); otherwise `gamma` and `gain` are `None` and the status is
+/// [`Status::NumericalTrouble`] with the reason (an ill-conditioned `X` at the optimum).
+///
 /// # Errors
 /// [`LmiError::InvalidArgument`] for a plant without states or controls or invalid options;
 /// modelling and solver errors.
@@ -567,11 +571,53 @@ pub fn hinf_state_feedback_lmi(
     };
     if out.solution.all_checks_pass() {
         let (gain, xv) = state_feedback_gain(&out.solution, &x, &l)?;
+        let level = out.solution.objective.unwrap_or(f64::NAN);
+        // The certificate holds up to the solver's tolerances; an ill-conditioned X can still
+        // give a gain whose loop is unstable: check the loop itself.
+        if let Some(reason) = state_feedback_loop_fails(plant, &gain, |cl| {
+            let norm = hinf_norm(cl, 1e-10)?.value;
+            Ok((norm <= level * (1.0 + STATE_FEEDBACK_NORM_SLACK))
+                .then_some(())
+                .ok_or(format!("‖T_zw‖∞ = {norm:e} above γ = {level:e}")))
+        })? {
+            out.status = Status::NumericalTrouble { reason };
+            return Ok(out);
+        }
         out.gain = Some(gain);
         out.gamma = out.solution.objective;
         out.x = Some(xv);
     }
     Ok(out)
+}
+
+/// Relative slack on the level a state-feedback gain's closed loop must meet: the strict LMIs
+/// hold up to the solver's tolerances.
+pub(super) const STATE_FEEDBACK_NORM_SLACK: f64 = 1e-4;
+
+/// `None` if the loop `(A − B₂K, B₁, C₁ − D₁₂K, D₁₁)` of gain `K` (`u = −Kx`) is stable and
+/// passes `norm_check`; otherwise the reason (an unstable pole, or `norm_check`'s message).
+pub(super) fn state_feedback_loop_fails(
+    plant: &StandardPlant,
+    k: &Mat,
+    norm_check: impl Fn(&StateSpace<Continuous>) -> Result<std::result::Result<(), String>>,
+) -> Result<Option<String>> {
+    let cl = StateSpace::continuous(
+        plant.a() - plant.b2() * k,
+        plant.b1(),
+        plant.c1() - plant.d12() * k,
+        plant.d11(),
+    )?;
+    if !cl.is_stable()? {
+        return Ok(Some(format!(
+            "the gain from the solve does not stabilise the plant (largest real part of a \
+             closed-loop pole {:e}): X is too ill-conditioned for K = −LX⁻¹",
+            cl.poles()?
+                .iter()
+                .map(|p| p.re)
+                .fold(f64::NEG_INFINITY, f64::max)
+        )));
+    }
+    Ok(norm_check(&cl)?.err())
 }
 
 /// The state-feedback gain `K = −L X⁻¹` (`u = −K x`) and the symmetrised `X` of a solved
