@@ -6,6 +6,7 @@
 
 mod common;
 use common::*;
+use pendulab_testkit::json::vector;
 
 use pendulab_ident::{
     ArxOrders, Dataset, Differentiator, Experiment, FilterHold, IoRecord, LsOptions, MoespOptions,
@@ -32,14 +33,6 @@ fn cart(t0: f64, t1: f64, q: usize) -> (Vec<f64>, Vec<f64>) {
         .unwrap();
     let every = |x: &[f64]| x.iter().step_by(q).copied().collect::<Vec<f64>>();
     (every(d.column("v").unwrap()), every(d.column("z").unwrap()))
-}
-
-fn nums(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
 }
 
 #[test]
@@ -70,8 +63,8 @@ fn arx_on_the_cart_record_equals_the_library() {
     let (ue, ye) = cart(0.5, 5.0, 10);
     let (uv, yv) = cart(0.5, 9.0, 10);
     let m = arx(&[Experiment::new(&ue, &ye)], 0.01, ArxOrders::new(2, 2, 1)).unwrap();
-    assert_eq!(nums(&v["model"]["a"]), m.a);
-    assert_eq!(nums(&v["model"]["b"]), m.b);
+    assert_eq!(vector(&v["model"]["a"]), m.a);
+    assert_eq!(vector(&v["model"]["b"]), m.b);
     let fit = m.fit_percent(&uv, &yv).unwrap();
     assert_eq!(v["fit"]["percent"].as_f64().unwrap(), fit);
     assert_eq!(v["dt"].as_f64().unwrap(), 0.01);
@@ -171,7 +164,7 @@ fn moesp_on_the_cart_record_equals_the_library_and_saves_a_system() {
     let fit = s.fit_percent(&IoRecord::siso(&uv, &yv)).unwrap()[0];
     assert_eq!(v["fit"]["percent"].as_f64().unwrap(), fit);
     assert_eq!(v["model"]["order"], 2);
-    assert_eq!(nums(&v["model"]["singular_values"]), s.singular_values);
+    assert_eq!(vector(&v["model"]["singular_values"]), s.singular_values);
     assert!(v["physical"]["fit_percent"].as_f64().is_some());
     // The saved file is the model `pendulab eig` reads: its poles are the reported ones.
     let e = json(&pendulab(&["eig", &sys, "--json"]));
@@ -220,7 +213,7 @@ fn a_simulated_first_order_system_is_recovered() {
     let v = identify(&[
         "arx", "--data", &f, "--input", "u", "--output", "y", "--na", "1", "--nb", "1", "--json",
     ]);
-    let (am, bm) = (nums(&v["model"]["a"]), nums(&v["model"]["b"]));
+    let (am, bm) = (vector(&v["model"]["a"]), vector(&v["model"]["b"]));
     assert!((am[1] + a).abs() < 1e-10, "{am:?}");
     assert!((bm[0] - b).abs() < 1e-10, "{bm:?}");
     assert!((v["fit"]["percent"].as_f64().unwrap() - 100.0).abs() < 1e-6);

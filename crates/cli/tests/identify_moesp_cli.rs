@@ -6,9 +6,9 @@
 
 mod common;
 use common::*;
+use pendulab_testkit::json::vector;
 
 use pendulab_ident::{Dataset, IoRecord, MoespOptions, moesp};
-use serde_json::Value;
 
 /// `x_i(k+1) = p_i x_i(k) + b_i u(k)`, `y = Σ x_i + 0.2 u` on a deterministic ±1 input (an
 /// LCG's sign bit), as CSV `t, u, y` at 0.01 s.
@@ -28,14 +28,6 @@ fn third_order_csv(n: usize) -> String {
         }
     }
     s
-}
-
-fn nums(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
 }
 
 #[test]
@@ -73,12 +65,12 @@ fn max_order_is_the_librarys_cap() {
         let s = moesp(&[IoRecord::siso(u, y)], ts, opts).unwrap();
         assert_eq!(v["model"]["order"], s.order);
         assert_eq!(v["model"]["max_order"], serde_json::json!(cap));
-        assert_eq!(nums(&v["model"]["singular_values"]), s.singular_values);
+        assert_eq!(vector(&v["model"]["singular_values"]), s.singular_values);
         let a: Vec<Vec<f64>> = v["model"]["a"]
             .as_array()
             .unwrap()
             .iter()
-            .map(nums)
+            .map(vector)
             .collect();
         let want: Vec<Vec<f64>> = (0..s.order)
             .map(|i| s.model.a().row(i).iter().copied().collect())
