@@ -1,5 +1,6 @@
 use super::*;
 
+use crate::linalg::symmetrize;
 use crate::linalg::testing::splitmix_matrix as test_matrix;
 
 #[test]
