@@ -1,10 +1,14 @@
 //! `care_compact` (the compact small-order CARE: sign function, Newton–Kleinman, Hessenberg
 //! QR poles) against the general `care` and by the defining residual: the book's cart and arm
 //! weights (the cart's servo on `[x; w]` too) and random stabilisable systems of every order
-//! 1–6; the refusals hand over to the general solver (its errors, its solution).
+//! 1–6; the refusals hand over to the general solver (its errors, its solution). The warm
+//! start `care_compact_from` on slider walks and perturbed random problems, from a
+//! non-stabilising gain, and its refusals.
 
 use pendulab_lti::Mat;
-use pendulab_lti::equations::riccati::{COMPACT_MAX, care_compact, care_residual};
+use pendulab_lti::equations::riccati::{
+    COMPACT_MAX, CompactCare, care_compact, care_compact_from, care_residual,
+};
 use pendulab_lti::equations::{RiccatiOptions, care};
 use pendulab_lti::linalg::eigenvalues;
 use pendulab_lti::random::SplitMix64;
@@ -26,8 +30,13 @@ fn diag(d: &[f64]) -> Mat {
 /// general solver's (relative, Frobenius), the poles those of `eig(A − BK)` (general
 /// eigenvalue routine) within 1e-10 relative. Returns whether the compact path answered.
 fn agrees(a: &Mat, b: &Mat, q: &Mat, r: &Mat, what: &str) -> bool {
+    let c = care_compact(&rows(a), &rows(b), &rows(q), &rows(r), a.nrows()).unwrap();
+    agrees_with(&c, a, b, q, r, what)
+}
+
+/// [`agrees`] for a result `c` already computed (by either entry point).
+fn agrees_with(c: &CompactCare, a: &Mat, b: &Mat, q: &Mat, r: &Mat, what: &str) -> bool {
     let n = a.nrows();
-    let c = care_compact(&rows(a), &rows(b), &rows(q), &rows(r), n).unwrap();
     let g = care(a, b, q, r, None, &RiccatiOptions::default()).unwrap();
     let x = Mat::from_row_slice(n, n, c.x());
     let k = Mat::from_row_slice(b.ncols(), n, c.gain());
@@ -255,4 +264,136 @@ fn refusals_hand_over_to_the_general_solver() {
         care_compact(&[], &[], &[], &[], 0),
         Err(LtiError::InvalidArgument(_))
     ));
+}
+
+/// The warm start from the previous move's gain along slider walks (the browser lab's use):
+/// the cart's LQR and its servo on `[x; w]`, weights moved in steps of a tenth of a decade
+/// (and larger jumps) over several decades. Every result agrees with the general solver
+/// (`agrees_with`: residual, gain, `X`, poles), and the warm path answers nearly every move
+/// that the compact path answers from cold.
+#[test]
+fn warm_start_follows_slider_walks() {
+    let (a, b) = cart::upright();
+    let mut aa = Mat::zeros(5, 5);
+    aa.view_mut((0, 0), (4, 4)).copy_from(&a);
+    aa[(4, 0)] = -1.0;
+    let mut bb = Mat::zeros(5, 1);
+    bb.view_mut((0, 0), (4, 1)).copy_from(&b);
+    let (mut warm, mut total) = (0, 0);
+    for (a, b, q0) in [
+        (&a, &b, vec![10.0, 10.0, 0.0, 0.0]),
+        (&aa, &bb, vec![1.0, 5.0, 0.0, 0.0, 100.0]),
+    ] {
+        let n = a.nrows();
+        for (slider, step) in [(0, 0.1), (1, -0.1), (2, 0.25), (usize::MAX, 0.1)] {
+            let (mut q, mut r) = (q0.clone(), 1.0);
+            let mut k = care_compact(&rows(a), &rows(b), &rows(&diag(&q)), &[r], n)
+                .unwrap()
+                .gain()
+                .to_vec();
+            for mv in 0..30 {
+                let f = 10f64.powf(step);
+                if slider == usize::MAX {
+                    r *= f;
+                } else if q[slider] == 0.0 {
+                    q[slider] = 1e-2;
+                } else {
+                    q[slider] *= f;
+                }
+                let c =
+                    care_compact_from(&rows(a), &rows(b), &rows(&diag(&q)), &[r], n, &k).unwrap();
+                agrees_with(
+                    &c,
+                    a,
+                    b,
+                    &diag(&q),
+                    &diag(&[r]),
+                    &format!("n = {n}, slider {slider}, move {mv}: q = {q:?}, r = {r}"),
+                );
+                // Count the moves the compact path answers from cold (the others, at the
+                // extremes, are the general solver's either way).
+                let cold = care_compact(&rows(a), &rows(b), &rows(&diag(&q)), &[r], n).unwrap();
+                if !cold.general {
+                    total += 1;
+                    warm += usize::from(c.warm);
+                }
+                k = c.gain().to_vec();
+            }
+        }
+    }
+    assert!(
+        warm * 20 >= total * 19,
+        "warm path answered {warm} of {total}"
+    );
+}
+
+/// Random stabilisable systems of every order 1–6: the solution for perturbed weights (`Q`
+/// plus a random semidefinite term, `R` scaled by 1.3) from the unperturbed solution's gain
+/// agrees with the general solver, mostly by the warm path.
+#[test]
+fn warm_start_on_perturbed_random_problems() {
+    let mut rng = SplitMix64::new(20261207);
+    let (mut warm, mut total) = (0, 0);
+    for n in 1..=COMPACT_MAX {
+        for m in 1..=n.min(3) {
+            for trial in 0..8 {
+                let a = rng.matrix(n, n) * 2.0;
+                let b = rng.matrix(n, m);
+                let c = rng.matrix(n.max(2) - 1, n);
+                let q = c.transpose() * &c;
+                let s = rng.matrix(m, m);
+                let r = &s * s.transpose() + Mat::identity(m, m) * 0.1;
+                let Ok(c0) = care_compact(&rows(&a), &rows(&b), &rows(&q), &rows(&r), n) else {
+                    continue;
+                };
+                let d = rng.matrix(n, n) * 0.3;
+                let q1 = &q + d.transpose() * &d;
+                let r1 = &r * 1.3;
+                let c1 =
+                    care_compact_from(&rows(&a), &rows(&b), &rows(&q1), &rows(&r1), n, c0.gain())
+                        .unwrap();
+                agrees_with(
+                    &c1,
+                    &a,
+                    &b,
+                    &q1,
+                    &r1,
+                    &format!("n = {n}, m = {m}, trial {trial}"),
+                );
+                total += 1;
+                warm += usize::from(c1.warm);
+            }
+        }
+    }
+    assert!(total >= 80, "only {total} problems");
+    assert!(
+        warm * 10 >= total * 8,
+        "warm path answered {warm} of {total}"
+    );
+}
+
+/// A starting gain that does not stabilise `(A, B)` (zero on the unstable cart, its sign
+/// flipped) gives the stabilising solution all the same, not through the warm path; a gain
+/// of the wrong length or with a NaN is refused with the reason.
+#[test]
+fn warm_start_from_a_bad_gain() {
+    let (a, b) = cart::upright();
+    let (q, r) = cart::lqr_weights();
+    let k = care_compact(&rows(&a), &rows(&b), &rows(&q), &rows(&r), 4).unwrap();
+    let flipped: Vec<f64> = k.gain().iter().map(|v| -v).collect();
+    for (k0, what) in [(vec![0.0; 4], "zero gain"), (flipped, "flipped gain")] {
+        let c = care_compact_from(&rows(&a), &rows(&b), &rows(&q), &rows(&r), 4, &k0).unwrap();
+        assert!(
+            !c.warm,
+            "{what}: the warm path accepted a non-stabilising start"
+        );
+        agrees_with(&c, &a, &b, &q, &r, what);
+    }
+    for k0 in [vec![1.0; 3], vec![1.0, f64::NAN, 0.0, 0.0]] {
+        let e = care_compact_from(&rows(&a), &rows(&b), &rows(&q), &rows(&r), 4, &k0).unwrap_err();
+        assert!(
+            matches!(&e, LtiError::InvalidArgument(s) if s.contains("starting gain")),
+            "{e}"
+        );
+    }
 }

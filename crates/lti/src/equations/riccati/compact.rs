@@ -43,6 +43,16 @@
 //! imaginary axis — sends the problem to the general [`care`](super::care) (default options),
 //! whose solution (or error: not stabilisable, boundary eigenvalue, …) is returned instead;
 //! [`CompactCare::general`] says which path answered.
+//!
+//! ## Warm start
+//! [`care_compact_from`] replaces the sign function by Kleinman's step from a gain `K₀` the
+//! caller has, typically the previous solution's when a slider has changed `Q` or `R` but not
+//! `(A, B)`: `X₁` solves `(A − BK₀)ᵀX₁ + X₁(A − BK₀) + Q + K₀ᵀRK₀ = 0` (the cost of
+//! `u = −K₀x`), and the refinement above continues from `X₁` (up to 8 steps). For a
+//! stabilising `K₀` the iterates converge to the stabilising solution, quadratically once
+//! near (Kleinman 1968), so a nearby `K₀` needs a few `n(n+1)/2`-unknown linear solves
+//! instead of the sign function's `2n × 2n` inverses. The result is accepted by the same
+//! checks; if they fail, the sign function's path (and then the general solver) answers.
 
 use super::{RiccatiOptions, care};
 use crate::error::{LtiError, Result};
@@ -72,6 +82,9 @@ pub struct CompactCare {
     /// Whether the general [`care`](super::care) produced the result (the compact path
     /// refused the problem; module documentation).
     pub general: bool,
+    /// Whether the Newton–Kleinman iteration from the caller's gain produced the result
+    /// ([`care_compact_from`]; `false` when the sign function or the general solver did).
+    pub warm: bool,
 }
 
 impl CompactCare {
@@ -108,6 +121,15 @@ impl CompactCare {
 /// definite, no stabilising solution ([`LtiError::NotStabilizable`],
 /// [`LtiError::NotDetectable`], [`LtiError::BoundaryEigenvalue`]).
 pub fn care_compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize) -> Result<CompactCare> {
+    let m = shape(a, b, q, r, n)?;
+    if let Some(sol) = compact(a, b, q, r, n, m) {
+        return Ok(sol);
+    }
+    general(a, b, q, r, n, m)
+}
+
+/// The input count `m = b.len() / n`, or the error of slices that do not fit `n`.
+fn shape(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize) -> Result<usize> {
     let m = b.len().checked_div(n).unwrap_or(0);
     let fits = (1..=COMPACT_MAX).contains(&n)
         && (1..=n).contains(&m)
@@ -124,6 +146,43 @@ pub fn care_compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize) -> Res
             q.len(),
             r.len()
         )));
+    }
+    Ok(m)
+}
+
+/// [`care_compact`] started from the gain `k0` (`m × n`, row-major; `u = −K₀x`), typically
+/// the previous solution's when only `Q` and `R` have changed: Newton–Kleinman's iteration
+/// from `K₀`'s cost matrix replaces the sign function (module documentation, "Warm start").
+/// With a stabilising `K₀` near the answer this takes a few small Lyapunov solves; the
+/// result passes the same checks as [`care_compact`]'s, and when it does not (a `K₀` that
+/// does not stabilise `(A, B)`, or one too far for the iteration's step limit) the answer
+/// is [`care_compact`]'s, so the result never depends on `K₀` beyond rounding.
+///
+/// # Errors
+/// As [`care_compact`]; [`LtiError::InvalidArgument`] also when `k0` has not `m·n` entries
+/// or has a non-finite one.
+pub fn care_compact_from(
+    a: &[f64],
+    b: &[f64],
+    q: &[f64],
+    r: &[f64],
+    n: usize,
+    k0: &[f64],
+) -> Result<CompactCare> {
+    let m = shape(a, b, q, r, n)?;
+    if k0.len() != m * n || !k0.iter().all(|v| v.is_finite()) {
+        return Err(LtiError::InvalidArgument(format!(
+            "care_compact_from needs a finite starting gain K0 of m×n = {m}×{n} entries; got {} entries{}",
+            k0.len(),
+            if k0.iter().all(|v| v.is_finite()) {
+                ""
+            } else {
+                ", not all finite"
+            }
+        )));
+    }
+    if let Some(sol) = compact_from(a, b, q, r, k0, n, m) {
+        return Ok(sol);
     }
     if let Some(sol) = compact(a, b, q, r, n, m) {
         return Ok(sol);
@@ -150,6 +209,7 @@ fn general(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Re
         poles: [Complex64::new(0.0, 0.0); COMPACT_MAX],
         residual: sol.residual,
         general: true,
+        warm: false,
     };
     for i in 0..n {
         for j in 0..n {
@@ -165,33 +225,71 @@ fn general(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Re
     Ok(out)
 }
 
-/// The compact path; `None` refuses (module documentation).
+/// The compact path from the sign function; `None` refuses (module documentation).
 fn compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Option<CompactCare> {
-    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-    let symmetric =
-        |v: &[f64], k: usize| (0..k).all(|i| (0..i).all(|j| v[i * k + j] == v[j * k + i]));
-    if !(finite(a) && finite(b) && finite(q) && finite(r) && symmetric(q, n) && symmetric(r, m)) {
-        return None;
-    }
-    // R = LLᵀ, W = L⁻¹Bᵀ (m × n), G = WᵀW.
-    let mut l = [0.0; SQ];
-    l[..m * m].copy_from_slice(r);
-    if !cholesky(&mut l, m) {
-        return None;
-    }
-    let mut w = [0.0; SQ];
-    for j in 0..n {
-        for i in 0..m {
-            let s: f64 = (0..i).map(|p| l[i * m + p] * w[p * n + j]).sum();
-            w[i * n + j] = (b[j * m + i] - s) / l[i * m + i];
+    let f = Factors::new(a, b, q, r, n, m)?;
+    let x = sign_start(a, q, &f, n)?;
+    finish(a, b, q, &f, x, n, m, false)
+}
+
+/// The compact path from the gain `k0`; `None` refuses (module documentation).
+fn compact_from(
+    a: &[f64],
+    b: &[f64],
+    q: &[f64],
+    r: &[f64],
+    k0: &[f64],
+    n: usize,
+    m: usize,
+) -> Option<CompactCare> {
+    let f = Factors::new(a, b, q, r, n, m)?;
+    let x = kleinman_start(a, b, q, r, k0, n, m)?;
+    finish(a, b, q, &f, x, n, m, true)
+}
+
+/// The weights' factors every path shares: `R = LLᵀ`, `W = L⁻¹Bᵀ` (`m × n`), `G = WᵀW`.
+struct Factors {
+    l: [f64; SQ],
+    w: [f64; SQ],
+    g: [f64; SQ],
+}
+
+impl Factors {
+    /// `None` for non-finite data, a `Q` or `R` not exactly symmetric, or `R` not positive
+    /// definite.
+    fn new(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Option<Self> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let symmetric =
+            |v: &[f64], k: usize| (0..k).all(|i| (0..i).all(|j| v[i * k + j] == v[j * k + i]));
+        if !(finite(a) && finite(b) && finite(q) && finite(r) && symmetric(q, n) && symmetric(r, m))
+        {
+            return None;
         }
-    }
-    let mut g = [0.0; SQ];
-    for i in 0..n {
+        let mut l = [0.0; SQ];
+        l[..m * m].copy_from_slice(r);
+        if !cholesky(&mut l, m) {
+            return None;
+        }
+        let mut w = [0.0; SQ];
         for j in 0..n {
-            g[i * n + j] = (0..m).map(|p| w[p * n + i] * w[p * n + j]).sum();
+            for i in 0..m {
+                let s: f64 = (0..i).map(|p| l[i * m + p] * w[p * n + j]).sum();
+                w[i * n + j] = (b[j * m + i] - s) / l[i * m + i];
+            }
         }
+        let mut g = [0.0; SQ];
+        for i in 0..n {
+            for j in 0..n {
+                g[i * n + j] = (0..m).map(|p| w[p * n + i] * w[p * n + j]).sum();
+            }
+        }
+        Some(Self { l, w, g })
     }
+}
+
+/// The first `X` from the sign function of the scaled Hamiltonian (module documentation).
+fn sign_start(a: &[f64], q: &[f64], f: &Factors, n: usize) -> Option<[f64; SQ]> {
+    let g = &f.g;
     let (qn, gn) = (fro(&q[..n * n]), fro(&g[..n * n]));
     let s = if qn > 0.0 && gn > 0.0 {
         (qn / gn).sqrt()
@@ -270,17 +368,73 @@ fn compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Op
         }
     }
     symmetrize(&mut x, n);
+    Some(x)
+}
 
+/// The first `X` from the gain `k0` (`m × n`): Kleinman's step, the cost matrix of
+/// `u = −K₀x` under the weights, `(A − BK₀)ᵀX + X(A − BK₀) + Q + K₀ᵀRK₀ = 0`. When `K₀`
+/// stabilises `(A, B)` this `X` bounds the stabilising solution from above and Newton's
+/// iteration from it converges to that solution (Kleinman 1968); for any other `K₀`,
+/// [`finish`]'s checks refuse what comes out.
+fn kleinman_start(
+    a: &[f64],
+    b: &[f64],
+    q: &[f64],
+    r: &[f64],
+    k0: &[f64],
+    n: usize,
+    m: usize,
+) -> Option<[f64; SQ]> {
+    if !k0.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let mut f = [0.0; SQ];
+    let mut c = [0.0; SQ];
+    let mut rk = [0.0; SQ];
+    for i in 0..m {
+        for j in 0..n {
+            rk[i * n + j] = (0..m).map(|p| r[i * m + p] * k0[p * n + j]).sum();
+        }
+    }
+    for i in 0..n {
+        for j in 0..n {
+            f[i * n + j] = a[i * n + j] - (0..m).map(|p| b[i * m + p] * k0[p * n + j]).sum::<f64>();
+            c[i * n + j] =
+                q[i * n + j] + (0..m).map(|p| k0[p * n + i] * rk[p * n + j]).sum::<f64>();
+        }
+    }
+    let mut x = [0.0; SQ];
+    if !lyapunov(&f, &c, n, &mut x) {
+        return None;
+    }
+    symmetrize(&mut x, n);
+    Some(x)
+}
+
+/// Newton–Kleinman refinement of `x`, then the gain, the closed-loop poles and the
+/// acceptance checks (module documentation); `warm` records which start gave `x`.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    a: &[f64],
+    b: &[f64],
+    q: &[f64],
+    fa: &Factors,
+    mut x: [f64; SQ],
+    n: usize,
+    m: usize,
+    warm: bool,
+) -> Option<CompactCare> {
+    let (l, w, g) = (&fa.l, &fa.w, &fa.g);
     // Newton–Kleinman refinement.
     let mut res = [0.0; SQ];
-    let mut rel = residual(a, &g, q, &x, n, &mut res);
+    let mut rel = residual(a, g, q, &x, n, &mut res);
     let floor = 10.0 * n as f64 * f64::EPSILON;
-    for _ in 0..6 {
+    for _ in 0..if warm { 8 } else { 6 } {
         if rel <= floor {
             break;
         }
         let mut f = [0.0; SQ];
-        closed_loop(a, &g, &x, n, &mut f);
+        closed_loop(a, g, &x, n, &mut f);
         let mut d = [0.0; SQ];
         if !lyapunov(&f, &res, n, &mut d) {
             break;
@@ -291,7 +445,7 @@ fn compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Op
         }
         symmetrize(&mut trial, n);
         let mut trial_res = [0.0; SQ];
-        let trial_rel = residual(a, &g, q, &trial, n, &mut trial_res);
+        let trial_rel = residual(a, g, q, &trial, n, &mut trial_res);
         // A NaN residual is no improvement either.
         if trial_rel.partial_cmp(&rel) != Some(std::cmp::Ordering::Less) {
             break;
@@ -335,6 +489,7 @@ fn compact(a: &[f64], b: &[f64], q: &[f64], r: &[f64], n: usize, m: usize) -> Op
         poles,
         residual: rel,
         general: false,
+        warm,
     })
 }
 
