@@ -71,7 +71,7 @@ mod subspace;
 
 pub use boundary::{BOUNDARY_MAX_TESTED, BOUNDARY_ROUNDING, BOUNDARY_SCREEN};
 pub use care::care;
-pub use compact::{COMPACT_MAX, CompactCare, care_compact};
+pub use compact::{COMPACT_MAX, CompactCare, care_compact, care_compact_from};
 pub use dare::dare;
 pub use residual::{care_residual, dare_residual};
 
