@@ -731,6 +731,9 @@ impl Controller for TrackDrive {
         self.shifted[0] -= self.signal.value(t);
         self.inner.update(t, &self.shifted, u)
     }
+    fn retune(&mut self, gain: &[f64]) -> pendulab_sim::Result<bool> {
+        self.inner.retune(gain)
+    }
 }
 
 #[cfg(test)]

@@ -406,6 +406,10 @@ impl<C: Controller> Controller for WrapAngles<C> {
     fn switch_times(&self) -> &[f64] {
         self.inner.switch_times()
     }
+
+    fn retune(&mut self, gain: &[f64]) -> pendulab_sim::Result<bool> {
+        self.inner.retune(gain)
+    }
 }
 
 /// The swing-up → balance switch of the book: `swing_up` runs until every watched angle

@@ -37,6 +37,42 @@ pub trait Controller {
     fn switch_times(&self) -> &[f64] {
         &[]
     }
+
+    /// Replaces the controller's gain by `gain` while it runs, keeping everything else —
+    /// internal state (integrators, mode), reference, sample time — as it is: a bumpless
+    /// retune, e.g. after a redesign for new weights on the same plant. `gain` is laid out as
+    /// the implementation documents (a state feedback's `K`, the LQ servo's `[K₁ K₂]`, row by
+    /// row). Returns `Ok(true)` when the gain was replaced, `Ok(false)` when this controller
+    /// has no gain to replace (provided: `Ok(false)`), so that the caller builds a new one.
+    ///
+    /// # Errors
+    /// [`crate::SimError::DimensionMismatch`] for a gain of the wrong length,
+    /// [`crate::SimError::InvalidParameter`] for a non-finite entry; the controller is then
+    /// unchanged.
+    fn retune(&mut self, gain: &[f64]) -> crate::Result<bool> {
+        let _ = gain;
+        Ok(false)
+    }
+}
+
+/// Checks a replacement gain for [`Controller::retune`]: `expected` entries, all finite
+/// (formats nothing unless one is wrong: a retune runs between samples).
+pub(crate) fn check_gain(gain: &[f64], expected: usize) -> crate::Result<()> {
+    if gain.len() != expected {
+        return Err(crate::SimError::DimensionMismatch {
+            what: "retuned gain entries".to_string(),
+            expected,
+            found: gain.len(),
+        });
+    }
+    match gain.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(crate::SimError::InvalidParameter {
+            what: format!("retuned gain entry {i}"),
+            value: gain[i],
+            requirement: "must be finite",
+        }),
+        None => Ok(()),
+    }
 }
 
 /// `Controller` for pointers to a controller (`Box<T>`, `&mut T`): every method forwards to
@@ -62,6 +98,9 @@ macro_rules! forward_controller {
             }
             fn switch_times(&self) -> &[f64] {
                 (**self).switch_times()
+            }
+            fn retune(&mut self, gain: &[f64]) -> crate::Result<bool> {
+                (**self).retune(gain)
             }
         }
     )+};

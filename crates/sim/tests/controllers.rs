@@ -446,3 +446,84 @@ fn saturated_controller_clips_and_counts() {
     assert_eq!(s.clipped(), 2);
     assert!(Saturated::new(OpenLoop::new(vec![], 0), 1.0, 1.0).is_err());
 }
+
+/// `Controller::retune`: a retuned state feedback computes what a controller built with the
+/// new gain (and the same reference) computes, bit for bit; a retuned LQ servo keeps its
+/// integrator, so after the retune it computes what a servo built with the new gains computes
+/// after the same measurements (its integrator, which does not depend on the gains, is then
+/// in the same state); both through `Box<dyn Controller>`. Wrong lengths and non-finite
+/// entries are refused with the controller unchanged; controllers without a gain say so.
+#[test]
+fn retune_replaces_the_gain_and_keeps_the_state() {
+    let (k_a, k_b) = ([1.0, -2.0, 0.5, 0.25], [3.0, 1.5, -0.75, 2.0]);
+    let r = [0.1, 0.0, 0.0, 0.0];
+    let mut sf: Box<dyn Controller> = Box::new(
+        StaticStateFeedback::new(Mat::from_row_slice(1, 4, &k_a))
+            .unwrap()
+            .with_reference(&r)
+            .unwrap(),
+    );
+    let mut fresh = StaticStateFeedback::new(Mat::from_row_slice(1, 4, &k_b))
+        .unwrap()
+        .with_reference(&r)
+        .unwrap();
+    assert!(sf.retune(&k_b).unwrap());
+    let y = [0.3, -0.2, 1.1, 0.7];
+    let (mut u1, mut u2) = ([0.0], [0.0]);
+    sf.update(0.0, &y, &mut u1);
+    fresh.update(0.0, &y, &mut u2);
+    assert_eq!(u1[0].to_bits(), u2[0].to_bits());
+    // Refusals leave the gain as it was.
+    assert!(matches!(
+        sf.retune(&k_a[..3]),
+        Err(pendulab_sim::SimError::DimensionMismatch {
+            expected: 4,
+            found: 3,
+            ..
+        })
+    ));
+    assert!(matches!(
+        sf.retune(&[1.0, f64::NAN, 0.0, 0.0]),
+        Err(pendulab_sim::SimError::InvalidParameter { .. })
+    ));
+    sf.update(0.0, &y, &mut u1);
+    assert_eq!(u1[0].to_bits(), u2[0].to_bits());
+
+    // The servo: K₁ (1 × 4) and K₂ (1 × 1) as [K₁ K₂].
+    let servo = |k: &[f64]| {
+        LqIntegralServo::new(
+            &Mat::from_row_slice(1, 4, &k[..4]),
+            &Mat::from_row_slice(1, 1, &k[4..]),
+            &Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]),
+            vec![Signal::step(0.0, 0.2).unwrap()],
+            1e-3,
+            IntegrationRule::ForwardEuler,
+        )
+        .unwrap()
+    };
+    let (g_a, g_b) = ([1.0, -2.0, 0.5, 0.25, -3.0], [2.0, -4.0, 0.1, 0.3, -7.0]);
+    let mut running: Box<dyn Controller> = Box::new(servo(&g_a));
+    let mut other = servo(&g_b);
+    let ys: Vec<[f64; 4]> = (0..50)
+        .map(|k| {
+            let t = k as f64;
+            [0.01 * t, (0.3 * t).sin(), 0.1, -0.05 * t]
+        })
+        .collect();
+    let (mut u1, mut u2) = ([0.0], [0.0]);
+    for (k, y) in ys.iter().enumerate().take(30) {
+        running.update(k as f64 * 1e-3, y, &mut u1);
+        other.update(k as f64 * 1e-3, y, &mut u2);
+    }
+    assert_ne!(u1[0], u2[0]);
+    assert!(running.retune(&g_b).unwrap());
+    for (k, y) in ys.iter().enumerate().skip(30) {
+        running.update(k as f64 * 1e-3, y, &mut u1);
+        other.update(k as f64 * 1e-3, y, &mut u2);
+        assert_eq!(u1[0].to_bits(), u2[0].to_bits(), "sample {k}");
+    }
+    assert!(running.retune(&g_b[..4]).is_err());
+    // A controller without a gain to replace.
+    let mut open = OpenLoop::new(vec![Signal::constant(1.0).unwrap()], 4);
+    assert!(!open.retune(&[1.0]).unwrap());
+}

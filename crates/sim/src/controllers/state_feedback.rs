@@ -89,6 +89,12 @@ impl StaticStateFeedback {
 impl Controller for StaticStateFeedback {
     sizes_from_fields!();
     fn reset(&mut self) {}
+    /// `gain`: the library's `K` (`nu × ny`, row-major); the reference stays.
+    fn retune(&mut self, gain: &[f64]) -> Result<bool> {
+        crate::controller::check_gain(gain, self.nu * self.ny)?;
+        self.k.copy_from_slice(gain);
+        Ok(true)
+    }
     #[inline]
     fn update(&mut self, _t: f64, y: &[f64], u: &mut [f64]) {
         let n = self.ny;
@@ -229,6 +235,17 @@ impl Controller for LqIntegralServo {
     fn reset(&mut self) {
         self.w.iter_mut().for_each(|v| *v = 0.0);
         self.e_prev.iter_mut().for_each(|v| *v = 0.0);
+    }
+    /// `gain`: `[K₁ K₂]` (`nu × (ny + p)`, row-major: row `i` is `K₁`'s row `i`, then
+    /// `K₂`'s); the integrator's state, the references and the rule stay.
+    fn retune(&mut self, gain: &[f64]) -> Result<bool> {
+        let (ny, p) = (self.ny, self.w.len());
+        crate::controller::check_gain(gain, self.nu * (ny + p))?;
+        for (i, row) in gain.chunks_exact(ny + p).enumerate() {
+            self.k1[i * ny..(i + 1) * ny].copy_from_slice(&row[..ny]);
+            self.k2[i * p..(i + 1) * p].copy_from_slice(&row[ny..]);
+        }
+        Ok(true)
     }
     fn update(&mut self, t: f64, y: &[f64], u: &mut [f64]) {
         // e = r − C_s y.
