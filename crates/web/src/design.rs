@@ -29,7 +29,7 @@ use pendulab_control::spec::{
 use pendulab_lmi::synthesis::{LqWeights, Region, StateFeedbackSpec as LmiSpec, Vertex};
 use pendulab_lmi::{Backend, SolveOptions, Status};
 use pendulab_lti::design::integral_augmentation;
-use pendulab_lti::equations::riccati::care_compact;
+use pendulab_lti::equations::riccati::{care_compact, care_compact_from};
 use pendulab_lti::linalg::Complex64;
 use pendulab_lti::{Continuous, Mat, StateSpace};
 use pendulab_plants::spec::PlantSpec;
@@ -234,6 +234,33 @@ impl Designer {
     /// # Errors
     /// As [`design`].
     pub fn design(&self, method: &Method) -> Result<Design, WebError> {
+        self.design_from(method, None)
+    }
+
+    /// [`Designer::design`] after `previous` (the design a slider move replaces): an LQR or
+    /// servo design whose previous design was of the same kind on this designer's plant
+    /// starts the Riccati solve from the previous gain
+    /// (`pendulab_lti::equations::riccati::care_compact_from`: a few small Lyapunov solves
+    /// instead of the sign function; the same solution to rounding, the cold path whenever
+    /// the warm one is refused).
+    ///
+    /// # Errors
+    /// As [`design`].
+    pub fn design_from(
+        &self,
+        method: &Method,
+        previous: Option<&Design>,
+    ) -> Result<Design, WebError> {
+        // The previous gain of the same kind and plant (`Design::base` is this designer's).
+        let start = |n: usize| {
+            previous
+                .filter(|p| {
+                    Rc::ptr_eq(&p.base, &self.record)
+                        && p.gain.len() == n
+                        && matches!(p.method, Method::Lqr { .. } | Method::Servo { .. })
+                })
+                .map(|p| p.gain.as_slice())
+        };
         let sys = &self.sys;
         let (a, b) = (sys.a().clone(), sys.b().clone());
         let mut lmi = None;
@@ -245,11 +272,11 @@ impl Designer {
             }
             Method::Lqr { q, r } => {
                 check_weights(q, NX, *r)?;
-                lq_compact(&self.lqr_ab.0, &self.lqr_ab.1, q, *r)?
+                lq_compact(&self.lqr_ab.0, &self.lqr_ab.1, q, *r, start(NX))?
             }
             Method::Servo { q, r } => {
                 check_weights(q, NX + 1, *r)?;
-                lq_compact(&self.servo_ab.0, &self.servo_ab.1, q, *r)?
+                lq_compact(&self.servo_ab.0, &self.servo_ab.1, q, *r, start(NX + 1))?
             }
             Method::Place { poles } => {
                 if poles.len() != NX {
@@ -351,20 +378,25 @@ fn lmi_design(
 /// `pendulab_lti::equations::riccati::care_compact` — the same stabilising solution as
 /// `pendulab_lti::design::lqr` (the general solver answers whatever the compact path refuses),
 /// with a fraction of the code run, which is what a slider move's time depends on
-/// (`docs/web.md`, "Redesign time"). The weights are checked by [`check_weights`] (a
-/// diagonal `Q ⪰ 0`, `R > 0`: LQ weights).
+/// (`docs/web.md`, "Redesign time"); from the gain `k0` when given
+/// (`care_compact_from`). The weights are checked by [`check_weights`] (a diagonal `Q ⪰ 0`,
+/// `R > 0`: LQ weights).
 fn lq_compact(
     a: &[f64],
     b: &[f64],
     q: &[f64],
     r: f64,
+    k0: Option<&[f64]>,
 ) -> Result<(Vec<f64>, Vec<Complex64>), WebError> {
     let n = q.len();
     let mut qm = [0.0; (NX + 1) * (NX + 1)];
     for (i, v) in q.iter().enumerate() {
         qm[n * i + i] = *v;
     }
-    let sol = care_compact(a, b, &qm[..n * n], &[r], n)?;
+    let sol = match k0 {
+        Some(k0) => care_compact_from(a, b, &qm[..n * n], &[r], n, k0)?,
+        None => care_compact(a, b, &qm[..n * n], &[r], n)?,
+    };
     Ok((sol.gain().to_vec(), sol.poles().to_vec()))
 }
 

@@ -247,7 +247,7 @@ pub extern "C" fn pl_design(method: u32, r: f64) -> i32 {
         } = s;
         let lab = running(l)?;
         let d = match designer {
-            Some(designer) => designer.design(&m)?,
+            Some(designer) => designer.design_from(&m, Some(lab.design()))?,
             None => design(lab.plant(), &m)?,
         };
         let mode = if d.is_servo() {

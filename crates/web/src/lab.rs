@@ -201,12 +201,28 @@ impl Lab {
         Ok(())
     }
 
-    /// Runs the design `design` from now on (the controller rebuilt, its state reset).
+    /// Runs the design `design` from now on. A design that only changes the gain of the
+    /// running controller — same plant (one `Designer`), same mode, both the servo or both
+    /// state feedback, the running record already checked — is a slider move: the running
+    /// controller's gain is replaced in place (`Controller::retune`; the servo's integrator
+    /// and the reference carry on, a bumpless retune). Anything else rebuilds the controller
+    /// through the factory, its state reset.
     ///
     /// # Errors
-    /// The factory's [`WebError::Controller`].
+    /// The factory's [`WebError::Controller`]; [`WebError::Simulation`] for a gain the
+    /// running controller refuses (non-finite).
     pub fn set_design(&mut self, design: Design, mode: Mode) -> Result<(), WebError> {
-        self.record_checked = self.record_checked && design.same_plant_record(&self.design);
+        let same_plant = design.same_plant_record(&self.design);
+        if self.record_checked
+            && same_plant
+            && mode == self.mode
+            && design.is_servo() == self.design.is_servo()
+            && self.controller.retune(&design.gain)?
+        {
+            self.design = design;
+            return Ok(());
+        }
+        self.record_checked = self.record_checked && same_plant;
         self.design = design;
         self.mode = mode;
         self.rebuild()

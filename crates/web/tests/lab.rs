@@ -298,7 +298,11 @@ fn the_c_abi_designs_runs_and_reports_errors() {
     let d = lqr(PlantKind::Cart, &q, 1.0);
     // SAFETY: as above.
     let buf = unsafe { std::slice::from_raw_parts(ffi::pl_io(), ffi::IO_LEN) };
-    assert_eq!(&buf[..4], &d.gain[..]);
+    // The module's design starts from the running design's gain (a warm start): the same
+    // stabilising solution as the cold design, to rounding.
+    for (got, want) in buf[..4].iter().zip(&d.gain) {
+        assert!((got - want).abs() <= 1e-12 * want.abs(), "{got} vs {want}");
+    }
     assert_eq!(buf[ffi::DESIGN_N], 4.0);
     assert_eq!(ffi::pl_reset(0.0, 0.05), 0);
     assert_eq!(ffi::pl_advance(100, 10), 10);
