@@ -116,7 +116,7 @@ pub fn sin_cos_shifted(x: f64, a: f64, s: f64, c: f64) -> (f64, f64) {
     // False for NaN (a non-finite x or a), which goes to libm as well.
     let in_range = d.abs() <= SHIFT_LIMIT;
     if !in_range {
-        return libm_sin_cos(x);
+        return x.sin_cos();
     }
     let (sd, cm1) = small_angle_series(d);
     (s + (s * cm1 + c * sd), c + (c * cm1 - s * sd))
@@ -143,7 +143,7 @@ pub fn sin_cos_offset(a: f64, d: f64, s: f64, c: f64) -> (f64, f64) {
     // False for NaN, which goes to libm as well.
     let in_range = m <= SHIFT_LIMIT;
     if !in_range {
-        return libm_sin_cos(a + d);
+        return (a + d).sin_cos();
     }
     let (sd, cm1) = if m <= SHORT_SHIFT_LIMIT {
         short_angle_series(d)
@@ -168,7 +168,7 @@ pub fn sin_cos_small(x: f64) -> (f64, f64) {
     }
     let in_range = m <= SHIFT_LIMIT;
     if !in_range {
-        return libm_sin_cos(x);
+        return x.sin_cos();
     }
     let (sx, cm1) = small_angle_series(x);
     (sx, 1.0 + cm1)
@@ -270,7 +270,7 @@ pub fn sin_cos_near_zero<F: MulAdd>(x: f64) -> (f64, f64) {
     // False for NaN, which goes to libm as well.
     let in_range = m <= NEAR_ZERO_LIMIT;
     if !in_range {
-        return libm_sin_cos(x);
+        return x.sin_cos();
     }
     const S: [f64; 5] = SIN_TAYLOR;
     const C: [f64; 6] = COS_TAYLOR;
@@ -338,13 +338,4 @@ pub fn sin_cos_offset_lanes<const L: usize>(
         co[l] = c[l] + (c[l] * cm1 - s[l] * sd);
     }
     in_range.then_some((so, co))
-}
-
-/// libm's `x.sin_cos()`, the series' fallback beyond their range (and for NaN): out of line
-/// and cold, so that a loop around a series keeps its values in registers on the series' path
-/// and moves them to memory only around this call.
-#[cold]
-#[inline(never)]
-fn libm_sin_cos(x: f64) -> (f64, f64) {
-    x.sin_cos()
 }
