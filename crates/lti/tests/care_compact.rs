@@ -118,8 +118,22 @@ fn book_cart_and_arm_weights_match_the_general_solver() {
     assert!(matches!(e, LtiError::NotDetectable { .. }), "{e}");
 }
 
-/// Random stabilisable (generically controllable) `(A, B)` of every order 1–6 with 1–3
+/// A random stabilisable (generically controllable) `(A, B)` with `n` states and `m`
 /// inputs, `Q = CᵀC` with a random `C` (rank ≤ n, so semidefinite) and a random `R ≻ 0`.
+fn random_problem(rng: &mut SplitMix64, n: usize, m: usize) -> (Mat, Mat, Mat, Mat) {
+    let a = rng.matrix(n, n) * 2.0;
+    let b = rng.matrix(n, m);
+    let c = rng.matrix(n.max(2) - 1, n);
+    let s = rng.matrix(m, m);
+    (
+        a,
+        b,
+        c.transpose() * &c,
+        &s * s.transpose() + Mat::identity(m, m) * 0.1,
+    )
+}
+
+/// [`random_problem`]s of every order 1–6 with 1–3 inputs.
 #[test]
 fn random_small_systems_match_the_general_solver() {
     let mut rng = SplitMix64::new(20261206);
@@ -127,12 +141,7 @@ fn random_small_systems_match_the_general_solver() {
     for n in 1..=COMPACT_MAX {
         for m in 1..=n.min(3) {
             for trial in 0..12 {
-                let a = rng.matrix(n, n) * 2.0;
-                let b = rng.matrix(n, m);
-                let c = rng.matrix(n.max(2) - 1, n);
-                let q = c.transpose() * &c;
-                let s = rng.matrix(m, m);
-                let r = &s * s.transpose() + Mat::identity(m, m) * 0.1;
+                let (a, b, q, r) = random_problem(&mut rng, n, m);
                 total += 1;
                 if agrees(&a, &b, &q, &r, &format!("n = {n}, m = {m}, trial {trial}")) {
                     compact += 1;
@@ -337,12 +346,7 @@ fn warm_start_on_perturbed_random_problems() {
     for n in 1..=COMPACT_MAX {
         for m in 1..=n.min(3) {
             for trial in 0..8 {
-                let a = rng.matrix(n, n) * 2.0;
-                let b = rng.matrix(n, m);
-                let c = rng.matrix(n.max(2) - 1, n);
-                let q = c.transpose() * &c;
-                let s = rng.matrix(m, m);
-                let r = &s * s.transpose() + Mat::identity(m, m) * 0.1;
+                let (a, b, q, r) = random_problem(&mut rng, n, m);
                 let Ok(c0) = care_compact(&rows(&a), &rows(&b), &rows(&q), &rows(&r), n) else {
                     continue;
                 };
