@@ -434,11 +434,11 @@
   // Warm-up (docs/web.md, "Redesign time"): the engine compiles a WebAssembly function
   // lazily at its first call with its baseline compiler and recompiles it optimised only once
   // it is hot, so the first slider moves would run unoptimised code. A few hundred designs of
-  // each slider method at load make the redesign path hot before anyone moves a slider.
+  // each slider method at load, in a row as a slider gives them (each starts from the last
+  // one's gain: the path of a move), make the redesign path hot before anyone moves a slider.
   lab.init("cart");
-  for (let i = 0; i < 300; i++) {
-    lab.design("lqr", { q: [10, 10, 0, 0], r: 1 + 1e-3 * i });
-    lab.design("servo", { q: [1, 5, 0, 0, 100], r: 1 + 1e-3 * i });
+  for (const [method, q] of [["lqr", [10, 10, 0, 0]], ["servo", [1, 5, 0, 0, 100]]]) {
+    for (let i = 0; i < 300; i++) lab.design(method, { q, r: 1 + 1e-3 * i });
   }
   choosePlant("cart");
   requestAnimationFrame(frame);

@@ -108,17 +108,24 @@ pub struct Design {
     pub gain: Vec<f64>,
     /// The closed-loop poles (4, or 5 for the servo) \[1/s\].
     pub poles: Vec<Complex64>,
-    /// The open-loop poles, `eig(A)` \[1/s\].
-    pub open_loop: Vec<Complex64>,
-    /// The plant's part of the design record (kind, parameters, provenance, operating
-    /// point), shared by every design of one [`Designer`]; [`Design::record`] completes it.
-    base: Rc<DesignRecord>,
-    /// The linearisation's `A` (4 × 4).
-    pub a: Mat,
-    /// The linearisation's `B` (4 × 1).
-    pub b: Mat,
+    /// What every design of one [`Designer`] shares (the plant's part of the design record,
+    /// the linearisation, its poles): a slider move copies none of it.
+    plant: Rc<PlantPart>,
     /// The certificate of an LMI design ([`Method::Lmi`]); `None` for the others.
     pub lmi: Option<LmiCertificate>,
+}
+
+/// The part of a design that depends only on the plant ([`Designer`]).
+#[derive(Debug, PartialEq)]
+struct PlantPart {
+    /// The plant's part of the design record (kind, parameters, provenance, operating
+    /// point); [`Design::record`] completes it.
+    record: DesignRecord,
+    /// The upright linearisation's `A` (4 × 4) and `B` (4 × 1).
+    a: Mat,
+    b: Mat,
+    /// `eig(A)`.
+    open_loop: Vec<Complex64>,
 }
 
 /// Which controller runs a design's gain.
@@ -183,8 +190,7 @@ pub fn design(plant: &PlantSpec, method: &Method) -> Result<Design, WebError> {
 #[derive(Debug, Clone)]
 pub struct Designer {
     sys: StateSpace<Continuous>,
-    open_loop: Vec<Complex64>,
-    record: Rc<DesignRecord>,
+    plant: Rc<PlantPart>,
     /// `A`, `B` (row-major) of the regulator (`n = 4`) and of the servo's augmentation on
     /// `[x; w]` (`n = 5`), for the compact Riccati solver of the slider moves.
     lqr_ab: ([f64; NX * NX], [f64; NX]),
@@ -215,14 +221,12 @@ impl Designer {
             servo_ab.1[i] = b5[(i, 0)];
         }
         Ok(Self {
-            open_loop: sys.poles()?,
-            record: Rc::new(DesignRecord::new(
-                plant,
-                vec![0.0; NX],
-                None,
-                "",
-                Default::default(),
-            )),
+            plant: Rc::new(PlantPart {
+                record: DesignRecord::new(plant, vec![0.0; NX], None, "", Default::default()),
+                a: sys.a().clone(),
+                b: sys.b().clone(),
+                open_loop: sys.poles()?,
+            }),
             sys,
             lqr_ab,
             servo_ab,
@@ -234,7 +238,7 @@ impl Designer {
     /// # Errors
     /// As [`design`].
     pub fn design(&self, method: &Method) -> Result<Design, WebError> {
-        self.design_from(method, None)
+        self.design_from(method.clone(), None)
     }
 
     /// [`Designer::design`] after `previous` (the design a slider move replaces): an LQR or
@@ -248,23 +252,22 @@ impl Designer {
     /// As [`design`].
     pub fn design_from(
         &self,
-        method: &Method,
+        method: Method,
         previous: Option<&Design>,
     ) -> Result<Design, WebError> {
-        // The previous gain of the same kind and plant (`Design::base` is this designer's).
+        // The previous gain of the same kind and plant (`Design::plant` is this designer's).
         let start = |n: usize| {
             previous
                 .filter(|p| {
-                    Rc::ptr_eq(&p.base, &self.record)
+                    Rc::ptr_eq(&p.plant, &self.plant)
                         && p.gain.len() == n
                         && matches!(p.method, Method::Lqr { .. } | Method::Servo { .. })
                 })
                 .map(|p| p.gain.as_slice())
         };
         let sys = &self.sys;
-        let (a, b) = (sys.a().clone(), sys.b().clone());
         let mut lmi = None;
-        let (gain, poles) = match method {
+        let (gain, poles) = match &method {
             Method::Lmi { q, r, alpha } => {
                 let (gain, poles, cert) = lmi_design(sys, q, *r, *alpha)?;
                 lmi = Some(cert);
@@ -291,13 +294,10 @@ impl Designer {
             }
         };
         Ok(Design {
-            base: Rc::clone(&self.record),
-            method: method.clone(),
+            plant: Rc::clone(&self.plant),
+            method,
             gain,
             poles,
-            open_loop: self.open_loop.clone(),
-            a,
-            b,
             lmi,
         })
     }
@@ -411,7 +411,7 @@ impl Design {
     /// demand from the plant's part (shared by the designs of one [`Designer`]) and the
     /// method: a slider move copies no record.
     pub fn record(&self) -> DesignRecord {
-        let mut record = DesignRecord::clone(&self.base);
+        let mut record = self.plant.record.clone();
         let (name, inputs) = match &self.method {
             Method::Lqr { q, r } => ("lqr", weight_inputs(q, *r)),
             Method::Servo { q, r } => (
@@ -430,10 +430,25 @@ impl Design {
         record
     }
 
+    /// The linearisation's `A` (4 × 4).
+    pub fn a(&self) -> &Mat {
+        &self.plant.a
+    }
+
+    /// The linearisation's `B` (4 × 1).
+    pub fn b(&self) -> &Mat {
+        &self.plant.b
+    }
+
+    /// The open-loop poles, `eig(A)` \[1/s\].
+    pub fn open_loop(&self) -> &[Complex64] {
+        &self.plant.open_loop
+    }
+
     /// Whether two designs share the plant part of their records (designed by one
     /// [`Designer`], hence on one plant).
     pub fn same_plant_record(&self, other: &Design) -> bool {
-        Rc::ptr_eq(&self.base, &other.base)
+        Rc::ptr_eq(&self.plant, &other.plant)
     }
 
     /// Whether the gain is the servo's `[K₁, K₂]` (5 entries).

@@ -247,7 +247,7 @@ pub extern "C" fn pl_design(method: u32, r: f64) -> i32 {
         } = s;
         let lab = running(l)?;
         let d = match designer {
-            Some(designer) => designer.design_from(&m, Some(lab.design()))?,
+            Some(designer) => designer.design_from(m, Some(lab.design()))?,
             None => design(lab.plant(), &m)?,
         };
         let mode = if d.is_servo() {
@@ -284,12 +284,12 @@ fn write_design(io: &mut [f64], d: &Design) {
     }
     for i in 0..4 {
         for j in 0..4 {
-            io[DESIGN_A + 4 * i + j] = d.a[(i, j)];
+            io[DESIGN_A + 4 * i + j] = d.a()[(i, j)];
         }
-        io[DESIGN_B + i] = d.b[(i, 0)];
+        io[DESIGN_B + i] = d.b()[(i, 0)];
     }
     io[DESIGN_OPEN..DESIGN_OPEN + 8].fill(0.0);
-    for (i, p) in d.open_loop.iter().take(4).enumerate() {
+    for (i, p) in d.open_loop().iter().take(4).enumerate() {
         io[DESIGN_OPEN + 2 * i] = p.re;
         io[DESIGN_OPEN + 2 * i + 1] = p.im;
     }

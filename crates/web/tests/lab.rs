@@ -32,7 +32,7 @@ fn eig_residual(m: &pendulab_lti::Mat, lambda: Complex64) -> f64 {
 
 fn closed_loop(d: &Design) -> pendulab_lti::Mat {
     let k = pendulab_lti::Mat::from_row_slice(1, 4, &d.gain[..4]);
-    &d.a - &d.b * k
+    d.a() - d.b() * k
 }
 
 #[test]
@@ -61,7 +61,7 @@ fn designs_use_the_closed_form_linearisation() {
     // testkit writes the cart's (A, B) out from docs/model.md §1 independently of the plant.
     let (a, b) = pendulab_testkit::cart::upright();
     let d = lqr(PlantKind::Cart, &[10.0, 10.0, 0.0, 0.0], 1.0);
-    assert!((&d.a - &a).abs().max() < 1e-12 && (&d.b - &b).abs().max() < 1e-12);
+    assert!((d.a() - &a).abs().max() < 1e-12 && (d.b() - &b).abs().max() < 1e-12);
 }
 
 #[test]
@@ -94,8 +94,8 @@ fn poles_are_eigenvalues_of_the_closed_loop() {
         assert!(p.re < 0.0);
         assert!(eig_residual(&acl, p) < 1e-10, "{p}");
     }
-    for &p in &d.open_loop {
-        assert!(eig_residual(&d.a, p) < 1e-10, "{p}");
+    for &p in d.open_loop() {
+        assert!(eig_residual(d.a(), p) < 1e-10, "{p}");
     }
 }
 
