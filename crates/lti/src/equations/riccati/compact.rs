@@ -24,7 +24,9 @@
 //! refinement (Kleinman, "On an iterative technique for Riccati equation computations", IEEE
 //! TAC 13, 1968) in residual-correction form: `FᵀΔ + ΔF = −Res(X)`, `F = A − GX`,
 //! `Res(X) = AᵀX + XA − XGX + Q`, the Lyapunov equation solved on the `n(n+1)/2` unknowns of
-//! the symmetric `Δ` (Kronecker form, LU with partial pivoting); a step is kept only if it
+//! the symmetric `Δ` (Kronecker form, LU with partial pivoting; once the relative residual
+//! is below `10⁻⁶` a step reuses the last factorisation, the chord method, whose contraction
+//! factor is then the size of the previous corrections); a step is kept only if it
 //! lowers the relative residual, and the refinement stops when a step gains less than a
 //! factor 2 or the residual reaches `10·n·ε` (at most 6 steps). The closed-loop poles
 //! `eig(A − BK)` come from a Householder reduction to Hessenberg form and the Francis
@@ -66,6 +68,10 @@ pub const COMPACT_MAX: usize = 6;
 
 /// The compact path's acceptance bound on the relative residual, in units of `n·ε`.
 const ACCEPT: f64 = 20.0;
+
+/// The relative residual below which the refinement reuses the last factorised Lyapunov
+/// operator (the chord step) instead of factorising the current closed loop's.
+const CHORD: f64 = 1e-6;
 
 const SQ: usize = COMPACT_MAX * COMPACT_MAX;
 const H2: usize = 4 * SQ;
@@ -406,10 +412,12 @@ fn kleinman_start(
                 q[i * n + j] + (0..m).map(|p| k0[p * n + i] * rk[p * n + j]).sum::<f64>();
         }
     }
-    let mut x = [0.0; SQ];
-    if !lyapunov(&f, &c, n, &mut x) {
+    let mut op = Lyapunov::new();
+    if !op.factor(&f, n) {
         return None;
     }
+    let mut x = [0.0; SQ];
+    op.solve(&c, &mut x);
     symmetrize(&mut x, n);
     Some(x)
 }
@@ -432,16 +440,26 @@ fn finish(
     let mut res = [0.0; SQ];
     let mut rel = residual(a, g, q, &x, n, &mut res);
     let floor = 10.0 * n as f64 * f64::EPSILON;
+    let mut op = Lyapunov::new();
+    let mut factored = false;
     for _ in 0..if warm { 8 } else { 6 } {
         if rel <= floor {
             break;
         }
-        let mut f = [0.0; SQ];
-        closed_loop(a, g, &x, n, &mut f);
-        let mut d = [0.0; SQ];
-        if !lyapunov(&f, &res, n, &mut d) {
-            break;
+        // Newton's step on the closed loop of `X`, or, once the residual is small, the chord
+        // step on the last factorised closed loop (it differs from this one by the last
+        // steps' corrections, which the contraction factor then is of the order of).
+        let chord = factored && rel <= CHORD;
+        if !chord {
+            let mut f = [0.0; SQ];
+            closed_loop(a, g, &x, n, &mut f);
+            if !op.factor(&f, n) {
+                break;
+            }
+            factored = true;
         }
+        let mut d = [0.0; SQ];
+        op.solve(&res, &mut d);
         let mut trial = x;
         for (t, dv) in trial[..n * n].iter_mut().zip(&d[..n * n]) {
             *t += dv;
@@ -449,8 +467,13 @@ fn finish(
         symmetrize(&mut trial, n);
         let mut trial_res = [0.0; SQ];
         let trial_rel = residual(a, g, q, &trial, n, &mut trial_res);
-        // A NaN residual is no improvement either.
+        // A NaN residual is no improvement either; a chord step that is none is retried
+        // as Newton's.
         if trial_rel.partial_cmp(&rel) != Some(std::cmp::Ordering::Less) {
+            if chord {
+                factored = false;
+                continue;
+            }
             break;
         }
         let gain = rel / trial_rel;
@@ -556,36 +579,63 @@ fn residual(
     }
 }
 
-/// `FᵀD + DF = −Res` for symmetric `D`, on the unknowns `D_ij`, `i ≤ j`; `false` when the
-/// Kronecker matrix is singular.
-fn lyapunov(f: &[f64; SQ], res: &[f64; SQ], n: usize, d: &mut [f64; SQ]) -> bool {
-    let p = n * (n + 1) / 2;
-    let idx = |i: usize, j: usize| {
+/// The Lyapunov operator `D ↦ FᵀD + DF` on symmetric `D` (the unknowns `D_ij`, `i ≤ j`:
+/// `n(n+1)/2` of them), LU-factorised once for any number of right-hand sides.
+struct Lyapunov {
+    kron: [f64; SYM * SYM],
+    piv: [usize; SYM],
+    n: usize,
+}
+
+impl Lyapunov {
+    fn new() -> Self {
+        Self {
+            kron: [0.0; SYM * SYM],
+            piv: [0; SYM],
+            n: 0,
+        }
+    }
+
+    /// The unknown of `D_ij` (either order).
+    fn idx(n: usize, i: usize, j: usize) -> usize {
         let (i, j) = if i <= j { (i, j) } else { (j, i) };
         i * n - i * (i + 1) / 2 + j
-    };
-    let mut kron = [0.0; SYM * SYM];
-    let mut rhs = [0.0; SYM];
-    for i in 0..n {
-        for j in i..n {
-            let row = idx(i, j);
-            // Σ_k F_ki D_kj + Σ_k D_ik F_kj.
-            for k in 0..n {
-                kron[row * p + idx(k, j)] += f[k * n + i];
-                kron[row * p + idx(i, k)] += f[k * n + j];
+    }
+
+    /// Factorises the operator of `F` (`n × n`); `false` when it is singular.
+    fn factor(&mut self, f: &[f64; SQ], n: usize) -> bool {
+        let p = n * (n + 1) / 2;
+        self.n = n;
+        let kron = &mut self.kron[..p * p];
+        kron.fill(0.0);
+        for i in 0..n {
+            for j in i..n {
+                let row = Self::idx(n, i, j);
+                // Σ_k F_ki D_kj + Σ_k D_ik F_kj.
+                for k in 0..n {
+                    kron[row * p + Self::idx(n, k, j)] += f[k * n + i];
+                    kron[row * p + Self::idx(n, i, k)] += f[k * n + j];
+                }
             }
-            rhs[row] = -res[i * n + j];
+        }
+        lu(kron, &mut self.piv, p)
+    }
+
+    /// `FᵀD + DF = −Res` by the last [`Lyapunov::factor`].
+    fn solve(&self, res: &[f64; SQ], d: &mut [f64; SQ]) {
+        let n = self.n;
+        let p = n * (n + 1) / 2;
+        let mut rhs = [0.0; SYM];
+        for i in 0..n {
+            for j in i..n {
+                rhs[Self::idx(n, i, j)] = -res[i * n + j];
+            }
+        }
+        lu_solve(&self.kron[..p * p], &self.piv, p, &mut rhs);
+        for i in 0..n {
+            for j in 0..n {
+                d[i * n + j] = rhs[Self::idx(n, i, j)];
+            }
         }
     }
-    let mut piv = [0usize; SYM];
-    if !lu(&mut kron, &mut piv, p) {
-        return false;
-    }
-    lu_solve(&kron, &piv, p, &mut rhs);
-    for i in 0..n {
-        for j in 0..n {
-            d[i * n + j] = rhs[idx(i, j)];
-        }
-    }
-    true
 }

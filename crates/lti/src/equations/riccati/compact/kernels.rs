@@ -40,12 +40,15 @@ pub(super) fn lu(a: &mut [f64], piv: &mut [usize], n: usize) -> bool {
             }
         }
         let inv = 1.0 / a[k * n + k];
-        for i in k + 1..n {
-            let f = a[i * n + k] * inv;
-            a[i * n + k] = f;
+        // Rows k + 1.. less multiples of the pivot row (its entries right of the pivot).
+        let (upper, lower) = a[..n * n].split_at_mut((k + 1) * n);
+        let pivot = &upper[k * n + k + 1..(k + 1) * n];
+        for row in lower.chunks_exact_mut(n) {
+            let f = row[k] * inv;
+            row[k] = f;
             if f != 0.0 {
-                for j in k + 1..n {
-                    a[i * n + j] -= f * a[k * n + j];
+                for (x, p) in row[k + 1..].iter_mut().zip(pivot) {
+                    *x -= f * p;
                 }
             }
         }
@@ -58,13 +61,14 @@ pub(super) fn lu_solve(lu: &[f64], piv: &[usize], n: usize, b: &mut [f64]) {
     for k in 0..n {
         b.swap(k, piv[k]);
     }
-    for i in 0..n {
-        let s: f64 = (0..i).map(|p| lu[i * n + p] * b[p]).sum();
+    let (lu, b) = (&lu[..n * n], &mut b[..n]);
+    for (i, row) in lu.chunks_exact(n).enumerate() {
+        let s: f64 = row[..i].iter().zip(&b[..i]).map(|(l, y)| l * y).sum();
         b[i] -= s;
     }
-    for i in (0..n).rev() {
-        let s: f64 = (i + 1..n).map(|p| lu[i * n + p] * b[p]).sum();
-        b[i] = (b[i] - s) / lu[i * n + i];
+    for (i, row) in lu.chunks_exact(n).enumerate().rev() {
+        let s: f64 = row[i + 1..].iter().zip(&b[i + 1..]).map(|(u, y)| u * y).sum();
+        b[i] = (b[i] - s) / row[i];
     }
 }
 
