@@ -32,7 +32,14 @@
     const instance = await WebAssembly.instantiate(module, imports);
     const x = instance.exports;
     const mem = () => x.memory.buffer;
-    const io = () => new Float64Array(mem(), x.pl_io(), IO_LEN);
+    // The number buffer's address is fixed for the module's life (crates/web/src/ffi.rs,
+    // pl_io); its view is made again only when the memory has grown (a new buffer).
+    const ioAt = x.pl_io();
+    let ioView = new Float64Array(mem(), ioAt, IO_LEN);
+    const io = () => {
+      if (ioView.buffer !== mem()) ioView = new Float64Array(mem(), ioAt, IO_LEN);
+      return ioView;
+    };
     const utf8 = new TextDecoder();
     const textOut = () => utf8.decode(new Uint8Array(mem(), x.pl_text_out(), x.pl_text_out_len()));
     const check = (rc) => {

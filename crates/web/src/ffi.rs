@@ -127,7 +127,8 @@ fn start(s: &mut State, plant: PlantSpec) -> Result<i32, WebError> {
     Ok(0)
 }
 
-/// The number buffer.
+/// The number buffer ([`IO_LEN`] `f64`s; its address is the same for the module's life, so
+/// the page keeps one view of it).
 #[unsafe(no_mangle)]
 pub extern "C" fn pl_io() -> *mut f64 {
     STATE_CELL.with(|cell| cell.borrow_mut().io.as_mut_ptr())
