@@ -67,7 +67,11 @@ pub(super) fn lu_solve(lu: &[f64], piv: &[usize], n: usize, b: &mut [f64]) {
         b[i] -= s;
     }
     for (i, row) in lu.chunks_exact(n).enumerate().rev() {
-        let s: f64 = row[i + 1..].iter().zip(&b[i + 1..]).map(|(u, y)| u * y).sum();
+        let s: f64 = row[i + 1..]
+            .iter()
+            .zip(&b[i + 1..])
+            .map(|(u, y)| u * y)
+            .sum();
         b[i] = (b[i] - s) / row[i];
     }
 }
