@@ -55,26 +55,6 @@ pub trait Controller {
     }
 }
 
-/// Checks a replacement gain for [`Controller::retune`]: `expected` entries, all finite
-/// (formats nothing unless one is wrong: a retune runs between samples).
-pub(crate) fn check_gain(gain: &[f64], expected: usize) -> crate::Result<()> {
-    if gain.len() != expected {
-        return Err(crate::SimError::DimensionMismatch {
-            what: "retuned gain entries".to_string(),
-            expected,
-            found: gain.len(),
-        });
-    }
-    match gain.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(crate::SimError::InvalidParameter {
-            what: format!("retuned gain entry {i}"),
-            value: gain[i],
-            requirement: "must be finite",
-        }),
-        None => Ok(()),
-    }
-}
-
 /// `Controller` for pointers to a controller (`Box<T>`, `&mut T`): every method forwards to
 /// the pointee (one body for both, which Rust requires to be written per pointer type).
 macro_rules! forward_controller {

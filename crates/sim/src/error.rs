@@ -184,10 +184,12 @@ pub(crate) fn check_finite_vector(
     expected: usize,
 ) -> Result<()> {
     check_len(what, values.len(), expected)?;
-    for (i, &v) in values.iter().enumerate() {
-        check_finite(&format!("{entry} {i}"), v)?;
+    // The name is formatted only for the bad entry (a controller's retune calls this between
+    // samples).
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => check_finite(&format!("{entry} {i}"), values[i]),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// Checks that a value is finite.

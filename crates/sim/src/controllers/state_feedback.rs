@@ -91,7 +91,7 @@ impl Controller for StaticStateFeedback {
     fn reset(&mut self) {}
     /// `gain`: the library's `K` (`nu × ny`, row-major); the reference stays.
     fn retune(&mut self, gain: &[f64]) -> Result<bool> {
-        crate::controller::check_gain(gain, self.nu * self.ny)?;
+        check_gain(gain, self.nu * self.ny)?;
         self.k.copy_from_slice(gain);
         Ok(true)
     }
@@ -107,6 +107,11 @@ impl Controller for StaticStateFeedback {
             *ui = -acc;
         }
     }
+}
+
+/// Checks a replacement gain for [`Controller::retune`]: `expected` entries, all finite.
+fn check_gain(gain: &[f64], expected: usize) -> Result<()> {
+    crate::error::check_finite_vector("retuned gain entries", "retuned gain entry", gain, expected)
 }
 
 /// How the servo integrator `ẇ = e` is realised at the sample rate.
@@ -240,7 +245,7 @@ impl Controller for LqIntegralServo {
     /// `K₂`'s); the integrator's state, the references and the rule stay.
     fn retune(&mut self, gain: &[f64]) -> Result<bool> {
         let (ny, p) = (self.ny, self.w.len());
-        crate::controller::check_gain(gain, self.nu * (ny + p))?;
+        check_gain(gain, self.nu * (ny + p))?;
         for (i, row) in gain.chunks_exact(ny + p).enumerate() {
             self.k1[i * ny..(i + 1) * ny].copy_from_slice(&row[..ny]);
             self.k2[i * p..(i + 1) * p].copy_from_slice(&row[ny..]);
