@@ -397,7 +397,7 @@ fn kleinman_start(
     if !k0.iter().all(|v| v.is_finite()) {
         return None;
     }
-    let mut f = [0.0; SQ];
+    let f = minus_bk(a, b, k0, n, m);
     let mut c = [0.0; SQ];
     let mut rk = [0.0; SQ];
     for i in 0..m {
@@ -407,7 +407,6 @@ fn kleinman_start(
     }
     for i in 0..n {
         for j in 0..n {
-            f[i * n + j] = a[i * n + j] - (0..m).map(|p| b[i * m + p] * k0[p * n + j]).sum::<f64>();
             c[i * n + j] =
                 q[i * n + j] + (0..m).map(|p| k0[p * n + i] * rk[p * n + j]).sum::<f64>();
         }
@@ -496,12 +495,7 @@ fn finish(
             k[i * n + j] = (k[i * n + j] - s) / l[i * m + i];
         }
     }
-    let mut f = [0.0; SQ];
-    for i in 0..n {
-        for j in 0..n {
-            f[i * n + j] = a[i * n + j] - (0..m).map(|p| b[i * m + p] * k[p * n + j]).sum::<f64>();
-        }
-    }
+    let mut f = minus_bk(a, b, &k, n, m);
     let margin = f64::EPSILON.sqrt() * fro(&f[..n * n]);
     let poles = eigenvalues(&mut f, n)?;
     if poles[..n].iter().any(|p| p.re.is_nan() || p.re >= -margin) {
@@ -531,6 +525,17 @@ fn symmetrize(x: &mut [f64; SQ], n: usize) {
             x[j * n + i] = v;
         }
     }
+}
+
+/// `A − BK` (`b` `n × m`, `k` `m × n`, row-major).
+fn minus_bk(a: &[f64], b: &[f64], k: &[f64], n: usize, m: usize) -> [f64; SQ] {
+    let mut f = [0.0; SQ];
+    for i in 0..n {
+        for j in 0..n {
+            f[i * n + j] = a[i * n + j] - (0..m).map(|p| b[i * m + p] * k[p * n + j]).sum::<f64>();
+        }
+    }
+    f
 }
 
 /// `F = A − GX`.
