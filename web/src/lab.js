@@ -11,6 +11,7 @@
   const IO_LEN = 16384;
   const RECORD = 6; // [t, q0, q1, q0', q1', u]  (crates/web/src/lab.rs, RECORD)
   const STATE = 16; // the state block of pl_advance (crates/web/src/ffi.rs, STATE)
+  const METHODS = { lqr: 0, servo: 1, place: 2, lmi: 3 }; // pl_design's method numbers
 
   function decodeBase64(text) {
     const bin = atob(text);
@@ -33,11 +34,13 @@
     const x = instance.exports;
     const mem = () => x.memory.buffer;
     // The number buffer's address is fixed for the module's life (crates/web/src/ffi.rs,
-    // pl_io); its view is made again only when the memory has grown (a new buffer).
+    // pl_io); its view is made again only when the memory has grown, which detaches the old
+    // buffer and leaves the view empty (a length test: reading `memory.buffer` on every call
+    // costs an engine call).
     const ioAt = x.pl_io();
     let ioView = new Float64Array(mem(), ioAt, IO_LEN);
     const io = () => {
-      if (ioView.buffer !== mem()) ioView = new Float64Array(mem(), ioAt, IO_LEN);
+      if (ioView.length === 0) ioView = new Float64Array(mem(), ioAt, IO_LEN);
       return ioView;
     };
     const utf8 = new TextDecoder();
@@ -46,6 +49,14 @@
       if (rc < 0) throw new Error(textOut());
       return rc;
     };
+
+    // A design's result of order n: gain (n), closed-loop poles (n × [re, im]), the
+    // linearisation's A (16, row-major), B (4) and open-loop poles (4 × [re, im]).
+    const designOutput = (n) => ({
+      gain: new Array(n).fill(0), poles: Array.from({ length: n }, () => [0, 0]),
+      a: new Array(16).fill(0), b: new Array(4).fill(0), open: Array.from({ length: 4 }, () => [0, 0]),
+    });
+    const designs = {};
 
     const lab = {
       exports: x,
@@ -58,28 +69,39 @@
       // method: "lqr" (q: 4), "servo" (q: 5), "place" (poles: [[re, im] x 4]), "lmi" (q: 4
       // or 5, r, alpha: the LMI guaranteed-cost LQ design with decay rate alpha, solved by
       // pendulab-lmi's dense interior-point method; 5 weights: the integral servo).
+      // The result of a design other than the LMI one is one of two objects (n = 4, 5) that
+      // each design of that order fills in place, so that a slider move allocates nothing: it
+      // is the lab's current design, overwritten by the next one (copy what you keep). A
+      // design that fails leaves it as it was. Plain indexed loops, no array builtins: a move
+      // runs this after a frame or more of other work, with the engine's caches cold
+      // (docs/web.md, "Redesign time").
       design(method, args) {
         const b = io();
-        const m = { lqr: 0, servo: 1, place: 2, lmi: 3 }[method];
+        const m = METHODS[method];
         if (m === undefined) throw new Error(`unknown design method ${method}`);
         if (m === 2) {
-          args.poles.forEach(([re, im], i) => { b[2 * i] = re; b[2 * i + 1] = im; });
+          const p = args.poles;
+          for (let i = 0; i < p.length; i++) { b[2 * i] = p[i][0]; b[2 * i + 1] = p[i][1]; }
         } else {
-          args.q.forEach((v, i) => { b[i] = v; });
+          const q = args.q;
+          for (let i = 0; i < q.length; i++) b[i] = q[i];
         }
         if (m === 3) { b[5] = args.q.length; b[6] = args.alpha; }
         check(x.pl_design(m, m === 2 ? 0 : args.r));
         const o = io();
         const n = o[5];
-        const poles = [];
-        for (let i = 0; i < n; i++) poles.push([o[6 + 2 * i], o[7 + 2 * i]]);
-        const d = {
-          gain: Array.from(o.subarray(0, n)),
-          poles,
-          a: Array.from(o.subarray(16, 32)),
-          b: Array.from(o.subarray(32, 36)),
-          open: [0, 1, 2, 3].map((i) => [o[36 + 2 * i], o[37 + 2 * i]]),
-        };
+        const d = m === 3 ? designOutput(n) : (designs[n] ||= designOutput(n));
+        for (let i = 0; i < n; i++) {
+          d.gain[i] = o[i];
+          d.poles[i][0] = o[6 + 2 * i];
+          d.poles[i][1] = o[7 + 2 * i];
+        }
+        for (let i = 0; i < 16; i++) d.a[i] = o[16 + i];
+        for (let i = 0; i < 4; i++) {
+          d.b[i] = o[32 + i];
+          d.open[i][0] = o[36 + 2 * i];
+          d.open[i][1] = o[37 + 2 * i];
+        }
         if (m === 3) {
           // The certificate (crates/web/src/ffi.rs, DESIGN_LMI) and its sentence.
           d.lmi = {

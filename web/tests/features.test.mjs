@@ -94,6 +94,25 @@ test("slider moves redesign in WebAssembly; the page reports the time of each", 
     const shown = await page.locator("#redesign-time").textContent();
     assert.match(shown, /µs \(median of \d+\)/);
   }
+  // What such a figure costs with nothing to measure, on the same page and timer, each after
+  // a frame's pause: the timer around nothing, and around an exported call that does nothing
+  // (pl_io). A move's figure is read against these (docs/web.md, "Redesign time").
+  const floor = await page.evaluate(async () => {
+    const x = window.pendulab.lab.exports;
+    const sleep = (ms) => new Promise((ok) => setTimeout(ok, ms));
+    const empty = [], call = [];
+    for (let i = 0; i < 120; i++) {
+      await sleep(33);
+      let t = performance.now();
+      empty.push((performance.now() - t) * 1000);
+      await sleep(33);
+      t = performance.now();
+      x.pl_io();
+      call.push((performance.now() - t) * 1000);
+    }
+    return { empty, call };
+  });
+  perf.cold_floor_us = { timer_median: quantile(floor.empty, 0.5), call_median: quantile(floor.call, 0.5) };
   assert.deepEqual(consoleErrors, []);
   await page.close();
 });
