@@ -121,6 +121,50 @@ fn multi_input_placement_with_complex_and_repeated_poles() {
     }
 }
 
+/// With as many inputs as states every basis of KNV's eigenvector spaces is the identity,
+/// a real one: a complex pole's starting vector must still be independent of its conjugate.
+/// B = I, A = 0 (the closed loop is −K: any K = −M with eig(M) the poles) and random square
+/// pairs, only complex poles (a repeated pair too) and complex with real ones; the closed
+/// loop's characteristic polynomial against the requested one (away from its evaluation
+/// points).
+#[test]
+fn square_b_with_complex_poles() {
+    let two = [c(-1.0, 1.0), c(-1.0, -1.0)];
+    let p = place(&Mat::zeros(2, 2), &Mat::identity(2, 2), &two).unwrap();
+    assert_eq!(p.method, PlacementMethod::KautskyNicholsVanDooren);
+    assert!(p.max_relative_error < 1e-12, "{:e}", p.max_relative_error);
+    assert!(charpoly_mismatch(&Mat::zeros(2, 2), &Mat::identity(2, 2), &p.gain, &two) < 1e-12);
+    let sets: [&[Complex64]; 3] = [
+        &[c(-1.0, 1.5), c(-1.0, -1.5), c(-3.0, 0.5), c(-3.0, -0.5)],
+        &[c(-1.0, 1.0), c(-1.0, -1.0), c(-1.0, 1.0), c(-1.0, -1.0)],
+        &[c(-2.0, 1.0), c(-2.0, -1.0), c(-0.5, 0.0), c(-4.0, 0.0)],
+    ];
+    for (seed, poles) in sets.iter().enumerate() {
+        for (a, b) in [
+            (Mat::zeros(4, 4), Mat::identity(4, 4)),
+            random_pair(4, 4, 40 + seed as u64),
+        ] {
+            let p = place(&a, &b, poles).unwrap();
+            assert!(p.eigenvector_condition.is_finite());
+            assert!(
+                p.max_relative_error < 1e-9,
+                "{poles:?}: error {:e}, cond {:e}",
+                p.max_relative_error,
+                p.eigenvector_condition
+            );
+            assert!(
+                charpoly_mismatch(&a, &b, &p.gain, poles) < 1e-9,
+                "{poles:?}"
+            );
+        }
+    }
+    // Three states, two inputs: the null spaces are 2-dimensional and complex.
+    let (a, b) = random_pair(3, 2, 50);
+    let poles = [c(-1.0, 3.0), c(-1.0, -3.0), c(-2.0, 0.0)];
+    let p = place(&a, &b, &poles).unwrap();
+    assert!(charpoly_mismatch(&a, &b, &p.gain, &poles) < 1e-9);
+}
+
 #[test]
 fn repeated_poles_beyond_rank_b() {
     // Single input, all four poles at −3 (Jordan block): the gain is unique; compare the

@@ -171,7 +171,6 @@ def test_place_achieves_the_requested_poles():
             assert relerr(K, K_ref) <= tol * np.linalg.cond(ct.ctrb(a, b)), (k, n)
 
 
-@pytest.mark.xfail(strict=True, raises=pl.LinAlgError, reason="pendulab-lti place (KNV) declares the eigenvector matrix singular for a square B with only complex poles; SciPy's place_poles assigns them")
 def test_place_with_square_b_and_complex_poles():
     # Closed form: with B = I any K = A − M assigns eig(M); M = [[-1, 1], [-1, -1]] has -1 ± j.
     a, b, p = np.zeros((2, 2)), np.eye(2), np.array([-1 + 1j, -1 - 1j])

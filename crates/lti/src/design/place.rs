@@ -394,7 +394,22 @@ fn knv0(a: &Mat, b: &Mat, poles: &[Complex64]) -> Result<(Mat, f64, usize)> {
             .count();
         // Column j mod m (offset by the repeat count) keeps the initial vectors independent
         // for repeated poles (same basis) and when n = m (every basis is the identity).
-        let col = bases[j].column((j + repeats) % m).clone_owned();
+        let c = (j + repeats) % m;
+        let mut col = bases[j].column(c).clone_owned();
+        // A complex pole's vector and its conjugate (the partner's) must be independent: a
+        // basis column that is a real vector times a phase (every basis is the identity when
+        // n = m, and a conjugation-invariant null space may give one) is parallel to its
+        // conjugate, |Σ xᵢ²| = Σ |xᵢ|². With two or more inputs, s_c + i·s_{c+1} lies in
+        // the subspace and is not.
+        if partner[j].is_some() && m >= 2 {
+            let square: Complex64 = col.iter().map(|v| v * v).sum();
+            if square.norm() >= (1.0 - 1e-8) * col.norm_squared() {
+                let other = bases[j].column((c + 1) % m).clone_owned();
+                col += other * Complex64::new(0.0, 1.0);
+                let nrm = col.norm();
+                col.unscale_mut(nrm);
+            }
+        }
         x.set_column(j, &col);
     }
     for j in 0..n {
