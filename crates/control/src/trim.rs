@@ -3,12 +3,14 @@
 //!
 //! Given a system `ẋ = f(t, x, u)` with the optional output map `y = h(t, x, u)`, a
 //! [`TrimSpec`] fixes some entries of `x` and `u` at given values, may fix outputs
-//! `y_i = y_i*`, and may release derivatives that need not vanish (a cart rolling at constant
-//! speed: `ż` fixed, `d z/dt` free). The remaining entries of `(x, u)`, the unknowns `p`, are
-//! found by solving the equations
+//! `y_i = y_i*`, may release derivatives that need not vanish (a cart rolling at constant
+//! speed: `ż` fixed, `d z/dt` free) and may give the held derivatives non-zero targets
+//! `ẋ_i*` (python-control's `dx0`, MATLAB `operspec`'s `States.dx`: a steady acceleration, a
+//! ramp). The remaining entries of `(x, u)`, the unknowns `p`, are found by solving the
+//! equations
 //!
 //! ```text
-//! r(p) = [ f_i(t, x, u)  for every state i whose derivative must vanish ;
+//! r(p) = [ f_i(t, x, u) − ẋ_i*  for every state i whose derivative is held (ẋ_i* = 0 unless given) ;
 //!          h_j(t, x, u) − y_j*  for every fixed output j ] = 0
 //! ```
 //!
@@ -50,6 +52,9 @@ pub struct TrimSpec {
     /// Indices of the states whose derivative need not vanish (steady motion of a coordinate
     /// that does not feed back, e.g. a cart's position while it rolls at constant speed).
     pub free_derivatives: Vec<usize>,
+    /// The values `ẋ_i*` the held derivatives must take (length `nx`; the entries of freed
+    /// derivatives are ignored); empty: all zero, an equilibrium.
+    pub derivative_targets: Vec<f64>,
     /// The time `t` at which `f` and `h` are evaluated (0 for time-invariant systems).
     pub t: f64,
 }
@@ -64,6 +69,7 @@ impl TrimSpec {
             fixed_inputs: Vec::new(),
             outputs: Vec::new(),
             free_derivatives: Vec::new(),
+            derivative_targets: Vec::new(),
             t: 0.0,
         }
     }
@@ -89,6 +95,13 @@ impl TrimSpec {
     /// Lets the derivative of state `i` be non-zero.
     pub fn free_derivative(mut self, i: usize) -> Self {
         self.free_derivatives.push(i);
+        self
+    }
+
+    /// Requires the held derivatives to equal `dx` (one entry per state; those of freed
+    /// derivatives are ignored) instead of zero.
+    pub fn derivatives(mut self, dx: &[f64]) -> Self {
+        self.derivative_targets = dx.to_vec();
         self
     }
 }
@@ -137,7 +150,8 @@ pub struct OperatingPoint {
     pub x: Vec<f64>,
     /// The input `u`.
     pub u: Vec<f64>,
-    /// `ẋ = f(t, x, u)` at the point (zero but for the freed derivatives, to the tolerance).
+    /// `ẋ = f(t, x, u)` at the point (its targets, zero unless given, but for the freed
+    /// derivatives, to the tolerance).
     pub dx: Vec<f64>,
     /// `y = h(t, x, u)` at the point (empty without an output map).
     pub y: Vec<f64>,
@@ -149,8 +163,8 @@ pub struct OperatingPoint {
     pub status: TrimStatus,
 }
 
-/// Finds `(x, u)` with `f(t, x, u) = 0` (and the fixed outputs) for the specification `spec`
-/// by Levenberg–Marquardt (see the module documentation).
+/// Finds `(x, u)` with `f(t, x, u) = 0` (or the derivative targets, and the fixed outputs)
+/// for the specification `spec` by Levenberg–Marquardt (see the module documentation).
 ///
 /// ```
 /// use pendulab_control::trim::{find_operating_point, TrimOptions, TrimSpec};
@@ -168,8 +182,8 @@ pub struct OperatingPoint {
 /// ```
 ///
 /// # Errors
-/// [`ControlError::DimensionMismatch`] for `x`, `u` of the wrong length;
-/// [`ControlError::NonFinite`] for a non-finite guess, fixed value or target;
+/// [`ControlError::DimensionMismatch`] for `x`, `u` or derivative targets of the wrong
+/// length; [`ControlError::NonFinite`] for a non-finite guess, fixed value or target;
 /// [`ControlError::InvalidParameter`] for a tolerance that is not positive;
 /// [`ControlError::InconsistentSpec`] for an index out of range or listed twice, an output on a
 /// system without an output map, a derivative both freed and without a state, no equations, or
@@ -229,6 +243,13 @@ impl<'a, S: Dynamics + ?Sized> Problem<'a, S> {
         let (nx, nu, ny) = (sys.nx(), sys.nu(), sys.ny());
         crate::error::check_vector("state x of the operating-point guess", &spec.x, nx)?;
         crate::error::check_vector("input u of the operating-point guess", &spec.u, nu)?;
+        if !spec.derivative_targets.is_empty() {
+            crate::error::check_vector(
+                "derivative targets dx of the operating point",
+                &spec.derivative_targets,
+                nx,
+            )?;
+        }
         check_param("time t", spec.t, true, "finite")?;
         check_param(
             "tolerance",
@@ -299,7 +320,7 @@ impl<'a, S: Dynamics + ?Sized> Problem<'a, S> {
         let r: Vec<f64> = self
             .derivative_rows
             .iter()
-            .map(|&i| dx[i])
+            .map(|&i| dx[i] - self.spec.derivative_targets.get(i).copied().unwrap_or(0.0))
             .chain(self.spec.outputs.iter().map(|&(j, v)| y[j] - v))
             .collect();
         r.iter()

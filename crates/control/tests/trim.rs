@@ -1,7 +1,8 @@
 //! `find_operating_point` against closed forms: the cart pendulum's upright and hanging rests,
 //! the cart rolling at constant speed (the drive law gives the voltage that holds it), the arm
 //! at a given arm angle, a torque-driven pendulum held off the vertical (its gravity term gives
-//! the torque) by a fixed angle or a fixed output, and the specifications that have no
+//! the torque) by a fixed angle or a fixed output, the same pendulum turning and accelerating
+//! at given derivative targets, and the specifications that have no
 //! solution or contradict themselves.
 
 use pendulab_control::ControlError;
@@ -121,6 +122,44 @@ fn torque_pendulum_held_by_its_gravity_torque() {
     assert!((op.u[0] - p.m * p.g * 0.1).abs() < 1e-10, "{:?}", op.u);
     assert!((op.y[0] - 0.1).abs() < 1e-10);
     assert_eq!(op.status, TrimStatus::Isolated);
+}
+
+/// Non-zero derivative targets (python-control's `dx0`): the torque pendulum at θ = 0.6 rad
+/// turning at θ̇ = 0.4 rad/s and accelerating at θ̈ = 1.5 rad/s² needs, from
+/// `m l² θ̈ = u − m g l sin θ − b θ̇`, `u = m l² · 1.5 + m g l sin 0.6 + b · 0.4`; the state
+/// θ̇ is found from the held `θ̇`-equation `ẋ₀ = θ̇ = 0.4`.
+#[test]
+fn torque_pendulum_with_derivative_targets() {
+    let p = TorquePendulum {
+        m: 0.2,
+        l: 0.3,
+        g: 9.81,
+        b: 0.01,
+    };
+    let spec = TrimSpec::new(&[0.6, 0.0], &[0.0])
+        .fix_states(&[0])
+        .derivatives(&[0.4, 1.5]);
+    let op = find_operating_point(&p, &spec, &opts()).unwrap();
+    let u = p.m * p.l * p.l * 1.5 + p.m * p.g * p.l * 0.6f64.sin() + p.b * 0.4;
+    assert!((op.x[1] - 0.4).abs() < 1e-11, "{:?}", op.x);
+    assert!((op.u[0] - u).abs() < 1e-10, "{} vs {u}", op.u[0]);
+    assert!((op.dx[0] - 0.4).abs() < 1e-10 && (op.dx[1] - 1.5).abs() < 1e-10);
+    // A freed derivative's target is ignored: θ̈ free, θ̇ = 0.4 held, u fixed at 0.
+    let spec = TrimSpec::new(&[0.6, 0.0], &[0.0])
+        .fix_states(&[0])
+        .fix_inputs(&[0])
+        .free_derivative(1)
+        .derivatives(&[0.4, 123.0]);
+    let op = find_operating_point(&p, &spec, &opts()).unwrap();
+    assert!((op.x[1] - 0.4).abs() <= 1e-10);
+    // Targets of the wrong length or not finite.
+    for dx in [vec![0.4], vec![0.4, f64::NAN]] {
+        let spec = TrimSpec::new(&[0.6, 0.0], &[0.0]).derivatives(&dx);
+        assert!(matches!(
+            find_operating_point(&p, &spec, &opts()),
+            Err(ControlError::DimensionMismatch { .. } | ControlError::NonFinite { .. })
+        ));
+    }
 }
 
 #[test]

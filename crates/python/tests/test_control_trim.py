@@ -115,3 +115,30 @@ def test_bad_inputs_raise_typed_errors():
     with pytest.raises(pl.LinAlgError) as e:
         find_operating_point(lambda x, u: [x[0] ** 2 + 1.0], [0.5])
     assert e.value.variant == "NoConvergence"
+
+
+def test_derivative_targets_dx0_against_closed_form_and_python_control():
+    """``dx0``: the damped pendulum at θ = 0.6 rad (held), turning at θ̇ = 0.4 rad/s and
+    accelerating at θ̈ = 1.5 rad/s² (the held derivatives' values) needs
+    u = m l² · 1.5 + m g l sin 0.6 + c · 0.4; python-control 0.10's ``find_operating_point``
+    with the same keywords finds the same point."""
+    import control as ct
+
+    op = find_operating_point(pendulum, [0.6, 0.0], [0.0], ix=[0], iu=[], dx0=[0.4, 1.5])
+    u = M * L * L * 1.5 + M * G * L * math.sin(0.6) + C * 0.4
+    np.testing.assert_allclose(op.x, [0.6, 0.4], rtol=0, atol=1e-10)
+    assert abs(op.u[0] - u) <= 1e-10
+    np.testing.assert_allclose(op.dx, [0.4, 1.5], rtol=0, atol=1e-10)
+    sys = ct.nlsys(lambda t, x, u, params: np.array(pendulum(x, u)), None, inputs=1, states=2, outputs=2)
+    with pytest.warns(UserWarning):  # python-control counts the held entries as constraints
+        ref = ct.find_operating_point(sys, [0.6, 0.0], [0.0], ix=[0], iu=[], dx0=[0.4, 1.5], return_result=True)
+    assert ref.result.success
+    np.testing.assert_allclose(op.x, ref.states, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(op.u, ref.inputs, rtol=0, atol=1e-8)
+    # A freed derivative's value is ignored (θ̈ free: any u holds θ̇ = 0.4).
+    free = find_operating_point(pendulum, [0.6, 0.0], [0.0], ix=[0], idx=[0], dx0=[0.4, 99.0])
+    assert abs(free.x[1] - 0.4) <= 1e-10 and free.u[0] == 0.0
+    with pytest.raises(pl.ShapeError, match="dx0"):
+        find_operating_point(pendulum, [0.6, 0.0], [0.0], dx0=[0.4])
+    with pytest.raises(pl.NotFiniteError):
+        find_operating_point(pendulum, [0.6, 0.0], [0.0], dx0=[0.4, math.nan])

@@ -89,8 +89,8 @@ def build(spec: Mapping[str, Any], plant: Union[str, Mapping[str, Any]] = "cart"
 @dataclass
 class OperatingPoint:
     """An operating point found by :func:`find_operating_point`: state ``x``, input ``u``,
-    output ``y`` (empty without an output map), ``dx = f(x, u)`` (zero to the tolerance but
-    for the derivatives left free by ``idx``), ``residual`` (``‖r‖_∞`` of the equations, in
+    output ``y`` (empty without an output map), ``dx = f(x, u)`` (``dx0``, zero unless given,
+    to the tolerance but for the derivatives left free by ``idx``), ``residual`` (``‖r‖_∞`` of the equations, in
     the units of ``ẋ`` and ``y``; ≤ ``tol``), ``iterations`` (Levenberg–Marquardt), ``status``:
     ``"isolated"`` or ``"family"`` (the equations leave ``family_dimension`` unknowns free,
     e.g. the cart's position along the rail). Unpacks as python-control's result:
@@ -125,6 +125,7 @@ def find_operating_point(
     iy: Optional[Sequence[int]] = None,
     ix: Optional[Sequence[int]] = None,
     idx: Optional[Sequence[int]] = None,
+    dx0: Any = None,
     *,
     h: Optional[Callable[[np.ndarray, np.ndarray], Any]] = None,
     tol: float = 1e-10,
@@ -147,9 +148,10 @@ def find_operating_point(
       ``y0`` it is a guess; ``iu`` lists the inputs held (``Inputs.Known``);
     - ``y0``: the output values (one per output of ``h``); ``iy`` selects those held (default
       all; ``Outputs.Known``);
-    - ``idx``: the states whose derivative must vanish (default all; the others are free,
-      ``States.SteadyState = false``). python-control's ``dx0`` (non-zero derivative targets)
-      is not supported;
+    - ``idx``: the states whose derivative is held (default all; the others are free,
+      ``States.SteadyState = false``);
+    - ``dx0``: the values the held derivatives take (one per state; default zeros: an
+      equilibrium; ``States.dx``), e.g. a steady acceleration;
     - ``t``: the evaluation time (s); ``tol``: accept ``‖r‖_∞ ≤ tol``; ``max_iterations``.
 
     Raises :class:`pendulab.ShapeError` for lengths that do not fit the model,
@@ -162,7 +164,7 @@ def find_operating_point(
     """
     d = _native.control_find_operating_point(
         sys, x0, u0, y0, float(t), _ints(iu), _ints(iy), _ints(ix), _ints(idx), h, float(tol),
-        int(max_iterations))
+        int(max_iterations), dx0)
     return OperatingPoint(**d)
 
 

@@ -32,13 +32,15 @@ fn indices(what: &str, idx: &[usize], n: usize) -> PyResult<()> {
 }
 
 /// `control_find_operating_point(sys, x0, u0=None, y0=None, t=0.0, iu=None, iy=None,
-/// ix=None, idx=None, h=None, tol=1e-10, max_iterations=100)`: the operating point of `sys`
+/// ix=None, idx=None, h=None, tol=1e-10, max_iterations=100, dx0=None)`: the operating point
+/// of `sys`
 /// (a plant object, `"cart"`/`"arm"`, or a callable `f(x, u)` with the output map `h`) by
-/// Levenberg–Marquardt (module table for the keywords). Returns a dict `x, u, y, dx,
+/// Levenberg–Marquardt (module table for the keywords; `dx0`: the held derivatives' targets,
+/// `TrimSpec::derivative_targets`). Returns a dict `x, u, y, dx,
 /// residual, iterations, status` (`"isolated"` or `"family"`), `family_dimension`.
 #[pyfunction]
 #[pyo3(signature = (sys, x0, u0 = None, y0 = None, t = 0.0, iu = None, iy = None, ix = None,
-    idx = None, h = None, tol = 1e-10, max_iterations = 100))]
+    idx = None, h = None, tol = 1e-10, max_iterations = 100, dx0 = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn control_find_operating_point<'py>(
     py: Python<'py>,
@@ -54,6 +56,7 @@ pub fn control_find_operating_point<'py>(
     h: Option<&Bound<'py, PyAny>>,
     tol: f64,
     max_iterations: usize,
+    dx0: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let x = vector(x0, "x0")?.as_slice().to_vec();
     let mut u = match u0 {
@@ -103,6 +106,17 @@ pub fn control_find_operating_point<'py>(
     if let Some(idx) = idx {
         indices("idx", &idx, nx)?;
         spec.free_derivatives = (0..nx).filter(|i| !idx.contains(i)).collect();
+    }
+    if let Some(dx0) = dx0 {
+        let dx = vector(dx0, "dx0")?;
+        if dx.len() != nx {
+            return Err(new_err(
+                Kind::Shape,
+                format!("dx0 must have one entry per state ({nx}), got {}", dx.len()),
+                None,
+            ));
+        }
+        spec.derivative_targets = dx.as_slice().to_vec();
     }
     let options = TrimOptions {
         tolerance: tol,
