@@ -33,11 +33,10 @@ fn indices(what: &str, idx: &[usize], n: usize) -> PyResult<()> {
 
 /// `control_find_operating_point(sys, x0, u0=None, y0=None, t=0.0, iu=None, iy=None,
 /// ix=None, idx=None, h=None, tol=1e-10, max_iterations=100, dx0=None)`: the operating point
-/// of `sys`
-/// (a plant object, `"cart"`/`"arm"`, or a callable `f(x, u)` with the output map `h`) by
-/// Levenberg–Marquardt (module table for the keywords; `dx0`: the held derivatives' targets,
-/// `TrimSpec::derivative_targets`). Returns a dict `x, u, y, dx,
-/// residual, iterations, status` (`"isolated"` or `"family"`), `family_dimension`.
+/// of `sys` (a plant object, `"cart"`/`"arm"`, or a callable `f(x, u)` with the output map
+/// `h`) by Levenberg–Marquardt (module table for the keywords; `dx0`: the held derivatives'
+/// targets, `TrimSpec::derivative_targets`). Returns a dict `x, u, y, dx, residual,
+/// iterations, status` (`"isolated"` or `"family"`), `family_dimension`.
 #[pyfunction]
 #[pyo3(signature = (sys, x0, u0 = None, y0 = None, t = 0.0, iu = None, iy = None, ix = None,
     idx = None, h = None, tol = 1e-10, max_iterations = 100, dx0 = None))]
