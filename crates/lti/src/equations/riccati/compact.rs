@@ -434,10 +434,10 @@ fn finish(
     m: usize,
     warm: bool,
 ) -> Option<CompactCare> {
-    let (l, w, g) = (&fa.l, &fa.w, &fa.g);
+    let (l, w) = (&fa.l, &fa.w);
     // Newton–Kleinman refinement.
     let mut res = [0.0; SQ];
-    let mut rel = residual(a, g, q, &x, n, &mut res);
+    let mut rel = residual(a, w, q, &x, n, m, &mut res);
     let floor = 10.0 * n as f64 * f64::EPSILON;
     let mut op = Lyapunov::new();
     let mut factored = false;
@@ -451,7 +451,7 @@ fn finish(
         let chord = factored && rel <= CHORD;
         if !chord {
             let mut f = [0.0; SQ];
-            closed_loop(a, g, &x, n, &mut f);
+            closed_loop(a, w, &x, n, m, &mut f);
             if !op.factor(&f, n) {
                 break;
             }
@@ -465,7 +465,7 @@ fn finish(
         }
         symmetrize(&mut trial, n);
         let mut trial_res = [0.0; SQ];
-        let trial_rel = residual(a, g, q, &trial, n, &mut trial_res);
+        let trial_rel = residual(a, w, q, &trial, n, m, &mut trial_res);
         // A NaN residual is no improvement either; a chord step that is none is retried
         // as Newton's.
         if trial_rel.partial_cmp(&rel) != Some(std::cmp::Ordering::Less) {
@@ -538,36 +538,51 @@ fn minus_bk(a: &[f64], b: &[f64], k: &[f64], n: usize, m: usize) -> [f64; SQ] {
     f
 }
 
-/// `F = A − GX`.
-fn closed_loop(a: &[f64], g: &[f64; SQ], x: &[f64; SQ], n: usize, f: &mut [f64; SQ]) {
+/// `WX` (`m × n`) of `W = L⁻¹Bᵀ` (`m × n`) and the symmetric `X`: with `G = WᵀW`,
+/// `GX = Wᵀ(WX)` and `XGX = (WX)ᵀ(WX)` cost `m·n²` each instead of `n³` (the rank of `G`
+/// is `m`).
+fn w_times(w: &[f64; SQ], x: &[f64; SQ], n: usize, m: usize) -> [f64; SQ] {
+    let mut wx = [0.0; SQ];
+    for k in 0..m {
+        for j in 0..n {
+            wx[k * n + j] = (0..n).map(|p| w[k * n + p] * x[p * n + j]).sum();
+        }
+    }
+    wx
+}
+
+/// `F = A − GX = A − Wᵀ(WX)`.
+fn closed_loop(a: &[f64], w: &[f64; SQ], x: &[f64; SQ], n: usize, m: usize, f: &mut [f64; SQ]) {
+    let wx = w_times(w, x, n, m);
     for i in 0..n {
         for j in 0..n {
-            f[i * n + j] = a[i * n + j] - (0..n).map(|p| g[i * n + p] * x[p * n + j]).sum::<f64>();
+            f[i * n + j] = a[i * n + j] - (0..m).map(|k| w[k * n + i] * wx[k * n + j]).sum::<f64>();
         }
     }
 }
 
-/// `Res = AᵀX + XA − XGX + Q` into `res`; returns the relative residual.
+/// `Res = AᵀX + XA − XGX + Q` into `res` (`XGX = (WX)ᵀ(WX)`, [`w_times`]); returns the
+/// relative residual.
 fn residual(
     a: &[f64],
-    g: &[f64; SQ],
+    w: &[f64; SQ],
     q: &[f64],
     x: &[f64; SQ],
     n: usize,
+    m: usize,
     res: &mut [f64; SQ],
 ) -> f64 {
     let mut xa = [0.0; SQ];
-    let mut gx = [0.0; SQ];
     for i in 0..n {
         for j in 0..n {
             xa[i * n + j] = (0..n).map(|p| x[i * n + p] * a[p * n + j]).sum();
-            gx[i * n + j] = (0..n).map(|p| g[i * n + p] * x[p * n + j]).sum();
         }
     }
+    let wx = w_times(w, x, n, m);
     let (mut rn, mut xan, mut xgxn, mut qn) = (0.0, 0.0, 0.0, 0.0);
     for i in 0..n {
         for j in 0..n {
-            let xgx: f64 = (0..n).map(|p| x[i * n + p] * gx[p * n + j]).sum();
+            let xgx: f64 = (0..m).map(|k| wx[k * n + i] * wx[k * n + j]).sum();
             let v = xa[j * n + i] + xa[i * n + j] - xgx + q[i * n + j];
             res[i * n + j] = v;
             rn += v * v;
