@@ -179,15 +179,12 @@ pub fn care_compact_from(
     k0: &[f64],
 ) -> Result<CompactCare> {
     let m = shape(a, b, q, r, n)?;
-    if k0.len() != m * n || !k0.iter().all(|v| v.is_finite()) {
+    let finite = k0.iter().all(|v| v.is_finite());
+    if k0.len() != m * n || !finite {
         return Err(LtiError::InvalidArgument(format!(
             "care_compact_from needs a finite starting gain K0 of m×n = {m}×{n} entries; got {} entries{}",
             k0.len(),
-            if k0.iter().all(|v| v.is_finite()) {
-                ""
-            } else {
-                ", not all finite"
-            }
+            if finite { "" } else { ", not all finite" }
         )));
     }
     if let Some(sol) = compact_from(a, b, q, r, k0, n, m) {
@@ -384,7 +381,7 @@ fn sign_start(a: &[f64], q: &[f64], f: &Factors, n: usize) -> Option<[f64; SQ]> 
 /// `u = −K₀x` under the weights, `(A − BK₀)ᵀX + X(A − BK₀) + Q + K₀ᵀRK₀ = 0`. When `K₀`
 /// stabilises `(A, B)` this `X` bounds the stabilising solution from above and Newton's
 /// iteration from it converges to that solution (Kleinman 1968); for any other `K₀`,
-/// [`finish`]'s checks refuse what comes out.
+/// [`finish`]'s checks refuse what comes out. `k0` is finite ([`care_compact_from`] checks).
 fn kleinman_start(
     a: &[f64],
     b: &[f64],
@@ -394,9 +391,6 @@ fn kleinman_start(
     n: usize,
     m: usize,
 ) -> Option<[f64; SQ]> {
-    if !k0.iter().all(|v| v.is_finite()) {
-        return None;
-    }
     let f = minus_bk(a, b, k0, n, m);
     let mut c = [0.0; SQ];
     let mut rk = [0.0; SQ];
