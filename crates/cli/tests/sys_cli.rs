@@ -334,6 +334,38 @@ fn margins_norms_reduction_and_stepinfo_closed_forms() {
         1e-3,
         "ω_peak",
     );
+    // Infinite norms say why (MATLAB and python-control return Inf): 1/(s − 1) is unstable;
+    // 1/(s + 1) + 1 is stable with a feedthrough, so only its H2 norm is infinite (its H∞
+    // norm is 2, at ω = 0).
+    for (args, want) in [
+        (
+            &["norm", "--num", "1", "--den", "1 -1"][..],
+            "H2 norm inf: the system is unstable",
+        ),
+        (
+            &["norm", "--inf", "--num", "1", "--den", "1 -1"][..],
+            "H∞ norm inf: the system is unstable",
+        ),
+        (
+            &["norm", "--num", "1 2", "--den", "1 1"][..],
+            "H2 norm inf: the system has a feedthrough D ≠ 0",
+        ),
+    ] {
+        let out = pendulab(args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout).trim(),
+            want,
+            "{args:?}"
+        );
+    }
+    let v = json(&["norm", "--inf", "--num", "1 2", "--den", "1 1", "--json"]);
+    close(
+        v["hinf"].as_f64().unwrap(),
+        2.0,
+        1e-7,
+        "H∞ with feedthrough",
+    );
     // (s + 1)/((s + 1)(s + 2)) realised with two states: the pole −1 cancels, one state left
     // with the pole −2.
     let v = json(&["minreal", "--num", "1 1", "--den", "1 3 2", "--json"]);

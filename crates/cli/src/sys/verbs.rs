@@ -117,6 +117,10 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
                 });
                 if *json {
                     println!("{out}");
+                } else if !h.value.is_finite() {
+                    // `hinf_norm`: infinite only for an unstable system (MATLAB and
+                    // python-control return Inf too), with no peak frequency.
+                    println!("H∞ norm inf: the system is unstable");
                 } else {
                     println!(
                         "H∞ norm {:.10} at ω = {:.6} rad/s (≤ {:.10})",
@@ -130,6 +134,15 @@ pub fn run(cmd: &SysCommand) -> Result<()> {
                         "{}",
                         json!({ "h2": finite_or_null(h2), "infinite": !h2.is_finite() })
                     );
+                } else if !h2.is_finite() {
+                    // `h2_norm`: infinite for an unstable system, or a continuous one with
+                    // a feedthrough (its impulse response has a Dirac part).
+                    let why = if with_sys!(&s, |v| v.is_stable())? {
+                        "the system has a feedthrough D ≠ 0"
+                    } else {
+                        "the system is unstable"
+                    };
+                    println!("H2 norm inf: {why}");
                 } else {
                     println!("H2 norm {h2:.10}");
                 }
