@@ -100,6 +100,9 @@
   }
 
   // --- design ------------------------------------------------------------------------------
+  // [re, im] pairs of a flat array of poles (a design's `poles`, `open`: web/src/lab.js).
+  const pairs = (flat) => Array.from({ length: flat.length / 2 }, (_, i) => [flat[2 * i], flat[2 * i + 1]]);
+
   function redesign() {
     const t0 = performance.now();
     try {
@@ -120,12 +123,13 @@
       state.design = d;
       state.responseDirty = true;
       const g = $("gain");
-      g.textContent = "[" + d.gain.map((v) => v.toFixed(4)).join(", ") + "]";
-      g.dataset.gain = JSON.stringify(d.gain);
-      $("poles").textContent = d.poles.map(([re, im]) => im === 0 ? re.toFixed(3) : `${re.toFixed(3)}${im >= 0 ? "+" : "−"}${Math.abs(im).toFixed(3)}i`).join(", ");
+      const gain = Array.from(d.gain);
+      g.textContent = "[" + gain.map((v) => v.toFixed(4)).join(", ") + "]";
+      g.dataset.gain = JSON.stringify(gain);
+      $("poles").textContent = pairs(d.poles).map(([re, im]) => im === 0 ? re.toFixed(3) : `${re.toFixed(3)}${im >= 0 ? "+" : "−"}${Math.abs(im).toFixed(3)}i`).join(", ");
       // Outside a cross-origin-isolated page (e.g. file://) the browser's timer resolves 100 µs.
       if (!isLmi()) $("redesign-time").textContent = `${median(state.lastDesignUs).toFixed(1)} µs (median of ${state.lastDesignUs.length})${window.crossOriginIsolated ? "" : ", timer resolution 100 µs"}`;
-      window.PendulabPlot.poleMap($("polemap"), d.open, d.poles);
+      window.PendulabPlot.poleMap($("polemap"), pairs(d.open), pairs(d.poles));
       status("");
     } catch (e) {
       status(e.message, true);
@@ -421,7 +425,13 @@
   window.pendulab = {
     lab,
     weights: () => ({ method: state.method, q: state.q.slice(), r: state.r }),
-    design: () => state.design,
+    // The current design with plain arrays (poles as [re, im] pairs): lab.js's result is
+    // typed arrays, overwritten by the next design.
+    design: () => state.design && {
+      gain: Array.from(state.design.gain), poles: pairs(state.design.poles),
+      a: Array.from(state.design.a), b: Array.from(state.design.b), open: pairs(state.design.open),
+      lmi: state.design.lmi,
+    },
     snapshot: () => state.snap,
     frameStats: () => ({ workMs: state.frameMs.slice(), intervalMs: state.intervalMs.slice() }),
     redesignUs: () => state.lastDesignUs.slice(),

@@ -11,6 +11,7 @@
   const IO_LEN = 16384;
   const RECORD = 6; // [t, q0, q1, q0', q1', u]  (crates/web/src/lab.rs, RECORD)
   const STATE = 16; // the state block of pl_advance (crates/web/src/ffi.rs, STATE)
+  const DESIGN_LEN = 44; // the design block, up to DESIGN_LMI (crates/web/src/ffi.rs)
   const METHODS = { lqr: 0, servo: 1, place: 2, lmi: 3 }; // pl_design's method numbers
 
   function decodeBase64(text) {
@@ -50,12 +51,17 @@
       return rc;
     };
 
-    // A design's result of order n: gain (n), closed-loop poles (n × [re, im]), the
-    // linearisation's A (16, row-major), B (4) and open-loop poles (4 × [re, im]).
-    const designOutput = (n) => ({
-      gain: new Array(n).fill(0), poles: Array.from({ length: n }, () => [0, 0]),
-      a: new Array(16).fill(0), b: new Array(4).fill(0), open: Array.from({ length: 4 }, () => [0, 0]),
-    });
+    // A design's result of order n: one Float64Array laid out as the number buffer's design
+    // block (crates/web/src/ffi.rs, DESIGN_GAIN … DESIGN_LMI), and views of it made once: the
+    // gain (n), the closed-loop poles (n pairs re, im, flat), the linearisation's A (16,
+    // row-major), B (4) and open-loop poles (4 pairs re, im, flat).
+    const designOutput = (n) => {
+      const all = new Float64Array(DESIGN_LEN);
+      return {
+        all, gain: all.subarray(0, n), poles: all.subarray(6, 6 + 2 * n),
+        a: all.subarray(16, 32), b: all.subarray(32, 36), open: all.subarray(36, 44),
+      };
+    };
     const designs = {};
 
     const lab = {
@@ -72,9 +78,10 @@
       // The result of a design other than the LMI one is one of two objects (n = 4, 5) that
       // each design of that order fills in place, so that a slider move allocates nothing: it
       // is the lab's current design, overwritten by the next one (copy what you keep). A
-      // design that fails leaves it as it was. Plain indexed loops, no array builtins: a move
-      // runs this after a frame or more of other work, with the engine's caches cold
-      // (docs/web.md, "Redesign time").
+      // design that fails leaves it as it was. One plain loop into one typed array, no array
+      // builtins: a move runs this after a frame or more of other work, with the engine's
+      // caches cold, where filling a dozen small arrays cost about 5 µs more (docs/web.md,
+      // "Redesign time").
       design(method, args) {
         const b = io();
         const m = METHODS[method];
@@ -91,17 +98,8 @@
         const o = io();
         const n = o[5];
         const d = m === 3 ? designOutput(n) : (designs[n] ||= designOutput(n));
-        for (let i = 0; i < n; i++) {
-          d.gain[i] = o[i];
-          d.poles[i][0] = o[6 + 2 * i];
-          d.poles[i][1] = o[7 + 2 * i];
-        }
-        for (let i = 0; i < 16; i++) d.a[i] = o[16 + i];
-        for (let i = 0; i < 4; i++) {
-          d.b[i] = o[32 + i];
-          d.open[i][0] = o[36 + 2 * i];
-          d.open[i][1] = o[37 + 2 * i];
-        }
+        const all = d.all;
+        for (let i = 0; i < DESIGN_LEN; i++) all[i] = o[i];
         if (m === 3) {
           // The certificate (crates/web/src/ffi.rs, DESIGN_LMI) and its sentence.
           d.lmi = {
