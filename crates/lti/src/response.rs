@@ -1,5 +1,6 @@
 //! Time responses: [`lsim`], [`initial`], [`step`], [`impulse`], and the zero-input /
-//! zero-state split ([`lsim_split`]). Every response is a [`Trajectory`].
+//! zero-state split ([`lsim_split`]). Every response is a [`Trajectory`]. Their time grid
+//! from a final time, or from none, is [`response_times`].
 //!
 //! **Exactness.** A continuous system is simulated on the uniform grid of the time vector by
 //! its exact discretisation for the chosen [`InputHold`]: with a zero-order hold the input is
@@ -56,6 +57,100 @@ pub fn time_vector(t_final: f64, dt: f64) -> Result<Vec<f64>> {
     }
     let n = (t_final / dt + 1e-9).floor() as usize;
     Ok((0..=n).map(|k| k as f64 * dt).collect())
+}
+
+/// The default final time of a response of `sys` when none is given (MATLAB's `step(sys)`
+/// and python-control's `step_response(sys)` choose one too): 7 time constants of the
+/// slowest decaying mode (the response is then within 0.1 % of its final value), shortened
+/// to 5 e-folding times of the fastest growing mode when the system is unstable, ten periods
+/// of the slowest undamped oscillation, and 10 s when no pole sets a time scale (only
+/// integrators, or no states). Discrete poles are mapped by `s = ln(z)/dt`, and a discrete
+/// final time is a whole number of 10 … 100 000 steps.
+///
+/// # Errors
+/// [`LtiError::NoConvergence`] from the poles' eigenvalue computation.
+pub fn default_final_time<D: TimeDomain>(sys: &StateSpace<D>) -> Result<f64> {
+    let dt = sys.domain().sample_time();
+    let mut settle: f64 = 0.0;
+    let mut grow = f64::INFINITY;
+    for p in sys.poles()? {
+        let sp = match dt {
+            None => p,
+            Some(dt) if p.norm() > 0.0 => p.ln() / dt,
+            Some(_) => continue, // z = 0: a pure delay, settles in one step
+        };
+        if sp.re < -1e-12 * sp.norm().max(1.0) {
+            settle = settle.max(7.0 / -sp.re);
+        } else if sp.re > 1e-12 * sp.norm().max(1.0) {
+            grow = grow.min(5.0 / sp.re);
+        } else if sp.im.abs() > 0.0 {
+            // Undamped oscillation: ten periods.
+            settle = settle.max(10.0 * 2.0 * std::f64::consts::PI / sp.im.abs());
+        }
+    }
+    let t = if grow.is_finite() {
+        if settle > 0.0 { settle.min(grow) } else { grow }
+    } else if settle > 0.0 {
+        settle
+    } else {
+        10.0
+    };
+    Ok(match dt {
+        Some(dt) => (t / dt).ceil().clamp(10.0, 100_000.0) * dt,
+        None => t,
+    })
+}
+
+/// The most samples [`response_times`] gives.
+pub const MAX_RESPONSE_SAMPLES: f64 = 1e7;
+
+/// The time grid of a response of `sys` from a final time (MATLAB's `step(sys, tFinal)`,
+/// python-control's `T` given as a number): `0, h, …, t_final` ([`time_vector`]) with
+/// `t_final` defaulting to [`default_final_time`] and the step `h` to `t_final/1000` for a
+/// continuous system (1 001 samples); a discrete system steps at its sample time.
+///
+/// # Errors
+/// [`LtiError::InvalidArgument`] for a `t_final` or `step` that is not finite and > 0, a
+/// `step` for a discrete system, or more than [`MAX_RESPONSE_SAMPLES`] samples; the errors of
+/// [`default_final_time`].
+pub fn response_times<D: TimeDomain>(
+    sys: &StateSpace<D>,
+    t_final: Option<f64>,
+    step: Option<f64>,
+) -> Result<Vec<f64>> {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    let t_final = match t_final {
+        Some(t) if !positive(t) => {
+            return Err(LtiError::InvalidArgument(format!(
+                "final time {t} s: must be finite and > 0"
+            )));
+        }
+        Some(t) => t,
+        None => default_final_time(sys)?,
+    };
+    let h = match (sys.domain().sample_time(), step) {
+        (Some(_), Some(_)) => {
+            return Err(LtiError::InvalidArgument(
+                "a time step applies to continuous systems; a discrete system steps at its dt"
+                    .into(),
+            ));
+        }
+        (Some(dt), None) => dt,
+        (None, Some(h)) if !positive(h) => {
+            return Err(LtiError::InvalidArgument(format!(
+                "time step {h} s: must be finite and > 0"
+            )));
+        }
+        (None, Some(h)) => h,
+        (None, None) => t_final / 1000.0,
+    };
+    if t_final / h > MAX_RESPONSE_SAMPLES {
+        return Err(LtiError::InvalidArgument(format!(
+            "{} samples requested (final time {t_final} s / step {h} s); at most 10⁷",
+            (t_final / h).round()
+        )));
+    }
+    time_vector(t_final, h)
 }
 
 /// Checks that `t` is non-empty, finite and uniformly spaced; returns its step (0 for one

@@ -3,7 +3,8 @@
 mod sys_support;
 
 use pendulab_lti::response::{
-    InputHold, LsimKernel, LsimOptions, impulse, initial, lsim, lsim_split, step, time_vector,
+    InputHold, LsimKernel, LsimOptions, default_final_time, impulse, initial, lsim, lsim_split,
+    response_times, step, time_vector,
 };
 use pendulab_lti::{Continuous, Discretization, LtiError, Mat, StateSpace};
 use sys_support::{assert_same_poles, c, mat};
@@ -16,6 +17,80 @@ fn first_order(a: f64, b: f64) -> StateSpace<Continuous> {
         mat(1, 1, &[0.0]),
     )
     .unwrap()
+}
+
+/// The grid from a final time and the default final time: 7 time constants of the slowest
+/// decaying pole, 5 e-folding times of a growing one, ten periods of an undamped pair, 10 s
+/// without a time scale; a discrete system's grid at its dt; the refusals.
+#[test]
+fn response_times_and_the_default_final_time() {
+    let t = response_times(&first_order(2.0, 1.0), Some(3.0), None).unwrap();
+    assert_eq!((t.len(), t[0]), (1001, 0.0));
+    assert!((t[1000] - 3.0).abs() <= 1e-15);
+    let t = response_times(&first_order(2.0, 1.0), Some(3.0), Some(0.5)).unwrap();
+    assert_eq!(t, vec![0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0]);
+    let slow_and_fast = StateSpace::continuous(
+        mat(2, 2, &[-0.5, 0.0, 0.0, -4.0]),
+        mat(2, 1, &[1.0, 1.0]),
+        mat(1, 2, &[1.0, 1.0]),
+        mat(1, 1, &[0.0]),
+    )
+    .unwrap();
+    assert!((default_final_time(&slow_and_fast).unwrap() - 14.0).abs() <= 1e-12);
+    let growing = StateSpace::continuous(
+        mat(2, 2, &[-0.5, 0.0, 0.0, 2.0]),
+        mat(2, 1, &[1.0, 1.0]),
+        mat(1, 2, &[1.0, 1.0]),
+        mat(1, 1, &[0.0]),
+    )
+    .unwrap();
+    assert!((default_final_time(&growing).unwrap() - 2.5).abs() <= 1e-12);
+    // ẍ = −4x: ω = 2, ten periods 10π.
+    let undamped = StateSpace::continuous(
+        mat(2, 2, &[0.0, 1.0, -4.0, 0.0]),
+        mat(2, 1, &[0.0, 1.0]),
+        mat(1, 2, &[1.0, 0.0]),
+        mat(1, 1, &[0.0]),
+    )
+    .unwrap();
+    assert!((default_final_time(&undamped).unwrap() - 10.0 * std::f64::consts::PI).abs() <= 1e-9);
+    assert_eq!(default_final_time(&first_order(0.0, 1.0)).unwrap(), 10.0);
+    // z = 0.5 at dt = 0.1: s = ln 0.5 / 0.1, 7/|s| = 1.0099 s → 11 steps.
+    let d = StateSpace::discrete(
+        mat(1, 1, &[0.5]),
+        mat(1, 1, &[1.0]),
+        mat(1, 1, &[1.0]),
+        mat(1, 1, &[0.0]),
+        0.1,
+    )
+    .unwrap();
+    let t = response_times(&d, None, None).unwrap();
+    assert_eq!(t.len(), 12);
+    assert!((t[11] - 1.1).abs() <= 1e-12);
+    let refused = |e: LtiError, what: &str| {
+        assert!(
+            matches!(&e, LtiError::InvalidArgument(m) if m.contains(what)),
+            "{e}"
+        );
+    };
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        refused(
+            response_times(&first_order(2.0, 1.0), Some(bad), None).unwrap_err(),
+            "final time",
+        );
+        refused(
+            response_times(&first_order(2.0, 1.0), Some(1.0), Some(bad)).unwrap_err(),
+            "time step",
+        );
+    }
+    refused(
+        response_times(&d, Some(1.0), Some(0.1)).unwrap_err(),
+        "discrete",
+    );
+    refused(
+        response_times(&first_order(2.0, 1.0), Some(1e3), Some(1e-6)).unwrap_err(),
+        "at most",
+    );
 }
 
 #[test]

@@ -44,6 +44,33 @@ def test_step_of_first_order_lag_is_closed_form():
     np.testing.assert_allclose(y, 4 * np.exp(-t / 0.5), rtol=0, atol=4 * tol)
 
 
+def test_a_number_T_is_the_final_time_and_none_chooses_one():
+    # MATLAB's step(sys, tFinal) and python-control's T given as a number: a final time, not
+    # a one-sample time vector. G = 2/(0.5 s + 1): y = 2(1 − e^{−2t}).
+    g = pl.tf([2.0], [0.5, 1.0])
+    tol = 1001 * np.finfo(float).eps * 8
+    for T in (3.0, 3, np.float64(3.0), np.array(3.0)):
+        y, t = pl.step(g, T)
+        assert len(t) == 1001 and t[0] == 0.0 and t[-1] == pytest.approx(3.0, rel=1e-15)
+        np.testing.assert_allclose(y, 2 * (1 - np.exp(-2 * t)), rtol=0, atol=tol)
+    # python-control 0.10 ends its grid at the same final time.
+    assert ct.step_response(ct.tf([2.0], [0.5, 1.0]), 3.0).time[-1] == pytest.approx(3.0)
+    y, t = pl.impulse(g, 3.0)
+    np.testing.assert_allclose(y, 4 * np.exp(-2 * t), rtol=0, atol=2 * tol)
+    r = pl.initial(pl.ss([[-2.0]], [[1.0]], [[1.0]], 0), 3.0, [1.5])
+    np.testing.assert_allclose(r.y, 1.5 * np.exp(-2 * r.t), rtol=0, atol=tol)
+    # None: 7 time constants of the slowest pole (−2 → 3.5 s), within 0.1 % of the end.
+    y, t = pl.step(g)
+    assert t[-1] == pytest.approx(3.5, rel=1e-12) and abs(y[-1] - 2) <= 2e-3
+    # A discrete system steps at its dt: y[k] = 1 − 0.5^k from x[k+1] = 0.5 x[k] + 0.5 u.
+    y, t = pl.step(pl.ss([[0.5]], [[0.5]], [[1.0]], 0, 0.1), 1.0)
+    np.testing.assert_allclose(t, 0.1 * np.arange(11), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(y, 1 - 0.5 ** np.arange(11), rtol=0, atol=1e-15)
+    for bad in (0.0, -1.0, np.inf, np.nan):
+        with pytest.raises(pl.InvalidArgumentError, match="final time"):
+            pl.step(g, bad)
+
+
 def test_lsim_split_superposes():
     # Linearity (book Part 1 §4, eq. 4.24): y = y_zi + y_zs; the three runs round on their
     # own, about one rounding per step of the recursion.

@@ -9,7 +9,7 @@
 
 use super::nogil;
 use super::results::{obj, result_class};
-use super::system::{system, with_sys};
+use super::system::{Sys, system, with_sys};
 use crate::convert::{
     OneD, array3_to_numpy, complex_array3_to_numpy, matrix, slice_to_numpy, vector,
 };
@@ -19,7 +19,7 @@ use numpy::ndarray::{Array2, ShapeBuilder};
 use pendulab_lti::response::{self, InputHold, LsimOptions};
 use pendulab_lti::{Mat, Trajectory};
 use pyo3::prelude::*;
-use pyo3::types::{PyFloat, PyInt};
+use pyo3::types::{PyBool, PyFloat, PyInt};
 
 result_class!(
     LsimResult, "LsimResult",
@@ -90,6 +90,44 @@ fn times(t: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<f64>> {
             None,
         )),
     }
+}
+
+/// The time samples of `step`, `impulse` and `initial`: `T` as given (a uniformly spaced
+/// vector), a number `T` as the final time, or `None` for pendulab-lti's default final time
+/// (`response_times`: `0 … T` by `T/1000`, a discrete system by its `dt`), as MATLAB's
+/// `step(sys, tFinal)` and python-control's `T`.
+fn response_grid(s: &Sys, t: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<f64>> {
+    let t_final = match t {
+        Some(t) if !t.is_none() && is_real_scalar(t) => {
+            let v: f64 = t.extract()?;
+            if !(v.is_finite() && v > 0.0) {
+                return Err(new_err(
+                    Kind::InvalidArgument,
+                    format!("T = {v}: a final time must be finite and > 0 seconds"),
+                    None,
+                ));
+            }
+            Some(v)
+        }
+        Some(t) if !t.is_none() => return times(Some(t)),
+        _ => None,
+    };
+    with_sys!(s, s => response::response_times(s, t_final, None)).map_err(lti)
+}
+
+/// A Python or NumPy real number (not a bool, not an array of one or more dimensions).
+fn is_real_scalar(obj: &Bound<'_, PyAny>) -> bool {
+    if obj.is_instance_of::<PyBool>() {
+        return false;
+    }
+    obj.is_instance_of::<PyFloat>()
+        || obj.is_instance_of::<PyInt>()
+        || (obj.hasattr("dtype").unwrap_or(false)
+            && obj
+                .getattr("ndim")
+                .and_then(|d| d.extract::<usize>())
+                .is_ok_and(|d| d == 0)
+            && obj.extract::<f64>().is_ok())
 }
 
 fn is_zero_scalar(obj: &Bound<'_, PyAny>) -> bool {
@@ -325,7 +363,7 @@ fn channel_response(
 ) -> PyResult<TimeResponse> {
     let py = sys.py();
     let s = system(sys)?;
-    let t = times(t)?;
+    let t = response_grid(&s, t)?;
     let runs = nogil(
         py,
         || with_sys!(&s, s => if impulse { response::impulse(s, &t) } else { response::step(s, &t) }),
@@ -338,9 +376,14 @@ fn channel_response(
     })
 }
 
-/// `step(sys, T)`: unit-step responses from a zero state, one per input channel (MATLAB
-/// `step`), exact for continuous systems. Returns `TimeResponse` (`yout, T = step(...)`),
-/// `y` of shape `(len, p, m)` (`(len,)` for SISO), `x` `(len, n, m)`.
+/// `step(sys, T=None)`: unit-step responses from a zero state, one per input channel (MATLAB
+/// `step`), exact for continuous systems. `T` is the uniformly spaced time vector, or a
+/// number, the final time (MATLAB's `step(sys, tFinal)`, python-control's `T`: samples
+/// `0 … T` by `T/1000`, a discrete system's by its `dt`), or `None` for a final time from
+/// the poles (7 time constants of the slowest mode; pendulab-lti `default_final_time`).
+/// Returns `TimeResponse` (`yout, T = step(...)`), `y` of shape `(len, p, m)` (`(len,)` for
+/// SISO), `x` `(len, n, m)`. Raises `pendulab.InvalidArgumentError` for a final time that
+/// is not finite and > 0.
 #[pyfunction]
 #[pyo3(signature = (sys, T = None))]
 #[allow(non_snake_case)]
@@ -350,7 +393,7 @@ pub fn step(sys: &Bound<'_, PyAny>, T: Option<&Bound<'_, PyAny>>) -> PyResult<Ti
 
 /// `impulse(sys, T)`: impulse responses, one per input channel (MATLAB `impulse`):
 /// continuous, `y = C e^{A t} B e_j` (a feedthrough `D δ(t)` has no sample value); discrete,
-/// the response to the unit-area pulse `u_j[0] = 1/dt`. Shapes as `step`.
+/// the response to the unit-area pulse `u_j[0] = 1/dt`. `T` and shapes as `step`.
 #[pyfunction]
 #[pyo3(signature = (sys, T = None))]
 #[allow(non_snake_case)]
@@ -359,7 +402,8 @@ pub fn impulse(sys: &Bound<'_, PyAny>, T: Option<&Bound<'_, PyAny>>) -> PyResult
 }
 
 /// `initial(sys, T, X0)`: the zero-input response from `X0` at `T[0]` (MATLAB `initial`);
-/// `y` of shape `(len, p)` (`(len,)` for one output), `x` `(len, n)`.
+/// `T` as `step`'s (a vector, a final time, or `None`); `y` of shape `(len, p)` (`(len,)`
+/// for one output), `x` `(len, n)`.
 #[pyfunction]
 #[pyo3(signature = (sys, T = None, X0 = None))]
 #[allow(non_snake_case)]
@@ -370,7 +414,7 @@ pub fn initial(
 ) -> PyResult<TimeResponse> {
     let py = sys.py();
     let s = system(sys)?;
-    let t = times(T)?;
+    let t = response_grid(&s, T)?;
     let x0 = match X0 {
         Some(x) if !x.is_none() => vector(x, "X0")?,
         _ => {

@@ -7,76 +7,29 @@ use super::super::{FigureArgs, FreqArgs, TimeArgs};
 use crate::lqr::rows_of;
 use anyhow::{Context, Result, bail};
 use pendulab_lti::frequency_response::{freqresp, frequency_grid, logspace};
-use pendulab_lti::response::{impulse, step, time_vector};
+use pendulab_lti::response::{impulse, response_times, step};
 use pendulab_lti::{Complex64, Trajectory};
 use pendulab_plot::{Bode, Channel, Figure, SignalPanel, TimeResponse};
 use serde_json::json;
 use std::path::Path;
 
-/// The default final time of a response: 7 time constants of the slowest decaying mode (the
-/// response is within 0.1 % of its final value), shortened to 5 e-folding times of the fastest
-/// growing mode when the system is unstable, and 10 s when no pole sets a time scale (only
-/// integrators or none). Discrete poles are mapped by `s = ln(z)/dt`.
-pub fn default_t_final(s: &Sys) -> Result<f64> {
-    let poles = with_sys!(s, |v| v.poles())?;
-    let dt = s.dt();
-    let mut settle: f64 = 0.0;
-    let mut grow = f64::INFINITY;
-    for p in poles {
-        let sp = match dt {
-            None => p,
-            Some(dt) if p.norm() > 0.0 => p.ln() / dt,
-            Some(_) => continue, // z = 0: a pure delay, settles in one step
-        };
-        if sp.re < -1e-12 * sp.norm().max(1.0) {
-            settle = settle.max(7.0 / -sp.re);
-        } else if sp.re > 1e-12 * sp.norm().max(1.0) {
-            grow = grow.min(5.0 / sp.re);
-        } else if sp.im.abs() > 0.0 {
-            // Undamped oscillation: ten periods.
-            settle = settle.max(10.0 * 2.0 * std::f64::consts::PI / sp.im.abs());
-        }
-    }
-    let t = if grow.is_finite() {
-        if settle > 0.0 { settle.min(grow) } else { grow }
-    } else if settle > 0.0 {
-        settle
-    } else {
-        10.0
-    };
-    Ok(match dt {
-        Some(dt) => (t / dt).ceil().clamp(10.0, 100_000.0) * dt,
-        None => t,
-    })
-}
-
-/// The response's time grid: `0 … t_final` by the step size (a discrete system's dt).
+/// The response's time grid: `0 … t_final` by the step size (a discrete system's dt),
+/// pendulab-lti's `response_times`, with the flags named in its errors.
 pub(super) fn time_grid(s: &Sys, time: &TimeArgs) -> Result<Vec<f64>> {
-    let t_final = match time.t_final {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            bail!("--t-final {t}: must be finite and > 0 seconds")
-        }
-        Some(t) => t,
-        None => default_t_final(s)?,
-    };
-    let dt = match (s.dt(), time.step_size) {
-        (Some(_), Some(_)) => {
-            bail!("--step-size applies to continuous systems; a discrete system steps at its dt")
-        }
-        (Some(dt), None) => dt,
-        (None, Some(h)) if !(h.is_finite() && h > 0.0) => {
-            bail!("--step-size {h}: must be finite and > 0 seconds")
-        }
-        (None, Some(h)) => h,
-        (None, None) => t_final / 1000.0,
-    };
-    if t_final / dt > 1e7 {
-        bail!(
-            "{} samples requested (t_final {t_final} s / step {dt} s); at most 10⁷",
-            (t_final / dt).round()
-        );
+    if let Some(t) = time.t_final.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        bail!("--t-final {t}: must be finite and > 0 seconds");
     }
-    Ok(time_vector(t_final, dt)?)
+    if let Some(h) = time.step_size.filter(|h| !(h.is_finite() && *h > 0.0)) {
+        bail!("--step-size {h}: must be finite and > 0 seconds");
+    }
+    if s.dt().is_some() && time.step_size.is_some() {
+        bail!("--step-size applies to continuous systems; a discrete system steps at its dt");
+    }
+    Ok(with_sys!(s, |v| response_times(
+        v,
+        time.t_final,
+        time.step_size
+    ))?)
 }
 
 /// `step` and `impulse`: one trajectory per input.
