@@ -3,6 +3,7 @@
 //! | task | function | MATLAB |
 //! |---|---|---|
 //! | LQ regulator (continuous/discrete, cross term) | [`lqr`] | `lqr`, `dlqr` |
+//! | single-input LQ regulator, diagonal `Q`, per weight in `O(n²)` (symmetric root locus) | [`SymmetricRootLocus`] | — |
 //! | sampled-data LQR (Van Loan cost discretisation) | [`lqr_sampled_data`], [`sampled_data_cost`] | `lqrd` |
 //! | pole placement (robust, multi-input) | [`place`] | `place` |
 //! | Ackermann's formula | [`acker`] | `acker` |
@@ -28,6 +29,7 @@ mod lqr;
 mod place;
 mod servo;
 mod standard_plant;
+mod symmetric_root_locus;
 
 pub use augw::augw;
 pub use h2::{H2Controller, H2StateFeedback, h2_state_feedback, h2_syn};
@@ -47,6 +49,7 @@ pub use servo::{
     observer_controller,
 };
 pub use standard_plant::{PlantAssumption, RANK_TOLERANCE, StandardPlant};
+pub use symmetric_root_locus::{SRL_MAX, SRL_TOLERANCE, SrlSolution, SymmetricRootLocus};
 
 use crate::domain::TimeDomain;
 use crate::error::Result;
