@@ -12,7 +12,9 @@
 //! The linearisation is the plant spec's own (`PlantParameters::linearize_upright`, the arm at
 //! `θ₁ₑ = 0`; `docs/model.md` §1–2). The LQR and the servo (LQR on the augmentation of
 //! `pendulab_lti::design::integral_augmentation`) are solved by
-//! `pendulab_lti::equations::riccati::care_compact`, placement by `pendulab_lti::design::place`;
+//! `pendulab_lti::equations::riccati::care_compact`, and a slider move from the last design's
+//! poles by `pendulab_lti::design::SymmetricRootLocus` when it certifies its answer
+//! ([`Designer::design_from`]); placement by `pendulab_lti::design::place`;
 //! the sign convention is the library's `u = −K x` (`docs/model.md` §4). The gain is
 //! handed to the controller spec as `k` (or `k1`, `k2`) with the design record
 //! (`designed_for`, `pendulab_control::spec::DesignRecord`), so the controller that runs in the
@@ -28,7 +30,7 @@ use pendulab_control::spec::{
 };
 use pendulab_lmi::synthesis::{LqWeights, Region, StateFeedbackSpec as LmiSpec, Vertex};
 use pendulab_lmi::{Backend, SolveOptions, Status};
-use pendulab_lti::design::integral_augmentation;
+use pendulab_lti::design::{SymmetricRootLocus, integral_augmentation};
 use pendulab_lti::equations::riccati::{care_compact, care_compact_from};
 use pendulab_lti::linalg::Complex64;
 use pendulab_lti::{Continuous, Mat, StateSpace};
@@ -195,6 +197,10 @@ pub struct Designer {
     /// `[x; w]` (`n = 5`), for the compact Riccati solver of the slider moves.
     lqr_ab: ([f64; NX * NX], [f64; NX]),
     servo_ab: ([f64; (NX + 1) * (NX + 1)], [f64; NX + 1]),
+    /// The symmetric root locus of each (`None` when `(A, B)` is not controllable enough
+    /// for it; the Riccati path answers every move then).
+    lqr_srl: Option<SymmetricRootLocus>,
+    servo_srl: Option<SymmetricRootLocus>,
 }
 
 impl Designer {
@@ -228,6 +234,8 @@ impl Designer {
                 open_loop: sys.poles()?,
             }),
             sys,
+            lqr_srl: SymmetricRootLocus::new(&lqr_ab.0, &lqr_ab.1, NX).ok(),
+            servo_srl: SymmetricRootLocus::new(&servo_ab.0, &servo_ab.1, NX + 1).ok(),
             lqr_ab,
             servo_ab,
         })
@@ -242,11 +250,13 @@ impl Designer {
     }
 
     /// [`Designer::design`] after `previous` (the design a slider move replaces): an LQR or
-    /// servo design whose previous design was of the same kind on this designer's plant
-    /// starts the Riccati solve from the previous gain
-    /// (`pendulab_lti::equations::riccati::care_compact_from`: a few small Lyapunov solves
-    /// instead of the sign function; the same solution to rounding, the cold path whenever
-    /// the warm one is refused).
+    /// servo design whose previous design was of the same kind on this designer's plant is
+    /// solved from it — first by the symmetric root locus from the previous closed-loop poles
+    /// (`pendulab_lti::design::SymmetricRootLocus`: a few hundred flops, answered only with a
+    /// forward error bound below `SRL_TOLERANCE`), else by the Riccati solve from the previous
+    /// gain (`pendulab_lti::equations::riccati::care_compact_from`: a few small Lyapunov
+    /// solves instead of the sign function; the cold path whenever the warm one is refused).
+    /// Every path gives the same gain to the tolerance of `pendulab lqr`'s.
     ///
     /// # Errors
     /// As [`design`].
@@ -255,15 +265,24 @@ impl Designer {
         method: Method,
         previous: Option<&Design>,
     ) -> Result<Design, WebError> {
-        // The previous gain of the same kind and plant (`Design::plant` is this designer's).
+        // The previous design of the same kind and plant (`Design::plant` is this designer's).
         let start = |n: usize| {
-            previous
-                .filter(|p| {
-                    Rc::ptr_eq(&p.plant, &self.plant)
-                        && p.gain.len() == n
-                        && matches!(p.method, Method::Lqr { .. } | Method::Servo { .. })
-                })
-                .map(|p| p.gain.as_slice())
+            previous.filter(|p| {
+                Rc::ptr_eq(&p.plant, &self.plant)
+                    && p.gain.len() == n
+                    && p.poles.len() == n
+                    && matches!(p.method, Method::Lqr { .. } | Method::Servo { .. })
+            })
+        };
+        // LQR on (A, B) with weights already checked ([`check_weights`]).
+        let lq = |ab: (&[f64], &[f64]), srl: &Option<SymmetricRootLocus>, q: &[f64], r: f64| {
+            let from = start(q.len());
+            if let (Some(srl), Some(p)) = (srl, from)
+                && let Some(s) = srl.solve(q, r, &p.poles)?
+            {
+                return Ok((s.gain().to_vec(), s.poles().to_vec()));
+            }
+            lq_compact(ab.0, ab.1, q, r, from.map(|p| p.gain.as_slice()))
         };
         let sys = &self.sys;
         let mut lmi = None;
@@ -275,11 +294,11 @@ impl Designer {
             }
             Method::Lqr { q, r } => {
                 check_weights(q, NX, *r)?;
-                lq_compact(&self.lqr_ab.0, &self.lqr_ab.1, q, *r, start(NX))?
+                lq((&self.lqr_ab.0, &self.lqr_ab.1), &self.lqr_srl, q, *r)?
             }
             Method::Servo { q, r } => {
                 check_weights(q, NX + 1, *r)?;
-                lq_compact(&self.servo_ab.0, &self.servo_ab.1, q, *r, start(NX + 1))?
+                lq((&self.servo_ab.0, &self.servo_ab.1), &self.servo_srl, q, *r)?
             }
             Method::Place { poles } => {
                 if poles.len() != NX {

@@ -99,6 +99,70 @@ fn poles_are_eigenvalues_of_the_closed_loop() {
     }
 }
 
+/// Slider walks as the page's arrow keys give them (a twentieth of a decade per move, up
+/// then down, on every weight and on R): each move is designed from the last one
+/// (`Designer::design_from`: the symmetric root locus from the last poles, else the warm
+/// Riccati solve) and must be the design from scratch (the compact Riccati solver's sign
+/// function path): the same gain to 1e-9 and the same poles, both rigs, LQR and servo.
+#[test]
+fn slider_moves_are_the_designs_from_scratch() {
+    use pendulab_web::design::Designer;
+    for kind in [PlantKind::Cart, PlantKind::Arm] {
+        let designer = Designer::new(&PlantSpec::book(kind)).unwrap();
+        for (servo, q0) in [
+            (false, vec![10.0, 10.0, 0.0, 0.0]),
+            (true, vec![1.0, 5.0, 0.0, 0.0, 100.0]),
+        ] {
+            let method = |q: &[f64], r: f64| {
+                let q = q.to_vec();
+                if servo {
+                    Method::Servo { q, r }
+                } else {
+                    Method::Lqr { q, r }
+                }
+            };
+            for slider in 0..=q0.len() {
+                let (mut q, mut r) = (q0.clone(), 1.0);
+                let mut last = designer.design(&method(&q, r)).unwrap();
+                for mv in 0..40 {
+                    let f = 10f64.powf(if mv < 20 { 0.05 } else { -0.05 });
+                    match q.get_mut(slider) {
+                        Some(v) if *v == 0.0 => *v = 0.1,
+                        Some(v) => *v *= f,
+                        None => r *= f,
+                    }
+                    let warm = designer.design_from(method(&q, r), Some(&last)).unwrap();
+                    let cold = designer.design(&method(&q, r)).unwrap();
+                    let what = format!("{kind:?} servo {servo}, slider {slider}, move {mv}");
+                    let norm = |v: &[f64]| v.iter().map(|x| x.abs()).sum::<f64>();
+                    let diff: Vec<f64> = warm
+                        .gain
+                        .iter()
+                        .zip(&cold.gain)
+                        .map(|(a, b)| a - b)
+                        .collect();
+                    assert!(
+                        norm(&diff) <= 1e-9 * norm(&cold.gain),
+                        "{what}: {:?} vs {:?}",
+                        warm.gain,
+                        cold.gain
+                    );
+                    let scale = cold.poles.iter().map(|p| p.norm()).fold(0.0, f64::max);
+                    for (p, c) in warm.poles.iter().zip(&cold.poles) {
+                        assert!(
+                            (p - c).norm() <= 1e-9 * scale,
+                            "{what}: {:?} vs {:?}",
+                            warm.poles,
+                            cold.poles
+                        );
+                    }
+                    last = warm;
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn placement_puts_the_poles_where_asked() {
     let want = vec![
