@@ -267,6 +267,13 @@ fn bad_input_is_named() {
         &pendulab(&["place", "--a", "0 1; 0 0", "--b", "0; 1", "--poles", "-1"]),
         &["pole"],
     );
+    // A complex pole brings its conjugate: the count and the list say so.
+    fails_with(
+        &pendulab(&[
+            "place", "--a", "0 1; 0 0", "--b", "0; 1", "--poles", "-1+1i -2",
+        ]),
+        &["needs 2 poles", "got 3: -1+1i, -1-1i, -2"],
+    );
     fails_with(
         &pendulab(&["c2d", "--a", "-1", "--b", "1", "--ts", "-0.1"]),
         &["sample time"],

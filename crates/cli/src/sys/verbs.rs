@@ -483,14 +483,15 @@ fn parse_poles(text: &str) -> Result<Vec<Complex64>> {
     if out.is_empty() {
         bail!("--poles: no poles given");
     }
-    let mut missing = Vec::new();
+    // A complex pole without its conjugate gets it, right after it.
+    let mut closed = Vec::with_capacity(2 * out.len());
     for p in &out {
+        closed.push(*p);
         if p.im != 0.0 && !out.iter().any(|q| q.re == p.re && q.im == -p.im) {
-            missing.push(p.conj());
+            closed.push(p.conj());
         }
     }
-    out.extend(missing);
-    Ok(out)
+    Ok(closed)
 }
 
 /// `a`, `a+bi`, `a-bj`, `bi`; `None` for anything else or a non-finite part.

@@ -53,10 +53,22 @@ fn validate(a: &Mat, b: &Mat, poles: &[Complex64]) -> Result<()> {
     check_finite("A", a)?;
     check_finite("B", b)?;
     if poles.len() != a.nrows() {
+        // The list shows the conjugates a caller may have added to complex poles.
+        let list: Vec<String> = poles
+            .iter()
+            .map(|p| {
+                if p.im == 0.0 {
+                    format!("{}", p.re)
+                } else {
+                    format!("{}{:+}i", p.re, p.im)
+                }
+            })
+            .collect();
         return Err(LtiError::InvalidArgument(format!(
-            "pole placement needs {} poles (one per state), got {}",
+            "pole placement needs {} poles (one per state), got {}: {}",
             a.nrows(),
-            poles.len()
+            poles.len(),
+            list.join(", ")
         )));
     }
     for (i, p) in poles.iter().enumerate() {
