@@ -14,16 +14,9 @@ use pendulab_lti::linalg::eigenvalues;
 use pendulab_lti::random::SplitMix64;
 use pendulab_lti::{Complex64, LtiError};
 use pendulab_testkit::{arm, cart};
+use riccati_support::{cart_servo, diag, move_slider, rows};
 
-fn rows(m: &Mat) -> Vec<f64> {
-    (0..m.nrows())
-        .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
-        .collect()
-}
-
-fn diag(d: &[f64]) -> Mat {
-    Mat::from_diagonal(&nalgebra::DVector::from_row_slice(d))
-}
+mod riccati_support;
 
 /// The compact result checked against the general solver on the same data: the relative
 /// residual recomputed by `care_residual` ≤ 1e-12, the gain and `X` within 1e-10 of the
@@ -83,11 +76,7 @@ fn book_cart_and_arm_weights_match_the_general_solver() {
         "arm"
     ));
     // The cart's LQ integral servo on [x; w], w = ∫(r − z): A_aug = [A 0; −C 0], B_aug = [B; 0].
-    let mut aa = Mat::zeros(5, 5);
-    aa.view_mut((0, 0), (4, 4)).copy_from(&a);
-    aa[(4, 0)] = -1.0;
-    let mut bb = Mat::zeros(5, 1);
-    bb.view_mut((0, 0), (4, 1)).copy_from(&b);
+    let (aa, bb) = cart_servo();
     assert!(agrees(
         &aa,
         &bb,
@@ -283,11 +272,7 @@ fn refusals_hand_over_to_the_general_solver() {
 #[test]
 fn warm_start_follows_slider_walks() {
     let (a, b) = cart::upright();
-    let mut aa = Mat::zeros(5, 5);
-    aa.view_mut((0, 0), (4, 4)).copy_from(&a);
-    aa[(4, 0)] = -1.0;
-    let mut bb = Mat::zeros(5, 1);
-    bb.view_mut((0, 0), (4, 1)).copy_from(&b);
+    let (aa, bb) = cart_servo();
     let (mut warm, mut total) = (0, 0);
     for (a, b, q0) in [
         (&a, &b, vec![10.0, 10.0, 0.0, 0.0]),
@@ -301,14 +286,7 @@ fn warm_start_follows_slider_walks() {
                 .gain()
                 .to_vec();
             for mv in 0..30 {
-                let f = 10f64.powf(step);
-                if slider == usize::MAX {
-                    r *= f;
-                } else if q[slider] == 0.0 {
-                    q[slider] = 1e-2;
-                } else {
-                    q[slider] *= f;
-                }
+                move_slider(&mut q, &mut r, slider, 10f64.powf(step));
                 let c =
                     care_compact_from(&rows(a), &rows(b), &rows(&diag(&q)), &[r], n, &k).unwrap();
                 agrees_with(

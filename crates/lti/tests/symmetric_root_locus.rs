@@ -12,16 +12,9 @@ use pendulab_lti::linalg::eigenvalues;
 use pendulab_lti::random::SplitMix64;
 use pendulab_lti::{Complex64, LtiError, Mat};
 use pendulab_testkit::{arm, cart};
+use riccati_support::{cart_servo, diag, move_slider, rows};
 
-fn rows(m: &Mat) -> Vec<f64> {
-    (0..m.nrows())
-        .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
-        .collect()
-}
-
-fn diag(d: &[f64]) -> Mat {
-    Mat::from_diagonal(&nalgebra::DVector::from_row_slice(d))
-}
+mod riccati_support;
 
 /// The general solver's gain and closed-loop poles (`eig(A − bK)`), or its error.
 fn general(a: &Mat, b: &Mat, q: &[f64], r: f64) -> Result<(Vec<f64>, Vec<Complex64>), LtiError> {
@@ -63,17 +56,6 @@ fn check(s: &SrlSolution, want: &(Vec<f64>, Vec<Complex64>), what: &str) {
     for p in s.poles().iter().filter(|p| p.im != 0.0) {
         assert!(s.poles().contains(&p.conj()), "{what}: {:?}", s.poles());
     }
-}
-
-/// The cart's LQ integral servo on `[x; w]`, `w = ∫(r − z)`: `[A 0; −C 0]`, `[B; 0]`.
-fn cart_servo() -> (Mat, Mat) {
-    let (a, b) = cart::upright();
-    let mut aa = Mat::zeros(5, 5);
-    aa.view_mut((0, 0), (4, 4)).copy_from(&a);
-    aa[(4, 0)] = -1.0;
-    let mut bb = Mat::zeros(5, 1);
-    bb.view_mut((0, 0), (4, 1)).copy_from(&b);
-    (aa, bb)
 }
 
 #[test]
@@ -149,14 +131,7 @@ fn book_slider_walks_match_the_general_solver() {
             let (mut q, mut r) = (q0.clone(), 1.0);
             let mut start = general(a, b, &q, r).unwrap().1;
             for mv in 0..30 {
-                let f = 10f64.powf(step);
-                if slider == usize::MAX {
-                    r *= f;
-                } else if q[slider] == 0.0 {
-                    q[slider] = 1e-2;
-                } else {
-                    q[slider] *= f;
-                }
+                move_slider(&mut q, &mut r, slider, 10f64.powf(step));
                 let want = general(a, b, &q, r).unwrap();
                 total += 1;
                 let what = format!("{what}, slider {slider}, move {mv}: q = {q:?}, r = {r}");

@@ -1,5 +1,6 @@
 //! Helpers shared by the Riccati tests: the `care-n4` data (the book's linearised cart
-//! pendulum) and the Riccati condition number that sizes the agreement tolerances.
+//! pendulum), the cart's LQ servo augmentation, row-major slices of matrices, and the Riccati
+//! condition number that sizes the agreement tolerances.
 //!
 //! Condition number: a solution with relative backward error `η` has relative forward error
 //! at most about `κ·η` (first-order perturbation theory; Byers 1985, Sun 1998), with
@@ -66,4 +67,38 @@ pub fn care_condition(a: &Mat, b: &Mat, q: &Mat, r: &Mat, sol: &RiccatiSolution)
     let g = b * r.clone().cholesky().unwrap().solve(&b.transpose());
     let xn = sol.x.norm().max(f64::MIN_POSITIVE);
     inverse_operator_norm(&ac, true) * (q.norm() + 2.0 * a.norm() * xn + g.norm() * xn * xn) / xn
+}
+
+/// `m`'s entries row by row (the compact solvers' flat row-major slices).
+pub fn rows(m: &Mat) -> Vec<f64> {
+    (0..m.nrows())
+        .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
+        .collect()
+}
+
+/// `diag(d)`.
+pub fn diag(d: &[f64]) -> Mat {
+    Mat::from_diagonal(&nalgebra::DVector::from_row_slice(d))
+}
+
+/// The cart's LQ integral servo on `[x; w]`, `w = ∫(r − z)`: `A_aug = [A 0; −C 0]`,
+/// `B_aug = [B; 0]` (the book's upright cart, `pendulab_testkit::cart::upright`).
+pub fn cart_servo() -> (Mat, Mat) {
+    let (a, b) = pendulab_testkit::cart::upright();
+    let mut aa = Mat::zeros(5, 5);
+    aa.view_mut((0, 0), (4, 4)).copy_from(&a);
+    aa[(4, 0)] = -1.0;
+    let mut bb = Mat::zeros(5, 1);
+    bb.view_mut((0, 0), (4, 1)).copy_from(&b);
+    (aa, bb)
+}
+
+/// One slider move of the browser lab's weights: `q[slider]` (or `r` when `slider` is past
+/// `q`) times `f`, a zero weight becoming `10⁻²` (a log slider's first step off zero).
+pub fn move_slider(q: &mut [f64], r: &mut f64, slider: usize, f: f64) {
+    match q.get_mut(slider) {
+        None => *r *= f,
+        Some(v) if *v == 0.0 => *v = 1e-2,
+        Some(v) => *v *= f,
+    }
 }
