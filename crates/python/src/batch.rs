@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 
-use crate::convert::{OneD, matrix, vector};
+use crate::convert::{OneD, count, matrix, optional_count, vector};
 use crate::errors::{Kind, from_error, new_err};
 use crate::plants::{cart_params, plant_error, plant_spec, sim_error, spec};
 
@@ -100,10 +100,10 @@ fn batch_feedback<'py>(
     t_final: f64,
     params: Option<std::collections::HashMap<String, f64>>,
     ts: f64,
-    substeps: usize,
+    #[pyo3(from_py_with = count)] substeps: usize,
     stay_within: Option<(usize, f64)>,
-    threads: Option<usize>,
-    chunk: usize,
+    #[pyo3(from_py_with = optional_count)] threads: Option<usize>,
+    #[pyo3(from_py_with = count)] chunk: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let plant = CartPlant::new(cart_params(params.as_ref())?).map_err(|e| plant_error(&e))?;
     let k = vector(K, "K")?;
@@ -163,8 +163,8 @@ fn batch_simulate_json<'py>(
     plant: &str,
     controller: &str,
     scenarios: Vec<String>,
-    threads: Option<usize>,
-    chunk: usize,
+    #[pyo3(from_py_with = optional_count)] threads: Option<usize>,
+    #[pyo3(from_py_with = count)] chunk: usize,
 ) -> PyResult<Bound<'py, PyList>> {
     let plant = plant_spec(plant)?;
     let controller: pendulab_control::spec::ControllerSpec = spec(controller, "controller")?;

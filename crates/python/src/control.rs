@@ -35,7 +35,9 @@ use pendulab_sim::Controller as SimController;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{OneD, complex_to_numpy, matrix, matrix_to_numpy, slice_to_numpy, vector};
+use crate::convert::{
+    OneD, complex_to_numpy, count, matrix, matrix_to_numpy, slice_to_numpy, vector,
+};
 use crate::errors::{Kind, from_error, new_err};
 use crate::plants::{arm_params, cart_params, plant_error};
 
@@ -358,7 +360,7 @@ fn control_odq<'py>(
     dt: f64,
     step: f64,
     method: &str,
-    horizon: usize,
+    #[pyo3(from_py_with = count)] horizon: usize,
     max_filter_gain: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sys = discrete(A, B, C, dt)?;

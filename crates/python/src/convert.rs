@@ -13,7 +13,8 @@
 //! | ≥ 3-d | `ShapeError` | `ShapeError` |
 //!
 //! Complex input is refused (`InvalidArgumentError`) rather than silently dropping the
-//! imaginary part; NaN and ±Inf are refused (`NotFiniteError`, naming the entry).
+//! imaginary part; NaN and ±Inf are refused (`NotFiniteError`, naming the entry). Count
+//! arguments (orders, horizons, numbers of samples, steps or threads) go through [`count`].
 
 use crate::errors::{Kind, new_err};
 use nalgebra::{DMatrix, DVector};
@@ -298,4 +299,31 @@ pub fn complex_vector(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Comple
         ));
     }
     Ok(values)
+}
+
+/// A count argument (an order, a horizon, a number of samples, steps or threads), for
+/// `#[pyo3(from_py_with = count)]`: a Python integer ≥ 0. A negative one raises
+/// `pendulab.InvalidArgumentError` rather than the `OverflowError` of a plain unsigned
+/// argument (PyO3 notes the argument's name on either error); a non-integer raises
+/// `TypeError`.
+pub fn count(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    if let Ok(v) = obj.extract::<i64>()
+        && v < 0
+    {
+        return Err(new_err(
+            Kind::InvalidArgument,
+            format!("expected an integer ≥ 0, got {v}"),
+            None,
+        ));
+    }
+    obj.extract()
+}
+
+/// [`count`] for an optional argument: `None` stays `None`.
+pub fn optional_count(obj: &Bound<'_, PyAny>) -> PyResult<Option<usize>> {
+    if obj.is_none() {
+        Ok(None)
+    } else {
+        count(obj).map(Some)
+    }
 }

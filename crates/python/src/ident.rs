@@ -32,7 +32,7 @@ use pendulab_ident::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{matrix_to_numpy, slice_to_numpy, vector};
+use crate::convert::{count, matrix_to_numpy, optional_count, slice_to_numpy, vector};
 use crate::errors::{Kind, from_error, new_err};
 use crate::lti::system::{StateSpace, Sys};
 use pendulab_ident::{
@@ -567,10 +567,10 @@ fn ident_arx<'py>(
     u: &Bound<'py, PyAny>,
     y: &Bound<'py, PyAny>,
     ts: f64,
-    na: Option<usize>,
-    nb: Option<usize>,
-    nk: usize,
-    max_order: Option<usize>,
+    #[pyo3(from_py_with = optional_count)] na: Option<usize>,
+    #[pyo3(from_py_with = optional_count)] nb: Option<usize>,
+    #[pyo3(from_py_with = count)] nk: usize,
+    #[pyo3(from_py_with = optional_count)] max_order: Option<usize>,
     u_val: Option<&Bound<'py, PyAny>>,
     y_val: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -654,11 +654,11 @@ fn ident_moesp<'py>(
     u: &Bound<'py, PyAny>,
     y: &Bound<'py, PyAny>,
     ts: f64,
-    order: Option<usize>,
-    horizon: usize,
+    #[pyo3(from_py_with = optional_count)] order: Option<usize>,
+    #[pyo3(from_py_with = count)] horizon: usize,
     u_val: Option<&Bound<'py, PyAny>>,
     y_val: Option<&Bound<'py, PyAny>>,
-    max_order: Option<usize>,
+    #[pyo3(from_py_with = optional_count)] max_order: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     at_least_one("order", order)?;
     let (u, y) = (column(u, "u")?, column(y, "y")?);

@@ -16,6 +16,7 @@
 //! - `study_roa_figure` and `study_histogram_figure`: `pendulab-plot`'s region-of-attraction
 //!   map and a histogram, saved as SVG or PNG.
 
+use crate::convert::{count as count_arg, optional_count};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods};
 use pendulab_control::scenario::simulate;
 use pendulab_lti::random::{GAMMA, SplitMix64};
@@ -150,7 +151,7 @@ fn study_draws<'py>(
     py: Python<'py>,
     seed: u64,
     start: u64,
-    count: usize,
+    #[pyo3(from_py_with = count_arg)] count: usize,
     kinds: Vec<String>,
     a: Vec<f64>,
     b: Vec<f64>,
@@ -195,8 +196,8 @@ fn study_monte_carlo_chunk<'py>(
     b: Vec<f64>,
     seed: u64,
     start: u64,
-    count: usize,
-    threads: Option<usize>,
+    #[pyo3(from_py_with = count_arg)] count: usize,
+    #[pyo3(from_py_with = optional_count)] threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let base = serde_json::to_value(plant_spec(plant)?)
         .map_err(|e| from_error(Kind::InvalidArgument, &e))?;
@@ -346,8 +347,8 @@ fn study_roa_figure(
     path: &str,
     x_range: (f64, f64),
     y_range: (f64, f64),
-    nx: usize,
-    ny: usize,
+    #[pyo3(from_py_with = count_arg)] nx: usize,
+    #[pyo3(from_py_with = count_arg)] ny: usize,
     cells: Vec<bool>,
     xlabel: &str,
     ylabel: &str,

@@ -89,3 +89,37 @@ def test_c2d_matched_and_impulse():
         np.testing.assert_allclose(ours, theirs, rtol=1e-12, atol=1e-15)
     with pytest.raises(pl.InvalidArgumentError):
         pl.c2d(pl.ss(a, b, c, 1.0), 0.05, "impulse")
+
+
+def test_a_negative_count_is_an_invalid_argument_naming_it():
+    """Count arguments (orders, horizons, numbers of envs or threads) refuse a negative integer
+    with pendulab.InvalidArgumentError, the argument named in the error's note, instead of
+    the OverflowError of an unsigned conversion; a float stays a TypeError; NumPy integers and
+    None (where allowed) are accepted."""
+    import pendulab.gym
+    import pendulab.ident
+
+    P = pl.ss(np.zeros((1, 1)), np.ones((1, 2)), np.ones((2, 1)), np.zeros((2, 2)))
+    u = np.sin(np.arange(50.0))
+    y = np.cos(np.arange(50.0))
+    cases = [
+        (lambda: pl.pade(0.1, -1), "n"),
+        (lambda: pl.pade(0.1, np.int64(-3)), "n"),
+        (lambda: pl.thiran(0.1, 0.05, -2), "order"),
+        (lambda: pl.hinfsyn(P, -1, 1), "nmeas"),
+        (lambda: pl.h2syn(P, 1, -1), "ncon"),
+        (lambda: pendulab.ident.arx(u, y, 0.1, na=-1, nb=1), "na"),
+        (lambda: pendulab.ident.moesp(u, y, 0.1, horizon=-4), "horizon"),
+        (lambda: pendulab.gym.CartPoleVectorEnv(num_envs=-2), None),
+    ]
+    for call, name in cases:
+        with pytest.raises(pl.InvalidArgumentError, match=r"expected an integer ≥ 0, got -\d") as e:
+            call()
+        if name is not None:
+            assert f"while processing '{name}'" in getattr(e.value, "__notes__", []), e.value
+    with pytest.raises(TypeError):
+        pl.pade(0.1, 1.5)
+    num, den = pl.pade(0.1, np.int64(2))
+    assert np.allclose(num, [1.0, -60.0, 1200.0]) and np.allclose(den, [1.0, 60.0, 1200.0])
+    # thiran with order None chooses the order: a 2-sample delay is z⁻².
+    assert np.allclose(pl.thiran(0.1, 0.05, None).den, [1.0, 0.0, 0.0])

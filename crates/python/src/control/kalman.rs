@@ -22,7 +22,9 @@ use pyo3::types::PyDict;
 
 use super::{ce, control_error};
 use crate::callable::{ErrorSlot, Model};
-use crate::convert::{OneD, matrix, matrix_to_numpy, slice_to_numpy, vector};
+use crate::convert::{
+    OneD, count, matrix, matrix_to_numpy, optional_count, slice_to_numpy, vector,
+};
 use crate::errors::{Kind, new_err};
 
 /// An [`Innovation`] as the dict the module documentation describes.
@@ -174,8 +176,8 @@ impl NativeNonlinearFilter {
         R: &Bound<'_, PyAny>,
         measured: Option<Vec<usize>>,
         h: Option<&Bound<'_, PyAny>>,
-        nu: Option<usize>,
-        substeps: usize,
+        #[pyo3(from_py_with = optional_count)] nu: Option<usize>,
+        #[pyo3(from_py_with = count)] substeps: usize,
         alpha: f64,
         beta: f64,
         kappa: f64,

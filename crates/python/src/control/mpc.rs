@@ -22,7 +22,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::ce;
-use crate::convert::{OneD, matrix, matrix_to_numpy, slice_to_numpy, vector};
+use crate::convert::{OneD, count, matrix, matrix_to_numpy, slice_to_numpy, vector};
 use crate::errors::{Kind, new_err};
 use crate::lti::system::{StateSpace, Sys};
 
@@ -140,7 +140,7 @@ fn qp_options(tolerance: f64, max_iterations: usize) -> QpOptions {
 pub fn control_linear_mpc(
     A: Option<&Bound<'_, PyAny>>,
     B: Option<&Bound<'_, PyAny>>,
-    horizon: usize,
+    #[pyo3(from_py_with = count)] horizon: usize,
     Q: &Bound<'_, PyAny>,
     R: &Bound<'_, PyAny>,
     P: Option<&Bound<'_, PyAny>>,
@@ -149,7 +149,7 @@ pub fn control_linear_mpc(
     du_max: Option<&Bound<'_, PyAny>>,
     state_bounds: Option<Vec<(usize, f64, f64)>>,
     tolerance: f64,
-    max_iterations: usize,
+    #[pyo3(from_py_with = count)] max_iterations: usize,
     sys: Option<&Bound<'_, PyAny>>,
     dt: Option<f64>,
 ) -> PyResult<NativeLinearMpc> {
@@ -379,7 +379,7 @@ pub fn control_solve_qp<'py>(
     w: &Bound<'py, PyAny>,
     warm_start: Option<Vec<usize>>,
     tolerance: f64,
-    max_iterations: usize,
+    #[pyo3(from_py_with = count)] max_iterations: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let h = matrix(H, "H", OneD::Row)?;
     let gv = vec_of(g, "g")?;

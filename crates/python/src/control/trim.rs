@@ -16,7 +16,7 @@ use pyo3::types::PyDict;
 
 use super::control_error;
 use crate::callable::Model;
-use crate::convert::{slice_to_numpy, vector};
+use crate::convert::{count, slice_to_numpy, vector};
 use crate::errors::{Kind, new_err};
 
 /// Checks that every index is below `n`, naming the keyword.
@@ -54,7 +54,7 @@ pub fn control_find_operating_point<'py>(
     idx: Option<Vec<usize>>,
     h: Option<&Bound<'py, PyAny>>,
     tol: f64,
-    max_iterations: usize,
+    #[pyo3(from_py_with = count)] max_iterations: usize,
     dx0: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let x = vector(x0, "x0")?.as_slice().to_vec();

@@ -2,6 +2,7 @@
 //! one call, with `CartPoleEnv`'s single-environment reward rule or `CartPoleVectorEnv`'s
 //! autoreset and truncation (the two conventions of the [parent module](super)).
 
+use crate::convert::count;
 use std::collections::HashMap;
 
 use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
@@ -100,11 +101,11 @@ impl ClassicCartPoleCore {
     #[new]
     #[pyo3(signature = (n, *, autoreset, max_episode_steps = 500, sutton_barto_reward = false, threads = 1, semi_implicit = false, params = None))]
     fn new(
-        n: usize,
+        #[pyo3(from_py_with = count)] n: usize,
         autoreset: bool,
         max_episode_steps: u32,
         sutton_barto_reward: bool,
-        threads: usize,
+        #[pyo3(from_py_with = count)] threads: usize,
         semi_implicit: bool,
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Self> {

@@ -3,6 +3,7 @@
 //! quantisation of the observations and the D/A converter's of the actions optional, autoreset
 //! on the next step as Gymnasium's vector envs (see the [parent module](super)).
 
+use crate::convert::count;
 use std::collections::HashMap;
 
 use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -208,17 +209,17 @@ impl RigCore {
     #[pyo3(signature = (rig, n, *, task = "balance", autoreset = false, dt = 0.02, substeps = 1, max_steps = 500, travel = None, quantize = false, dac = false, params = None, threads = 1))]
     fn new(
         rig: &str,
-        n: usize,
+        #[pyo3(from_py_with = count)] n: usize,
         task: &str,
         autoreset: bool,
         dt: f64,
-        substeps: usize,
-        max_steps: usize,
+        #[pyo3(from_py_with = count)] substeps: usize,
+        #[pyo3(from_py_with = count)] max_steps: usize,
         travel: Option<f64>,
         quantize: bool,
         dac: bool,
         params: Option<HashMap<String, f64>>,
-        threads: usize,
+        #[pyo3(from_py_with = count)] threads: usize,
     ) -> PyResult<Self> {
         if n == 0 {
             return Err(new_err(

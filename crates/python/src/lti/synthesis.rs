@@ -9,7 +9,7 @@
 use super::nogil;
 use super::results::{obj, result_class};
 use super::system::{StateSpace, Sys, system};
-use crate::convert::matrix_to_numpy;
+use crate::convert::{count, matrix_to_numpy};
 use crate::errors::{Kind, new_err};
 use pendulab_lti::design::{self, GammaIteration, StandardPlant};
 use pendulab_lti::{Continuous, StateSpace as Ss};
@@ -86,8 +86,8 @@ fn wrap(py: Python<'_>, s: Ss<Continuous>) -> PyResult<Py<PyAny>> {
 pub fn hinfsyn(
     py: Python<'_>,
     P: &Bound<'_, PyAny>,
-    nmeas: usize,
-    ncon: usize,
+    #[pyo3(from_py_with = count)] nmeas: usize,
+    #[pyo3(from_py_with = count)] ncon: usize,
     gamma: Option<f64>,
     tol: f64,
 ) -> PyResult<HinfsynResult> {
@@ -125,8 +125,8 @@ pub fn hinfsyn(
 pub fn h2syn(
     py: Python<'_>,
     P: &Bound<'_, PyAny>,
-    nmeas: usize,
-    ncon: usize,
+    #[pyo3(from_py_with = count)] nmeas: usize,
+    #[pyo3(from_py_with = count)] ncon: usize,
 ) -> PyResult<H2synResult> {
     let plant = standard_plant(P, nmeas, ncon)?;
     let c = nogil(py, || design::h2_syn(&plant))?;

@@ -9,7 +9,9 @@
 
 use super::nogil;
 use super::system::{StateSpace, Sys, TfSys, TransferFunction, system};
-use crate::convert::{complex_matrix_to_numpy, complex_to_numpy, slice_to_numpy};
+use crate::convert::{
+    complex_matrix_to_numpy, complex_to_numpy, count, optional_count, slice_to_numpy,
+};
 use crate::errors::{Kind, lti, new_err};
 use pendulab_lti::delay;
 use pendulab_lti::{Complex64, Continuous, Discrete, FeedbackSign, Mat, TransferMatrix as Tm};
@@ -340,14 +342,14 @@ impl TransferMatrix {
 /// coefficient arrays in descending powers of s, den monic (python-control `pade(T, n)`;
 /// closed-form coefficients, see pendulab-lti's `delay`).
 ///
-/// Raises `pendulab.InvalidArgumentError` for `T < 0`, a non-finite `T` or `n = 0`.
+/// Raises `pendulab.InvalidArgumentError` for `T < 0`, a non-finite `T` or `n ≤ 0`.
 #[pyfunction]
 #[pyo3(signature = (T, n = 1))]
 #[allow(non_snake_case)]
 pub fn pade<'py>(
     py: Python<'py>,
     T: f64,
-    n: usize,
+    #[pyo3(from_py_with = count)] n: usize,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
     let g = delay::pade(T, n).map_err(lti)?;
     Ok((
@@ -366,7 +368,12 @@ pub fn pade<'py>(
 #[pyfunction]
 #[pyo3(signature = (tau, Ts, order = None))]
 #[allow(non_snake_case)]
-pub fn thiran(py: Python<'_>, tau: f64, Ts: f64, order: Option<usize>) -> PyResult<Py<PyAny>> {
+pub fn thiran(
+    py: Python<'_>,
+    tau: f64,
+    Ts: f64,
+    #[pyo3(from_py_with = optional_count)] order: Option<usize>,
+) -> PyResult<Py<PyAny>> {
     let g = match order {
         None => delay::thiran(tau, Ts),
         Some(n) => delay::thiran_with_order(tau, Ts, n),
