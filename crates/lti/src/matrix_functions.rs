@@ -10,7 +10,7 @@
 //! | [`van_loan_integral`] | (`lqrd` internals) | `∫₀ᵗ e^{Fᵀs} W e^{Fs} ds` from one block exponential (Van Loan 1978) |
 
 use crate::error::{LtiError, Result};
-use crate::linalg::{Complex64, Mat, check_finite, check_square};
+use crate::linalg::{Complex64, Mat, check_finite, check_square, norm1};
 
 /// Diagnostics of one [`expm`] evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -111,12 +111,6 @@ const B13: [f64; 14] = [
     182.0,
     1.0,
 ];
-
-fn norm1(a: &Mat) -> f64 {
-    (0..a.ncols())
-        .map(|j| a.column(j).iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max)
-}
 
 /// Exact `‖|A|ᵖ‖₁` as the largest entry of `1ᵀ|A|ᵖ` (p vector–matrix products).
 fn norm1_abs_power(a: &Mat, p: usize) -> f64 {

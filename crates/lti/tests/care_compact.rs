@@ -10,11 +10,12 @@ use pendulab_lti::equations::riccati::{
     COMPACT_MAX, CompactCare, care_compact, care_compact_from, care_residual,
 };
 use pendulab_lti::equations::{RiccatiOptions, care};
+use pendulab_lti::linalg::diag;
 use pendulab_lti::linalg::eigenvalues;
 use pendulab_lti::random::SplitMix64;
 use pendulab_lti::{Complex64, LtiError};
 use pendulab_testkit::{arm, cart};
-use riccati_support::{cart_servo, diag, move_slider, rows};
+use riccati_support::{cart_servo, move_slider, rows};
 
 mod riccati_support;
 

@@ -53,7 +53,7 @@
 //! `−√ε · max|p_j|`, a root without its conjugate, and anything non-finite are refused too.
 
 use crate::error::{LtiError, Result};
-use crate::linalg::{Complex64, Mat, eigenvalues, sort_eigenvalues};
+use crate::linalg::{Complex64, Mat, check_finite, eigenvalues, norm1, sort_eigenvalues};
 use crate::polynomial::Polynomial;
 
 /// The largest state dimension [`SymmetricRootLocus`] accepts.
@@ -156,7 +156,8 @@ fn mirror_product(p: &[f64], abs: bool) -> [f64; W] {
     out
 }
 
-fn norm1(v: &[f64]) -> f64 {
+/// `Σ |vᵢ|`: a vector's (or a coefficient list's) 1-norm.
+fn sum_abs(v: &[f64]) -> f64 {
     v.iter().map(|x| x.abs()).sum()
 }
 
@@ -184,17 +185,9 @@ impl SymmetricRootLocus {
                 b.len()
             )));
         }
-        for (what, v, cols) in [("A", a, n), ("b", b, 1)] {
-            if let Some((i, &x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-                return Err(LtiError::NonFinite {
-                    what: what.into(),
-                    row: i / cols,
-                    col: i % cols,
-                    value: x,
-                });
-            }
-        }
         let am = Mat::from_row_slice(n, n, a);
+        check_finite("A", &am)?;
+        check_finite("b", &Mat::from_row_slice(n, 1, b))?;
         let lambda = eigenvalues(&am)?;
         let mut ac = [0.0; W];
         ac[..=n].copy_from_slice(&ascending_from_roots(&lambda)?);
@@ -203,8 +196,8 @@ impl SymmetricRootLocus {
             .map(|l| Complex64::new(-l.norm(), 0.0))
             .collect();
         let eps = f64::EPSILON;
-        let a_norm = norm1(&ac[..=n]);
-        let eta_a = 2.0 * n as f64 * eps * norm1(&ascending_from_roots(&abs_roots)?) / a_norm;
+        let a_norm = sum_abs(&ac[..=n]);
+        let eta_a = 2.0 * n as f64 * eps * sum_abs(&ascending_from_roots(&abs_roots)?) / a_norm;
 
         // n_{n−1} = b, n_{j−1} = A n_j + a_j b; numerators[j][i] is the coefficient of sʲ in n_i.
         let mut numerators = [[0.0; SRL_MAX]; SRL_MAX];
@@ -220,11 +213,8 @@ impl SymmetricRootLocus {
             numerators[j - 1] = times_a_plus(&numerators[j], ac[j]);
         }
         let last = times_a_plus(&numerators[0], ac[0]);
-        let a_1 = (0..n)
-            .map(|j| (0..n).map(|i| a[i * n + j].abs()).sum::<f64>())
-            .fold(0.0, f64::max);
-        let scale = a_1 * norm1(&numerators[0][..n]) + ac[0].abs() * norm1(b);
-        let residual = norm1(&last[..n]);
+        let scale = norm1(&am) * sum_abs(&numerators[0][..n]) + ac[0].abs() * sum_abs(b);
+        let residual = sum_abs(&last[..n]);
         let eta_n = if residual == 0.0 {
             0.0
         } else {
@@ -242,19 +232,13 @@ impl SymmetricRootLocus {
             e[i] = mirror_product(&ni, false);
             e_abs[i] = mirror_product(&ni, true);
         }
-        let n_norm = nm
-            .column_iter()
-            .map(|c| norm1(c.as_slice()))
-            .fold(0.0, f64::max);
+        let n_norm = norm1(&nm);
         let singular = |rcond: f64| LtiError::Singular {
             what: "the numerator matrix N of (sI − A)⁻¹b ((A, b) not controllable)".into(),
             rcond,
         };
-        let inv = nm.clone().try_inverse().ok_or_else(|| singular(0.0))?;
-        let n_inv_norm = inv
-            .column_iter()
-            .map(|c| norm1(c.as_slice()))
-            .fold(0.0, f64::max);
+        let inv = nm.try_inverse().ok_or_else(|| singular(0.0))?;
+        let n_inv_norm = norm1(&inv);
         let rcond = 1.0 / (n_norm * n_inv_norm);
         if rcond.is_nan() || rcond <= n as f64 * eps {
             return Err(singular(if rcond.is_nan() { 0.0 } else { rcond }));
@@ -435,9 +419,9 @@ impl SymmetricRootLocus {
                 .map(|j| self.n_inv[i * n + j] * (c[j] - self.a[j]))
                 .sum();
         }
-        let k_norm = norm1(&gain[..n]);
+        let k_norm = sum_abs(&gain[..n]);
         let bound = self.n_inv_norm
-            * (2.0 * n as f64 * rho * norm1(&c_abs[..=n])
+            * (2.0 * n as f64 * rho * sum_abs(&c_abs[..=n])
                 + self.eta * (self.a_norm + self.n_norm * k_norm)
                 + n as f64 * eps * diff);
         if bound.is_nan() || bound > SRL_TOLERANCE * k_norm {

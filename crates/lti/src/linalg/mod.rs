@@ -59,6 +59,13 @@ pub fn diag(entries: &[f64]) -> Mat {
     Mat::from_diagonal(&Vector::from_column_slice(entries))
 }
 
+/// The 1-norm `‖M‖₁ = max_j Σ_i |m_ij|` (the largest column sum of absolute values).
+pub(crate) fn norm1(m: &Mat) -> f64 {
+    (0..m.ncols())
+        .map(|j| m.column(j).iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
 /// Frobenius norm `‖M‖_F = sqrt(Σ m_ij²)`.
 pub fn fro(m: &Mat) -> f64 {
     m.norm()

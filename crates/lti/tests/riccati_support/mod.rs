@@ -76,11 +76,6 @@ pub fn rows(m: &Mat) -> Vec<f64> {
         .collect()
 }
 
-/// `diag(d)`.
-pub fn diag(d: &[f64]) -> Mat {
-    Mat::from_diagonal(&nalgebra::DVector::from_row_slice(d))
-}
-
 /// The cart's LQ integral servo on `[x; w]`, `w = ∫(r − z)`: `A_aug = [A 0; −C 0]`,
 /// `B_aug = [B; 0]` (the book's upright cart, `pendulab_testkit::cart::upright`).
 pub fn cart_servo() -> (Mat, Mat) {
