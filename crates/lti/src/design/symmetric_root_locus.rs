@@ -264,11 +264,6 @@ impl SymmetricRootLocus {
         })
     }
 
-    /// The state dimension `n`.
-    pub fn order(&self) -> usize {
-        self.n
-    }
-
     /// The LQ gain for `Q = diag(q)`, `R = r` and its closed-loop poles, by the iteration
     /// from `start` (`n` poles of a nearby problem, e.g. the previous weights' closed loop;
     /// module documentation). `Ok(None)` when the result cannot be certified to
